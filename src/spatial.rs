@@ -253,7 +253,10 @@ impl SpatialTransform {
     /// A congruence transform of a 6×6 spatial inertia-like matrix given in b coordinates to a
     /// coordinates: `Xᵀ⁻¹ I X⁻¹` with `X = act_inv_motion` (Featherstone eq. 2.66).
     pub fn act_inertia_matrix(&self, i_b: &Matrix6<f64>) -> Matrix6<f64> {
-        let x = self.motion_matrix().try_inverse().unwrap_or_else(Matrix6::identity);
+        let x = self
+            .motion_matrix()
+            .try_inverse()
+            .unwrap_or_else(Matrix6::identity);
         x.transpose() * i_b * x
     }
 }
@@ -370,7 +373,10 @@ mod tests {
 
     fn sample_transform() -> SpatialTransform {
         let r = UnitQuaternion::from_euler_angles(0.3, -0.7, 1.1);
-        SpatialTransform::new(*r.to_rotation_matrix().matrix(), Vector3::new(0.2, -0.5, 0.9))
+        SpatialTransform::new(
+            *r.to_rotation_matrix().matrix(),
+            Vector3::new(0.2, -0.5, 0.9),
+        )
     }
 
     #[test]
