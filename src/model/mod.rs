@@ -9,7 +9,12 @@
 //!
 //! A model is built once (by a [`ModelBuilder`]) and never changed by an algorithm.
 
+pub mod anthropometry;
+pub mod bvh;
+pub mod dh;
 pub mod joint;
+pub mod simplify;
+pub mod urdf;
 
 pub use joint::JointKind;
 

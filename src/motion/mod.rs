@@ -1,0 +1,1 @@
+//! Motion processing: channels → smooth q, v, a; blending (in progress).

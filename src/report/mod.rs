@@ -1,0 +1,1 @@
+//! Reports: SVG charts and CSV tables (in progress).

@@ -1,0 +1,1 @@
+//! The session command language (in progress).
