@@ -1,1 +1,9 @@
-//! Motion processing: channels → smooth q, v, a; blending (in progress).
+//! Joint-space motion: BVH channels → q (take), continuity (unwrap), smoothing, derivatives,
+//! C² ramps and blending/warping of takes.
+
+pub mod blend;
+pub mod derive;
+pub mod ramp;
+pub mod smooth;
+pub mod take;
+pub mod unwrap;
