@@ -61,8 +61,11 @@ fn round_trip_is_bit_exact() {
 
 #[test]
 fn non_finite_values_survive() {
-    let text = columns_to_string(&names(&["x"]), &[&[f64::INFINITY, f64::NEG_INFINITY, f64::NAN]])
-        .unwrap();
+    let text = columns_to_string(
+        &names(&["x"]),
+        &[&[f64::INFINITY, f64::NEG_INFINITY, f64::NAN]],
+    )
+    .unwrap();
     let (_, cols) = parse_columns(&text, Path::new("mem.csv")).unwrap();
     assert_eq!(cols[0][0], f64::INFINITY);
     assert_eq!(cols[0][1], f64::NEG_INFINITY);
@@ -85,7 +88,10 @@ fn shape_mismatches_are_errors() {
         columns_to_string(&names(&["a", "b"]), &[&[1.0, 2.0], &[2.0]]),
         Err(Error::Invalid(_))
     ));
-    assert!(matches!(columns_to_string(&[], &[]), Err(Error::Invalid(_))));
+    assert!(matches!(
+        columns_to_string(&[], &[]),
+        Err(Error::Invalid(_))
+    ));
 }
 
 fn parse_err(text: &str) -> (usize, usize, String) {
