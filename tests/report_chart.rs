@@ -1,0 +1,153 @@
+//! Time-series SVG charts (the paper's figure 4): the output is well-formed XML holding the
+//! title, axis titles, one legend entry per series, and for each curve its minimum and maximum
+//! marked with their values; the same input gives the same bytes; bad data is an error.
+
+use articula::error::Error;
+use articula::report::chart::{
+    Panel, Series, Table, fmt_value, series_columns, stacked_svg, time_series_svg, write_svg,
+};
+
+/// Text content of every `<text>` element, trimmed.
+fn texts(svg: &str) -> Vec<String> {
+    let doc = roxmltree::Document::parse(svg).expect("SVG is well-formed XML");
+    assert_eq!(doc.root_element().tag_name().name(), "svg");
+    doc.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .map(|n| n.text().unwrap_or("").trim().to_string())
+        .collect()
+}
+
+fn walk() -> Vec<Series> {
+    let t: Vec<f64> = (0..241).map(|i| i as f64 / 120.0).collect();
+    // knee flexion-like torque: max 42.5 N·m at t = 0.5 s, min −17.0 at 1.5 s
+    let knee: Vec<f64> = t
+        .iter()
+        .map(|&t| 12.75 + 29.75 * (std::f64::consts::PI * t).sin())
+        .collect();
+    let hip: Vec<f64> = t.iter().map(|&t| 5.0 * (2.0 * t).cos()).collect();
+    vec![
+        Series::new("knee (right)", t.clone(), knee),
+        Series::new("hip & <pelvis>", t, hip),
+    ]
+}
+
+#[test]
+fn svg_holds_title_axes_legend_and_min_max_labels() {
+    let svg = time_series_svg("Joint torques", "time (s)", "torque (N·m)", &walk(), true).unwrap();
+    let texts = texts(&svg);
+    for want in ["Joint torques", "time (s)", "torque (N·m)", "knee (right)", "hip & <pelvis>"] {
+        assert!(texts.iter().any(|t| t == want), "no text {want:?} in {texts:?}");
+    }
+    // knee: max 12.75 + 29.75 = 42.5 at t = 0.5, min 12.75 − 29.75 = −17 at t = 1.5
+    assert!(texts.contains(&"max 42.50 @ 0.5000".to_string()), "{texts:?}");
+    assert!(texts.contains(&"min -17.00 @ 1.500".to_string()), "{texts:?}");
+    // hip: 5 cos 2t over [0, 2]: max 5 at 0, min −5 at t = π/2 → nearest sample 1.575
+    assert!(texts.contains(&"max 5.000 @ 0".to_string()), "{texts:?}");
+    assert!(texts.iter().any(|t| t.starts_with("min -5.000 @ 1.5")), "{texts:?}");
+    // one marker dot per min and max
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let dots = doc.descendants().filter(|n| n.has_tag_name("circle")).count();
+    assert_eq!(dots, 4);
+    // one polyline per curve (plus the legend's samples)
+    let lines = doc.descendants().filter(|n| n.has_tag_name("polyline")).count();
+    assert!(lines >= 2, "{lines}");
+}
+
+#[test]
+fn without_markers_there_are_no_min_max_labels() {
+    let svg = time_series_svg("T", "time (s)", "angle (rad)", &walk(), false).unwrap();
+    let texts = texts(&svg);
+    assert!(!texts.iter().any(|t| t.starts_with("max ") || t.starts_with("min ")));
+    assert!(!svg.contains("<circle"));
+}
+
+#[test]
+fn same_input_same_bytes() {
+    let a = time_series_svg("T", "time (s)", "torque (N·m)", &walk(), true).unwrap();
+    let b = time_series_svg("T", "time (s)", "torque (N·m)", &walk(), true).unwrap();
+    assert_eq!(a, b);
+    let mut other = walk();
+    other[0].y[10] += 1.0;
+    let c = time_series_svg("T", "time (s)", "torque (N·m)", &other, true).unwrap();
+    assert_ne!(a, c);
+}
+
+#[test]
+fn degenerate_data_draws() {
+    let constant = Series::new("flat", vec![0.0, 1.0, 2.0], vec![3.0; 3]);
+    let svg = time_series_svg("c", "t (s)", "y", &[constant], true).unwrap();
+    assert!(texts(&svg).contains(&"max 3.000 @ 0".to_string()));
+    let one = Series::new("one", vec![0.5], vec![-2.0]);
+    let svg = time_series_svg("o", "t (s)", "y", &[one], true).unwrap();
+    assert!(texts(&svg).contains(&"min -2.000 @ 0.5000".to_string()));
+    let zero = Series::new("zero", vec![0.0, 0.0], vec![0.0, 0.0]);
+    texts(&time_series_svg("z", "t (s)", "y", &[zero], true).unwrap());
+}
+
+#[test]
+fn bad_data_is_an_error_not_a_panic() {
+    let nan = Series::new("n", vec![0.0, 1.0], vec![0.0, f64::NAN]);
+    let err = time_series_svg("T", "t", "y", &[nan], true).unwrap_err();
+    assert!(matches!(err, Error::Invalid(_)));
+    assert!(err.to_string().contains("sample 1"), "{err}");
+    let inf = Series::new("i", vec![0.0, f64::INFINITY], vec![0.0, 1.0]);
+    assert!(time_series_svg("T", "t", "y", &[inf], true).is_err());
+    let ragged = Series::new("r", vec![0.0, 1.0], vec![0.0]);
+    assert!(time_series_svg("T", "t", "y", &[ragged], true).is_err());
+    let empty = Series::new("e", vec![], vec![]);
+    assert!(time_series_svg("T", "t", "y", &[empty], true).is_err());
+    assert!(time_series_svg("T", "t", "y", &[], true).is_err());
+    let huge = Series::new("h", vec![0.0, 1.0], vec![-f64::MAX, f64::MAX]);
+    assert!(time_series_svg("T", "t", "y", &[huge], true).is_err());
+}
+
+#[test]
+fn stacked_panels_and_table() {
+    let s = walk();
+    let panels = [
+        Panel { title: "torque", x_label: "time (s)", y_label: "τ (N·m)", series: &s, mark_min_max: true },
+        Panel { title: "speed", x_label: "time (s)", y_label: "q̇ (rad/s)", series: &s[..1], mark_min_max: false },
+    ];
+    let table = Table {
+        header: vec!["joint".into(), "peak (N·m)".into()],
+        rows: vec![vec!["knee".into(), "42.50".into()], vec!["hip".into(), "5.000".into()]],
+    };
+    let svg = stacked_svg(&panels, Some(&table)).unwrap();
+    let texts = texts(&svg);
+    for want in ["torque", "speed", "τ (N·m)", "q̇ (rad/s)", "joint", "peak (N·m)", "knee", "42.50", "5.000"] {
+        assert!(texts.iter().any(|t| t == want), "no text {want:?}");
+    }
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let h: u32 = doc.root_element().attribute("height").unwrap().parse().unwrap();
+    assert!(h > 2 * articula::report::chart::PANEL_HEIGHT);
+}
+
+#[test]
+fn write_svg_writes_the_document() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("c.svg");
+    let svg = time_series_svg("T", "t (s)", "y", &walk(), true).unwrap();
+    write_svg(&p, &svg).unwrap();
+    assert_eq!(std::fs::read_to_string(&p).unwrap(), svg);
+}
+
+#[test]
+fn series_export_needs_a_shared_time_base() {
+    let s = walk();
+    let (h, cols) = series_columns("t_s", &s).unwrap();
+    assert_eq!(h, ["t_s", "knee (right)", "hip & <pelvis>"]);
+    assert_eq!(cols.len(), 3);
+    assert_eq!(cols[1], &s[0].y[..]);
+    let shifted = Series::new("late", s[0].x.iter().map(|t| t + 0.1).collect(), s[0].y.clone());
+    assert!(series_columns("t_s", &[s[0].clone(), shifted]).is_err());
+}
+
+#[test]
+fn value_labels_have_four_significant_digits() {
+    assert_eq!(fmt_value(42.5), "42.50");
+    assert_eq!(fmt_value(-0.001234567), "-0.001235");
+    assert_eq!(fmt_value(1234.6), "1235");
+    assert_eq!(fmt_value(0.0), "0");
+    assert_eq!(fmt_value(1.5e9), "1.500e9");
+}
+
