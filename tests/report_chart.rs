@@ -35,21 +35,45 @@ fn walk() -> Vec<Series> {
 fn svg_holds_title_axes_legend_and_min_max_labels() {
     let svg = time_series_svg("Joint torques", "time (s)", "torque (N·m)", &walk(), true).unwrap();
     let texts = texts(&svg);
-    for want in ["Joint torques", "time (s)", "torque (N·m)", "knee (right)", "hip & <pelvis>"] {
-        assert!(texts.iter().any(|t| t == want), "no text {want:?} in {texts:?}");
+    for want in [
+        "Joint torques",
+        "time (s)",
+        "torque (N·m)",
+        "knee (right)",
+        "hip & <pelvis>",
+    ] {
+        assert!(
+            texts.iter().any(|t| t == want),
+            "no text {want:?} in {texts:?}"
+        );
     }
     // knee: max 12.75 + 29.75 = 42.5 at t = 0.5, min 12.75 − 29.75 = −17 at t = 1.5
-    assert!(texts.contains(&"max 42.50 @ 0.5000".to_string()), "{texts:?}");
-    assert!(texts.contains(&"min -17.00 @ 1.500".to_string()), "{texts:?}");
+    assert!(
+        texts.contains(&"max 42.50 @ 0.5000".to_string()),
+        "{texts:?}"
+    );
+    assert!(
+        texts.contains(&"min -17.00 @ 1.500".to_string()),
+        "{texts:?}"
+    );
     // hip: 5 cos 2t over [0, 2]: max 5 at 0, min −5 at t = π/2 → nearest sample 1.575
     assert!(texts.contains(&"max 5.000 @ 0".to_string()), "{texts:?}");
-    assert!(texts.iter().any(|t| t.starts_with("min -5.000 @ 1.5")), "{texts:?}");
+    assert!(
+        texts.iter().any(|t| t.starts_with("min -5.000 @ 1.5")),
+        "{texts:?}"
+    );
     // one marker dot per min and max
     let doc = roxmltree::Document::parse(&svg).unwrap();
-    let dots = doc.descendants().filter(|n| n.has_tag_name("circle")).count();
+    let dots = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("circle"))
+        .count();
     assert_eq!(dots, 4);
     // one polyline per curve (plus the legend's samples)
-    let lines = doc.descendants().filter(|n| n.has_tag_name("polyline")).count();
+    let lines = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("polyline"))
+        .count();
     assert!(lines >= 2, "{lines}");
 }
 
@@ -57,7 +81,11 @@ fn svg_holds_title_axes_legend_and_min_max_labels() {
 fn without_markers_there_are_no_min_max_labels() {
     let svg = time_series_svg("T", "time (s)", "angle (rad)", &walk(), false).unwrap();
     let texts = texts(&svg);
-    assert!(!texts.iter().any(|t| t.starts_with("max ") || t.starts_with("min ")));
+    assert!(
+        !texts
+            .iter()
+            .any(|t| t.starts_with("max ") || t.starts_with("min "))
+    );
     assert!(!svg.contains("<circle"));
 }
 
@@ -105,20 +133,50 @@ fn bad_data_is_an_error_not_a_panic() {
 fn stacked_panels_and_table() {
     let s = walk();
     let panels = [
-        Panel { title: "torque", x_label: "time (s)", y_label: "τ (N·m)", series: &s, mark_min_max: true },
-        Panel { title: "speed", x_label: "time (s)", y_label: "q̇ (rad/s)", series: &s[..1], mark_min_max: false },
+        Panel {
+            title: "torque",
+            x_label: "time (s)",
+            y_label: "τ (N·m)",
+            series: &s,
+            mark_min_max: true,
+        },
+        Panel {
+            title: "speed",
+            x_label: "time (s)",
+            y_label: "q̇ (rad/s)",
+            series: &s[..1],
+            mark_min_max: false,
+        },
     ];
     let table = Table {
         header: vec!["joint".into(), "peak (N·m)".into()],
-        rows: vec![vec!["knee".into(), "42.50".into()], vec!["hip".into(), "5.000".into()]],
+        rows: vec![
+            vec!["knee".into(), "42.50".into()],
+            vec!["hip".into(), "5.000".into()],
+        ],
     };
     let svg = stacked_svg(&panels, Some(&table)).unwrap();
     let texts = texts(&svg);
-    for want in ["torque", "speed", "τ (N·m)", "q̇ (rad/s)", "joint", "peak (N·m)", "knee", "42.50", "5.000"] {
+    for want in [
+        "torque",
+        "speed",
+        "τ (N·m)",
+        "q̇ (rad/s)",
+        "joint",
+        "peak (N·m)",
+        "knee",
+        "42.50",
+        "5.000",
+    ] {
         assert!(texts.iter().any(|t| t == want), "no text {want:?}");
     }
     let doc = roxmltree::Document::parse(&svg).unwrap();
-    let h: u32 = doc.root_element().attribute("height").unwrap().parse().unwrap();
+    let h: u32 = doc
+        .root_element()
+        .attribute("height")
+        .unwrap()
+        .parse()
+        .unwrap();
     assert!(h > 2 * articula::report::chart::PANEL_HEIGHT);
 }
 
@@ -138,7 +196,11 @@ fn series_export_needs_a_shared_time_base() {
     assert_eq!(h, ["t_s", "knee (right)", "hip & <pelvis>"]);
     assert_eq!(cols.len(), 3);
     assert_eq!(cols[1], &s[0].y[..]);
-    let shifted = Series::new("late", s[0].x.iter().map(|t| t + 0.1).collect(), s[0].y.clone());
+    let shifted = Series::new(
+        "late",
+        s[0].x.iter().map(|t| t + 0.1).collect(),
+        s[0].y.clone(),
+    );
     assert!(series_columns("t_s", &[s[0].clone(), shifted]).is_err());
 }
 
@@ -150,4 +212,3 @@ fn value_labels_have_four_significant_digits() {
     assert_eq!(fmt_value(0.0), "0");
     assert_eq!(fmt_value(1.5e9), "1.500e9");
 }
-

@@ -109,7 +109,9 @@ fn register_fonts() -> Result<(), Error> {
     if ok {
         Ok(())
     } else {
-        Err(Error::Invalid("the embedded chart fonts failed to load".into()))
+        Err(Error::Invalid(
+            "the embedded chart fonts failed to load".into(),
+        ))
     }
 }
 
@@ -144,7 +146,9 @@ pub fn stacked_svg(panels: &[Panel<'_>], table: Option<&Table>) -> Result<String
         validate(p)?;
     }
     register_fonts()?;
-    let table_h = table.map_or(0, |t| (t.rows.len() as u32 + 1) * TABLE_LINE + 2 * TABLE_LINE);
+    let table_h = table.map_or(0, |t| {
+        (t.rows.len() as u32 + 1) * TABLE_LINE + 2 * TABLE_LINE
+    });
     let height = panels.len() as u32 * PANEL_HEIGHT + table_h;
     let mut svg = String::new();
     {
@@ -181,7 +185,10 @@ pub fn series_columns<'a>(
     let mut cols: Vec<&[f64]> = vec![&first.x];
     for s in series {
         let same = s.x.len() == first.x.len()
-            && s.x.iter().zip(&first.x).all(|(a, b)| a.to_bits() == b.to_bits());
+            && s.x
+                .iter()
+                .zip(&first.x)
+                .all(|(a, b)| a.to_bits() == b.to_bits());
         if !same {
             return Err(Error::Invalid(format!(
                 "CSV export: series {:?} is sampled at other abscissae than {:?}; export them \
@@ -215,7 +222,10 @@ pub fn fmt_value(v: f64) -> String {
     let decimals = (3 - mag).clamp(0, 7) as usize;
     let s = format!("{v:.decimals$}");
     // "-0.000" style results of rounding are printed as 0
-    if s.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+    if s.trim_start_matches('-')
+        .chars()
+        .all(|c| c == '0' || c == '.')
+    {
         "0".into()
     } else {
         s
@@ -225,7 +235,10 @@ pub fn fmt_value(v: f64) -> String {
 /// Rejects panels plotters cannot draw or would draw misleadingly.
 fn validate(p: &Panel<'_>) -> Result<(), Error> {
     if p.series.is_empty() {
-        return Err(Error::Invalid(format!("chart {:?}: no series to draw", p.title)));
+        return Err(Error::Invalid(format!(
+            "chart {:?}: no series to draw",
+            p.title
+        )));
     }
     for s in p.series {
         if s.x.len() != s.y.len() {
@@ -299,7 +312,10 @@ where
 {
     // extent: all curves, widened so the markers' labels fit inside
     let fold = |f: fn(&Series) -> &Vec<f64>, init: f64, g: fn(f64, f64) -> f64| {
-        p.series.iter().flat_map(|s| f(s).iter().copied()).fold(init, g)
+        p.series
+            .iter()
+            .flat_map(|s| f(s).iter().copied())
+            .fold(init, g)
     };
     let (x0, x1) = padded(
         fold(|s| &s.x, f64::INFINITY, f64::min),
@@ -355,7 +371,11 @@ where
                 let text = format!("{what} {} @ {}", fmt_value(s.y[i]), fmt_value(s.x[i]));
                 // labels in the right quarter extend leftwards so they stay inside the plot
                 let right = s.x[i] > x0 + 0.75 * (x1 - x0);
-                let (anchor, dx) = if right { (HPos::Right, -6) } else { (HPos::Left, 6) };
+                let (anchor, dx) = if right {
+                    (HPos::Right, -6)
+                } else {
+                    (HPos::Left, 6)
+                };
                 let style = TextStyle::from((FONT, 13).into_font())
                     .color(&color)
                     .pos(Pos::new(anchor, VPos::Top));
@@ -399,11 +419,19 @@ where
     let lines = std::iter::once((&t.header, true)).chain(t.rows.iter().map(|r| (r, false)));
     for (row, (cells, is_header)) in lines.enumerate() {
         let y = TABLE_LINE as i32 * (row as i32 + 1);
-        let color = if is_header { BLACK } else { RGBColor(0x33, 0x33, 0x33) };
+        let color = if is_header {
+            BLACK
+        } else {
+            RGBColor(0x33, 0x33, 0x33)
+        };
         for (c, cell) in cells.iter().enumerate() {
             let style = TextStyle::from((MONO, 14).into_font()).color(&color);
-            area.draw(&Text::new(cell.as_str(), (left + c as i32 * col_w, y), style))
-                .map_err(plot_err)?;
+            area.draw(&Text::new(
+                cell.as_str(),
+                (left + c as i32 * col_w, y),
+                style,
+            ))
+            .map_err(plot_err)?;
         }
     }
     Ok(())
