@@ -11,7 +11,10 @@ use articula::motion::derive::{
 use nalgebra::{UnitQuaternion, Vector3};
 
 fn max_err(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
 }
 
 /// Largest errors of ẋ and ẍ for x = sin(3t) + 0.5t² on [0, 2] s sampled every `dt`.
@@ -44,7 +47,9 @@ fn scalar_derivatives_are_second_order_including_the_ends() {
 #[test]
 fn a_parabola_is_differentiated_exactly() {
     let dt = 0.1;
-    let x: Vec<f64> = (0..6).map(|k| 2.0 - 3.0 * (k as f64 * dt) + 4.0 * (k as f64 * dt).powi(2)).collect();
+    let x: Vec<f64> = (0..6)
+        .map(|k| 2.0 - 3.0 * (k as f64 * dt) + 4.0 * (k as f64 * dt).powi(2))
+        .collect();
     let cols = vec![x.clone()];
     let mut out = vec![vec![0.0; 6]];
     differentiate_columns(&cols, dt, &mut out);
@@ -74,7 +79,10 @@ fn quaternion_error(dt: f64) -> f64 {
     let (q, w): (Vec<_>, Vec<_>) = (0..n).map(|k| two_axis(k as f64 * dt)).unzip();
     let mut out = vec![Vector3::zeros(); n];
     differentiate_quaternions(&q, dt, &mut out);
-    out.iter().zip(&w).map(|(a, b)| (a - b).norm()).fold(0.0, f64::max)
+    out.iter()
+        .zip(&w)
+        .map(|(a, b)| (a - b).norm())
+        .fold(0.0, f64::max)
 }
 
 #[test]
@@ -91,13 +99,17 @@ fn angular_velocity_is_the_models_spherical_velocity() {
     // frame, whatever the sign of each stored quaternion
     let dt = 1.0 / 30.0;
     let w = Vector3::new(1.5, -0.5, 3.0);
-    let mut q = vec![UnitQuaternion::from_scaled_axis(Vector3::new(0.3, 0.2, 0.1))];
+    let mut q = vec![UnitQuaternion::from_scaled_axis(Vector3::new(
+        0.3, 0.2, 0.1,
+    ))];
     let mut buf = [0.0; 4];
     for _ in 0..40 {
         let last = q.last().unwrap();
         let xyzw = [last.i, last.j, last.k, last.w];
         JointKind::Spherical.integrate(&xyzw, w.as_slice(), dt, &mut buf);
-        let next = UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(buf[3], buf[0], buf[1], buf[2]));
+        let next = UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+            buf[3], buf[0], buf[1], buf[2],
+        ));
         q.push(next);
     }
     for k in (0..q.len()).step_by(5) {

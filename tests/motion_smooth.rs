@@ -110,12 +110,20 @@ fn butterworth_is_minus_3db_at_its_cutoff_with_no_lag() {
             let mut s = Smoother::new(spec, DT).unwrap();
             // the documented formula, written out independently of the implementation
             let omega_c = (PI * fc * DT).tan() / (SQRT_2 - 1.0).powf(1.0 / (2.0 * order as f64));
-            let formula = |f: f64| 1.0 / (1.0 + ((PI * f * DT).tan() / omega_c).powi(2 * order as i32));
-            for (f, want) in [(fc, FRAC_1_SQRT_2), (0.5 * fc, formula(0.5 * fc)), (2.0 * fc, formula(2.0 * fc))] {
+            let formula =
+                |f: f64| 1.0 / (1.0 + ((PI * f * DT).tan() / omega_c).powi(2 * order as i32));
+            for (f, want) in [
+                (fc, FRAC_1_SQRT_2),
+                (0.5 * fc, formula(0.5 * fc)),
+                (2.0 * fc, formula(2.0 * fc)),
+            ] {
                 let mut y = sine(f, n);
                 s.smooth(&mut y);
                 let (amp, phase) = fit_sinusoid(&y, f, 400..n - 400);
-                assert!((amp - want).abs() < 1e-3, "{spec} at {f} Hz: gain {amp}, formula {want}");
+                assert!(
+                    (amp - want).abs() < 1e-3,
+                    "{spec} at {f} Hz: gain {amp}, formula {want}"
+                );
                 assert!((s.gain(f) - want).abs() < 1e-12);
                 assert!(phase.abs() < 1e-3, "{spec} at {f} Hz: phase {phase}");
             }
@@ -137,7 +145,10 @@ fn gaussian_follows_its_fourier_transform() {
             let mut y = sine(f, n);
             s.smooth(&mut y);
             let (amp, phase) = fit_sinusoid(&y, f, 400..n - 400);
-            assert!((amp - want).abs() < 2e-3, "{spec} at {f} Hz: gain {amp}, formula {want}");
+            assert!(
+                (amp - want).abs() < 2e-3,
+                "{spec} at {f} Hz: gain {amp}, formula {want}"
+            );
             assert!((amp - s.gain(f)).abs() < 1e-4, "{spec}: discrete gain");
             assert!(phase.abs() < 1e-6);
         }
@@ -159,7 +170,9 @@ fn none_changes_nothing() {
 fn rotation_path(n: usize, noise: f64) -> (Vec<UnitQuaternion<f64>>, Vec<UnitQuaternion<f64>>) {
     let mut seed = 12345u64;
     let mut rnd = || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
     };
     let truth: Vec<UnitQuaternion<f64>> = (0..n)
@@ -176,7 +189,11 @@ fn rotation_path(n: usize, noise: f64) -> (Vec<UnitQuaternion<f64>>, Vec<UnitQua
             let e = Vector3::new(rnd(), rnd(), rnd()) * noise;
             let r = q * UnitQuaternion::from_scaled_axis(e);
             // random sign flips: the same rotations, another representation
-            if k % 7 == 3 { UnitQuaternion::new_unchecked(-r.into_inner()) } else { r }
+            if k % 7 == 3 {
+                UnitQuaternion::new_unchecked(-r.into_inner())
+            } else {
+                r
+            }
         })
         .collect();
     (truth, noisy)
@@ -187,7 +204,12 @@ fn quaternion_smoothing_keeps_unit_norm_and_approaches_the_truth() {
     let n = 600; // 5 s: the path turns by 10 rad about y, several half-turns
     let (truth, noisy) = rotation_path(n, 0.05);
     let err = |a: &[UnitQuaternion<f64>]| {
-        (a.iter().zip(&truth).map(|(x, y)| x.angle_to(y).powi(2)).sum::<f64>() / n as f64).sqrt()
+        (a.iter()
+            .zip(&truth)
+            .map(|(x, y)| x.angle_to(y).powi(2))
+            .sum::<f64>()
+            / n as f64)
+            .sqrt()
     };
     let raw = err(&noisy);
     for spec in [
@@ -202,11 +224,17 @@ fn quaternion_smoothing_keeps_unit_norm_and_approaches_the_truth() {
         for k in 0..n {
             assert!((q[k].coords.norm() - 1.0).abs() < 1e-12);
             if k > 0 {
-                assert!(q[k].coords.dot(&q[k - 1].coords) > 0.0, "hemisphere flip at {k}");
+                assert!(
+                    q[k].coords.dot(&q[k - 1].coords) > 0.0,
+                    "hemisphere flip at {k}"
+                );
             }
         }
         let smoothed = err(&q);
-        assert!(smoothed < 0.4 * raw, "{spec}: rms error {smoothed} vs raw {raw}");
+        assert!(
+            smoothed < 0.4 * raw,
+            "{spec}: rms error {smoothed} vs raw {raw}"
+        );
     }
 }
 

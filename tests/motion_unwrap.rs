@@ -19,7 +19,10 @@ fn wrapped_ramps_are_recovered_in_degrees_and_radians() {
             })
             .collect();
         let mut x: Vec<f64> = truth.iter().map(|&v| wrap(v, turn)).collect();
-        assert!(x.windows(2).any(|w| (w[1] - w[0]).abs() > 0.5 * turn), "test has no jump");
+        assert!(
+            x.windows(2).any(|w| (w[1] - w[0]).abs() > 0.5 * turn),
+            "test has no jump"
+        );
         unwrap_angles(unit, &mut x);
         for (a, b) in x.iter().zip(&truth) {
             assert!((a - b).abs() < 1e-9 * turn, "{unit:?}: {a} vs {b}");

@@ -142,8 +142,8 @@ pub fn differentiate_quaternions(q: &[UnitQuaternion<f64>], dt: f64, omega: &mut
             let h2 = 2.0 * dt;
             // one-sided: (−3φ(0) + 4φ(1) − φ(2))/2dt with φ(0) = 0
             omega[0] = (4.0 * phi(0, 1) - phi(0, 2)) / h2;
-            for k in 1..n - 1 {
-                omega[k] = (phi(k, k + 1) - phi(k, k - 1)) / h2;
+            for (k, w) in omega.iter_mut().enumerate().take(n - 1).skip(1) {
+                *w = (phi(k, k + 1) - phi(k, k - 1)) / h2;
             }
             omega[n - 1] = -(4.0 * phi(n - 1, n - 2) - phi(n - 1, n - 3)) / h2;
         }

@@ -137,7 +137,9 @@ impl SmoothSpec {
             SmoothSpec::Gaussian { sigma_s } if !(sigma_s > 0.0 && sigma_s.is_finite()) => Err(
                 format!("the Gaussian width must be a positive number of seconds, not {sigma_s}"),
             ),
-            SmoothSpec::Butterworth { cutoff_hz, .. } if !(cutoff_hz > 0.0 && cutoff_hz.is_finite()) => {
+            SmoothSpec::Butterworth { cutoff_hz, .. }
+                if !(cutoff_hz > 0.0 && cutoff_hz.is_finite()) =>
+            {
                 Err(format!(
                     "the Butterworth cutoff must be a positive frequency in Hz, not {cutoff_hz}"
                 ))
@@ -209,7 +211,9 @@ impl Section {
 enum Method {
     None,
     /// Symmetric FIR: `kernel[k]` is the weight of offsets ±k; the weights sum to one.
-    Fir { kernel: Vec<f64> },
+    Fir {
+        kernel: Vec<f64>,
+    },
     /// Cascade of sections run forward then backward; `omega_c` is the prewarped design
     /// frequency `Ωc` of each pass, `order` its order.
     Iir {
@@ -268,7 +272,9 @@ impl Smoother {
                 let (sections, omega_c) = butterworth_sections(cutoff_hz, order, dt);
                 // pad until the start-up transient has decayed by e⁻²⁸ (≈ 1e-12): the least
                 // damped pole pair decays at 2π·fc·sin(π/2N) (the analog prototype)
-                let decay = 2.0 * std::f64::consts::PI * cutoff_hz
+                let decay = 2.0
+                    * std::f64::consts::PI
+                    * cutoff_hz
                     * (std::f64::consts::PI / (2.0 * order as f64)).sin();
                 let pad = (28.0 / (decay * dt)).ceil() as usize + 2;
                 (
