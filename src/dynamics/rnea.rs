@@ -3,7 +3,7 @@
 use super::Workspace;
 use crate::model::Model;
 use crate::spatial::{ForceVec, MotionVec};
-use nalgebra::DVector;
+use nalgebra::{DVector, Vector3};
 
 /// Inverse dynamics, recursive Newton-Euler: the generalized forces `τ` that produce the
 /// accelerations `a` at state `(q, v)` (Featherstone 2008, table 5.1; the paper's forward sweep
@@ -21,9 +21,30 @@ pub fn rnea<'w>(
     a: &[f64],
     f_ext: Option<&[ForceVec]>,
 ) -> &'w DVector<f64> {
+    rnea_terms(model, ws, q, Some(v), Some(a), f_ext, true);
+    &ws.tau
+}
+
+/// The recursive Newton-Euler sweeps with any of the terms switched off: `v = None` is
+/// `v = 0` (and no friction), `a = None` is `a = 0`, `gravity = false` drops `c(q)`. The
+/// bias-term functions ([`super::bias`]) are this with some terms off. Writes `ws.li_x_i`,
+/// `ws.v`, `ws.a`, `ws.f`, `ws.tau`.
+pub(crate) fn rnea_terms(
+    model: &Model,
+    ws: &mut Workspace,
+    q: &[f64],
+    v: Option<&[f64]>,
+    a: Option<&[f64]>,
+    f_ext: Option<&[ForceVec]>,
+    gravity: bool,
+) {
     // the world: at rest, accelerating upward to stand in for gravity
     ws.v[0] = MotionVec::ZERO;
-    ws.a[0] = MotionVec::new(nalgebra::Vector3::zeros(), -model.gravity);
+    ws.a[0] = if gravity {
+        MotionVec::new(Vector3::zeros(), -model.gravity)
+    } else {
+        MotionVec::ZERO
+    };
 
     // forward pass: velocities, accelerations and the net force each body needs
     //   v_i = iX_λ v_λ + S_i q̇_i,   a_i = iX_λ a_λ + S_i q̈_i + v_i ×ₘ S_i q̇_i
@@ -32,11 +53,10 @@ pub fn rnea<'w>(
         let (joint, p) = (&model.joints[i], model.parent[i]);
         let (iq, iv) = (model.idx_q[i], model.idx_v[i]);
         let x = model.placement[i].compose(&joint.transform(&q[iq..iq + joint.nq()]));
-        let vj = joint.motion(&v[iv..iv + joint.nv()]);
+        let vj = v.map_or(MotionVec::ZERO, |v| joint.motion(&v[iv..iv + joint.nv()]));
+        let aj = a.map_or(MotionVec::ZERO, |a| joint.motion(&a[iv..iv + joint.nv()]));
         let vi = x.act_inv_motion(&ws.v[p]) + vj;
-        let ai = x.act_inv_motion(&ws.a[p])
-            + joint.motion(&a[iv..iv + joint.nv()])
-            + vi.cross_motion(&vj);
+        let ai = x.act_inv_motion(&ws.a[p]) + aj + vi.cross_motion(&vj);
         let inertia = &model.inertia[i];
         let mut fi = inertia.mul_motion(&ai) + vi.cross_force(&inertia.mul_motion(&vi));
         if let Some(fx) = f_ext {
@@ -54,9 +74,16 @@ pub fn rnea<'w>(
         let joint = &model.joints[i];
         let iv = model.idx_v[i];
         let nv = joint.nv();
-        joint.project_force(&ws.f[i], &mut ws.tau.as_mut_slice()[iv..iv + nv]);
-        for k in iv..iv + nv {
-            ws.tau[k] += model.damping[k] * v[k];
+        let tau = &mut ws.tau.as_mut_slice()[iv..iv + nv];
+        joint.project_force(&ws.f[i], tau);
+        if let Some(v) = v {
+            for ((t, b), vk) in tau
+                .iter_mut()
+                .zip(&model.damping[iv..iv + nv])
+                .zip(&v[iv..])
+            {
+                *t += b * vk;
+            }
         }
         let p = model.parent[i];
         if p > 0 {
@@ -64,7 +91,6 @@ pub fn rnea<'w>(
             ws.f[p] += fp;
         }
     }
-    &ws.tau
 }
 
 #[cfg(test)]

@@ -4,39 +4,116 @@
 
 use crate::model::Model;
 use crate::spatial::{ForceVec, MotionVec, SpatialTransform};
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
+
+/// Marks "no parent degree of freedom" in [`Workspace::dof_parent`].
+pub const NO_DOF: usize = usize::MAX;
 
 /// Scratch and results of the dynamics algorithms for one model.
 #[derive(Debug, Clone)]
 pub struct Workspace {
     /// Pose of body i in its parent's frame at the current q (`nbodies`); written by
-    /// `forward_kinematics` and `rnea`.
+    /// `forward_kinematics`, `rnea`, `crba`, `aba` and the energy functions.
     pub li_x_i: Vec<SpatialTransform>,
-    /// Pose of body i in the world frame (`nbodies`); written by `forward_kinematics`.
+    /// Pose of body i in the world frame (`nbodies`); written by `forward_kinematics` and the
+    /// energy functions.
     pub o_x_i: Vec<SpatialTransform>,
-    /// Spatial velocity of body i, body frame (`nbodies`, rad/s, m/s); written by `rnea`.
+    /// Spatial velocity of body i, body frame (`nbodies`, rad/s, m/s); written by `rnea`, `aba`
+    /// and the energy functions.
     pub v: Vec<MotionVec>,
     /// Spatial acceleration of body i, body frame, gravity included as a fictitious upward
-    /// acceleration of the world (`nbodies`); written by `rnea`.
+    /// acceleration of the world (`nbodies`); written by `rnea` and `aba`.
     pub a: Vec<MotionVec>,
     /// Spatial force transmitted by joint i onto body i, body frame (`nbodies`, N·m, N);
     /// written by `rnea`.
     pub f: Vec<ForceVec>,
-    /// Generalized forces (`nv`, N·m or N); written by `rnea`.
+    /// Generalized forces (`nv`, N·m or N); written by `rnea` (and the bias-term functions,
+    /// which run it).
     pub tau: DVector<f64>,
+    /// 6×6 spatial inertia of body i, body frame, about its origin, angular first
+    /// (`nbodies`, kg, kg·m, kg·m²): the composite rigid-body inertia `I^c_i` after `crba`,
+    /// the articulated-body inertia `I^A_i` after `aba`.
+    pub inertia6: Vec<Matrix6<f64>>,
+    /// Articulated bias force `p^A_i`, body frame (`nbodies`, N·m, N); written by `aba`.
+    pub p_a: Vec<ForceVec>,
+    /// Velocity-product acceleration `c_i = v_i ×ₘ S_i q̇_i`, body frame (`nbodies`); written by
+    /// `aba`.
+    pub c: Vec<MotionVec>,
+    /// `U_i = I^A_i S_i`, its first `nv_i` columns used (`nbodies`); written by `aba`.
+    pub u_mat: Vec<Matrix6<f64>>,
+    /// `D_i⁻¹ = (S_iᵀ U_i)⁻¹`, its top-left `nv_i × nv_i` block used (`nbodies`); written by
+    /// `aba`.
+    pub d_inv: Vec<Matrix6<f64>>,
+    /// `u_i = τ_i − b_i q̇_i − S_iᵀ p^A_i`, its first `nv_i` entries used (`nbodies`); written by
+    /// `aba`.
+    pub u_vec: Vec<Vector6<f64>>,
+    /// The joint-space inertia (mass) matrix `D(q)` (`nv × nv`, symmetric, kg·m² / kg);
+    /// written by `crba`.
+    pub mass_matrix: DMatrix<f64>,
+    /// Gravity term `c(q)` (`nv`, N·m or N); written by `gravity_terms`.
+    pub gravity: DVector<f64>,
+    /// Velocity term `h(q, v)`, Coriolis and centripetal (`nv`); written by `coriolis_terms`.
+    pub coriolis: DVector<f64>,
+    /// `h(q, v) + c(q)` (Pinocchio's `nle`, `nv`); written by `nonlinear_effects` and
+    /// `forward_dynamics_cholesky` (which also subtracts the external forces' share).
+    pub nle: DVector<f64>,
+    /// Joint accelerations `q̈` (`nv`, rad/s² or m/s²); written by `aba` and
+    /// `forward_dynamics_cholesky`.
+    pub qdd: DVector<f64>,
+    /// The `LᵀDL` factors of `D(q)` in place (`nv × nv`, Featherstone 2008 §6.5: `D` on the
+    /// diagonal, `L` below it, only ancestor entries meaningful); written by
+    /// `forward_dynamics_cholesky`.
+    pub ltdl: DMatrix<f64>,
+    /// For each velocity coordinate, the previous coordinate on its path to the root (the
+    /// expanded parent array λ of Featherstone 2008 §6.5), or [`NO_DOF`] (`nv`); constant, set
+    /// by [`Workspace::new`] from the model's topology.
+    pub dof_parent: Vec<usize>,
 }
 
 impl Workspace {
     /// Buffers sized for `model`.
     pub fn new(model: &Model) -> Self {
         let n = model.nbodies();
+        let nv = model.nv;
         Self {
             li_x_i: vec![SpatialTransform::IDENTITY; n],
             o_x_i: vec![SpatialTransform::IDENTITY; n],
             v: vec![MotionVec::ZERO; n],
             a: vec![MotionVec::ZERO; n],
             f: vec![ForceVec::ZERO; n],
-            tau: DVector::zeros(model.nv),
+            tau: DVector::zeros(nv),
+            inertia6: vec![Matrix6::zeros(); n],
+            p_a: vec![ForceVec::ZERO; n],
+            c: vec![MotionVec::ZERO; n],
+            u_mat: vec![Matrix6::zeros(); n],
+            d_inv: vec![Matrix6::zeros(); n],
+            u_vec: vec![Vector6::zeros(); n],
+            mass_matrix: DMatrix::zeros(nv, nv),
+            gravity: DVector::zeros(nv),
+            coriolis: DVector::zeros(nv),
+            nle: DVector::zeros(nv),
+            qdd: DVector::zeros(nv),
+            ltdl: DMatrix::zeros(nv, nv),
+            dof_parent: dof_parents(model),
         }
     }
+}
+
+/// The expanded parent array λ over velocity coordinates: within a joint, each coordinate's
+/// parent is the previous one; a joint's first coordinate hangs from the last coordinate of the
+/// nearest ancestor joint that has any.
+fn dof_parents(model: &Model) -> Vec<usize> {
+    // last coordinate of each body's nearest moving ancestor-or-self
+    let mut last = vec![NO_DOF; model.nbodies()];
+    let mut out = vec![NO_DOF; model.nv];
+    for i in 1..model.nbodies() {
+        let inherited = last[model.parent[i]];
+        let nv = model.joints[i].nv();
+        let iv = model.idx_v[i];
+        for k in 0..nv {
+            out[iv + k] = if k == 0 { inherited } else { iv + k - 1 };
+        }
+        last[i] = if nv > 0 { iv + nv - 1 } else { inherited };
+    }
+    out
 }

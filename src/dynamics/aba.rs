@@ -1,0 +1,225 @@
+//! Forward dynamics by the articulated-body algorithm, O(n).
+
+use super::{Workspace, inertia6};
+use crate::error::Error;
+use crate::model::Model;
+use crate::spatial::{ForceVec, MotionVec};
+use nalgebra::{DVector, Matrix6, Vector3, Vector6};
+
+/// A joint-space pivot (an articulated inertia `D_i = S_iᵀ I^A_i S_i`, or an `LᵀDL` pivot of
+/// `D(q)`) at or below this fraction of its reference scale makes `D(q)` numerically singular:
+/// the accelerations would carry fewer than ~6 correct digits. An euler joint model reaches it
+/// within ~1e-4 rad of gimbal lock.
+pub const SINGULAR_RTOL: f64 = 1e-10;
+
+/// Forward dynamics by the articulated-body algorithm (Featherstone 2008, table 7.1; Pinocchio's
+/// `aba`): the accelerations `q̈` produced by the generalized forces `τ` at state `(q, v)`, with
+/// the model's joint friction `b q̇` and optional external forces `f_ext` (one per body, body
+/// frame, acting on the body) — the inverse of [`rnea`](super::rnea).
+///
+/// Pass 1 (outward) computes velocities `v_i`, velocity-product accelerations
+/// `c_i = v_i ×ₘ S_i q̇_i` and rigid-body bias forces `p^A_i = v_i ×* I_i v_i − f_ext,i`. Pass 2
+/// (inward) builds articulated inertias and bias forces:
+/// `U_i = I^A_i S_i`, `D_i = S_iᵀ U_i`, `u_i = τ_i − b_i q̇_i − S_iᵀ p^A_i`,
+/// `I^a = I^A_i − U_i D_i⁻¹ U_iᵀ`, `p^a = p^A_i + I^a c_i + U_i D_i⁻¹ u_i`, added to the parent
+/// through `λX_i*`. Pass 3 (outward): `a'_i = iX_λ a_λ + c_i`, `q̈_i = D_i⁻¹ (u_i − U_iᵀ a'_i)`,
+/// `a_i = a'_i + S_i q̈_i`, starting from `a_0 = −g`.
+///
+/// # Errors
+/// [`Error::Numerical`] when some `D_i` is not positive definite (massless chain, or gimbal lock
+/// of an euler joint model): the message names the coordinate and suggests the ball joint model.
+///
+/// Writes `ws.li_x_i`, `ws.v`, `ws.a`, `ws.c`, `ws.inertia6` (articulated inertias), `ws.p_a`,
+/// `ws.u_mat`, `ws.d_inv`, `ws.u_vec` and `ws.qdd`; returns `&ws.qdd`.
+pub fn aba<'w>(
+    model: &Model,
+    ws: &'w mut Workspace,
+    q: &[f64],
+    v: &[f64],
+    tau: &[f64],
+    f_ext: Option<&[ForceVec]>,
+) -> Result<&'w DVector<f64>, Error> {
+    let n = model.nbodies();
+
+    // pass 1: velocities, velocity-product terms, rigid-body inertias and bias forces
+    ws.v[0] = MotionVec::ZERO;
+    for i in 1..n {
+        let (joint, p) = (&model.joints[i], model.parent[i]);
+        let (iq, iv) = (model.idx_q[i], model.idx_v[i]);
+        let x = model.placement[i].compose(&joint.transform(&q[iq..iq + joint.nq()]));
+        let vj = joint.motion(&v[iv..iv + joint.nv()]);
+        let vi = x.act_inv_motion(&ws.v[p]) + vj;
+        let inertia = &model.inertia[i];
+        let mut pa = vi.cross_force(&inertia.mul_motion(&vi));
+        if let Some(fx) = f_ext {
+            pa -= fx[i];
+        }
+        ws.li_x_i[i] = x;
+        ws.v[i] = vi;
+        ws.c[i] = vi.cross_motion(&vj);
+        ws.inertia6[i] = inertia.to_matrix();
+        ws.p_a[i] = pa;
+    }
+
+    // pass 2: articulated inertias and bias forces, leaves first
+    for i in (1..n).rev() {
+        let joint = &model.joints[i];
+        let (iv, nvi) = (model.idx_v[i], joint.nv());
+        let ia = ws.inertia6[i];
+        let pa = ws.p_a[i].to_vector6();
+        let (ia_red, pa_red) = if nvi == 1 {
+            // one degree of freedom: D_i and u_i are scalars
+            let s = joint.subspace_col(0).to_vector6();
+            let u = ia * s;
+            let d = s.dot(&u);
+            check_pivot(model, iv, d, pivot_scale(&ia, &s))?;
+            let uu = tau[iv] - model.damping[iv] * v[iv] - s.dot(&pa);
+            ws.u_mat[i].set_column(0, &u);
+            ws.d_inv[i][(0, 0)] = 1.0 / d;
+            ws.u_vec[i][0] = uu;
+            let ia_red = ia - u * (u.transpose() / d);
+            let pa_red = pa + ia_red * ws.c[i].to_vector6() + u * (uu / d);
+            (ia_red, pa_red)
+        } else {
+            // several (or no) degrees of freedom: D_i is nv_i × nv_i
+            let mut u = Matrix6::zeros();
+            let mut uu = Vector6::zeros();
+            let mut d = Matrix6::zeros();
+            let mut scale = [0.0; 6];
+            for k in 0..nvi {
+                let s = joint.subspace_col(k).to_vector6();
+                u.set_column(k, &(ia * s));
+                uu[k] = tau[iv + k] - model.damping[iv + k] * v[iv + k] - s.dot(&pa);
+                scale[k] = pivot_scale(&ia, &s);
+            }
+            for k in 0..nvi {
+                let s = joint.subspace_col(k).to_vector6();
+                for l in 0..nvi {
+                    d[(k, l)] = s.dot(&u.column(l));
+                }
+            }
+            let d_inv = spd_inverse(&d, nvi, &scale)
+                .map_err(|(k, ratio)| singular_error(model, iv + k, ratio))?;
+            let ud = u * d_inv;
+            ws.u_mat[i] = u;
+            ws.d_inv[i] = d_inv;
+            ws.u_vec[i] = uu;
+            let ia_red = ia - ud * u.transpose();
+            let pa_red = pa + ia_red * ws.c[i].to_vector6() + ud * uu;
+            (ia_red, pa_red)
+        };
+        // hand the articulated body over to the parent: I^A_λ += λX_i* I^a iX_λ
+        let p = model.parent[i];
+        if p > 0 {
+            let x = ws.li_x_i[i];
+            ws.inertia6[p] += inertia6::to_parent(&x, &ia_red);
+            ws.p_a[p] += x.act_force(&ForceVec::from_vector6(&pa_red));
+        }
+    }
+
+    // pass 3: accelerations, root first
+    ws.a[0] = MotionVec::new(Vector3::zeros(), -model.gravity);
+    for i in 1..n {
+        let joint = &model.joints[i];
+        let (iv, nvi) = (model.idx_v[i], joint.nv());
+        let ai = ws.li_x_i[i].act_inv_motion(&ws.a[model.parent[i]]) + ws.c[i];
+        let a6 = ai.to_vector6();
+        let qdd = &mut ws.qdd.as_mut_slice()[iv..iv + nvi];
+        if nvi == 1 {
+            qdd[0] = ws.d_inv[i][(0, 0)] * (ws.u_vec[i][0] - ws.u_mat[i].column(0).dot(&a6));
+        } else {
+            let mut r = [0.0; 6];
+            for (k, rk) in r.iter_mut().enumerate().take(nvi) {
+                *rk = ws.u_vec[i][k] - ws.u_mat[i].column(k).dot(&a6);
+            }
+            for (k, out) in qdd.iter_mut().enumerate() {
+                *out = (0..nvi).map(|l| ws.d_inv[i][(k, l)] * r[l]).sum();
+            }
+        }
+        ws.a[i] = ai + joint.motion(qdd);
+    }
+    Ok(&ws.qdd)
+}
+
+/// The scale a pivot along motion `s` is compared with: `|s_ω|² tr(A) + |s_v|² tr(C)` for an
+/// inertia `[A B; Bᵀ C]` — what the subtree would resist with if its own joints were locked.
+#[inline]
+fn pivot_scale(ia: &Matrix6<f64>, s: &Vector6<f64>) -> f64 {
+    let ang = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
+    let lin = s[3] * s[3] + s[4] * s[4] + s[5] * s[5];
+    ang * (ia[(0, 0)] + ia[(1, 1)] + ia[(2, 2)]) + lin * (ia[(3, 3)] + ia[(4, 4)] + ia[(5, 5)])
+}
+
+/// `Ok` when `pivot > SINGULAR_RTOL · scale` (and is a number).
+#[inline]
+pub(crate) fn check_pivot(
+    model: &Model,
+    coord: usize,
+    pivot: f64,
+    scale: f64,
+) -> Result<(), Error> {
+    if pivot > SINGULAR_RTOL * scale && pivot.is_finite() {
+        Ok(())
+    } else {
+        Err(singular_error(model, coord, pivot / scale))
+    }
+}
+
+/// The inverse of the symmetric `n × n` top-left block of `d` (n ≤ 6) by Cholesky, checking
+/// each pivot against `SINGULAR_RTOL · scale[k]`; `Err((k, pivot / scale))` names the failing
+/// row.
+fn spd_inverse(d: &Matrix6<f64>, n: usize, scale: &[f64; 6]) -> Result<Matrix6<f64>, (usize, f64)> {
+    // d = L Lᵀ
+    let mut l = Matrix6::zeros();
+    for k in 0..n {
+        let mut pivot = d[(k, k)];
+        for j in 0..k {
+            pivot -= l[(k, j)] * l[(k, j)];
+        }
+        if !(pivot > SINGULAR_RTOL * scale[k] && pivot.is_finite()) {
+            return Err((k, pivot / scale[k]));
+        }
+        let lkk = pivot.sqrt();
+        l[(k, k)] = lkk;
+        for r in k + 1..n {
+            let mut x = d[(r, k)];
+            for j in 0..k {
+                x -= l[(r, j)] * l[(k, j)];
+            }
+            l[(r, k)] = x / lkk;
+        }
+    }
+    // d⁻¹ = L⁻ᵀ L⁻¹, column by column: solve L y = e_c, then Lᵀ x = y
+    let mut inv = Matrix6::zeros();
+    for c in 0..n {
+        let mut y = [0.0; 6];
+        for r in 0..n {
+            let mut x = if r == c { 1.0 } else { 0.0 };
+            for j in 0..r {
+                x -= l[(r, j)] * y[j];
+            }
+            y[r] = x / l[(r, r)];
+        }
+        for r in (0..n).rev() {
+            let mut x = y[r];
+            for j in r + 1..n {
+                x -= l[(j, r)] * inv[(j, c)];
+            }
+            inv[(r, c)] = x / l[(r, r)];
+        }
+    }
+    Ok(inv)
+}
+
+/// The error for a singular joint-space pivot at velocity coordinate `coord`.
+pub(crate) fn singular_error(model: &Model, coord: usize, ratio: f64) -> Error {
+    let body = model.body_of_v(coord);
+    let name = model.v_names.get(coord).map_or("?", String::as_str);
+    Error::Numerical(format!(
+        "the mass matrix D(q) is singular at coordinate `{name}` (joint `{}`, body `{}`): its \
+         pivot is {ratio:.1e} of its scale. This is a gimbal lock of the euler joint model (two \
+         rotation axes of one joint aligned) or a chain of massless bodies; use the ball joint \
+         model (`--joints ball`), or give the bodies mass",
+        model.joint_names[body], model.body_names[body]
+    ))
+}
