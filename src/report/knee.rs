@@ -1,1 +1,226 @@
-//! (in progress)
+//! Knee-load comparison across body weights (the paper's figure 5): the same take re-run at
+//! several body masses, one torque curve per mass, with a legend (`"60 kg"`, …) and a table of
+//! the peak and RMS torque per mass.
+//!
+//! The input is plain data (a time series of one joint's torque per body mass), so this module
+//! does not depend on how the torques were computed. Statistics are over the whole time series:
+//! - peak `|τ|` = `max_i |τ_i|` and the time of its first occurrence;
+//! - RMS `τ` = `sqrt( (1/T) ∫ τ² dt )` by the trapezoid rule over the samples (the usual
+//!   duty-cycle RMS of motor sizing, independent of the sampling rate), with `T = t_last −
+//!   t_first`; a single sample gives `|τ_0|`.
+
+use crate::error::Error;
+use crate::report::chart::{Panel, Series, Table, fmt_value, stacked_svg};
+
+/// One joint's torque over time for one body mass.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MassRun {
+    /// Total body mass the take was run at (kg).
+    pub mass_kg: f64,
+    /// Sample times (s), non-decreasing.
+    pub t: Vec<f64>,
+    /// Joint torque at each sample (N·m).
+    pub tau: Vec<f64>,
+}
+
+/// Peak and RMS torque of one [`MassRun`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LoadRow {
+    /// Total body mass (kg).
+    pub mass_kg: f64,
+    /// `max |τ|` (N·m).
+    pub peak_nm: f64,
+    /// Time-weighted RMS of τ (N·m), see the module documentation.
+    pub rms_nm: f64,
+    /// Time of the first sample where `|τ|` reaches its peak (s).
+    pub peak_time_s: f64,
+}
+
+/// The legend label of a mass: `"60 kg"`, `"62.5 kg"`.
+pub fn mass_label(mass_kg: f64) -> String {
+    format!("{} kg", short(mass_kg))
+}
+
+/// Shortest decimal of `x` without a trailing `.0` (`60`, `62.5`).
+fn short(x: f64) -> String {
+    let s = ryu::Buffer::new().format(x).to_string();
+    s.strip_suffix(".0").map(str::to_string).unwrap_or(s)
+}
+
+/// Checks a time series: same lengths, at least one sample, finite values, time non-decreasing.
+/// `what` names the series in messages.
+pub(crate) fn check_series(what: &str, t: &[f64], ys: &[(&str, &[f64])]) -> Result<(), Error> {
+    if t.is_empty() {
+        return Err(Error::Invalid(format!("{what}: no samples")));
+    }
+    for (name, y) in ys {
+        if y.len() != t.len() {
+            return Err(Error::Invalid(format!(
+                "{what}: {} times but {} {name} values",
+                t.len(),
+                y.len()
+            )));
+        }
+        if let Some(i) = y.iter().position(|v| !v.is_finite()) {
+            return Err(Error::Invalid(format!(
+                "{what}: {name} at sample {i} is {}; every value must be finite",
+                y[i]
+            )));
+        }
+    }
+    if let Some(i) = t.iter().position(|v| !v.is_finite()) {
+        return Err(Error::Invalid(format!("{what}: time at sample {i} is {}", t[i])));
+    }
+    if let Some(i) = t.windows(2).position(|w| w[1] < w[0]) {
+        return Err(Error::Invalid(format!(
+            "{what}: time goes back at sample {} ({} s after {} s)",
+            i + 1,
+            t[i + 1],
+            t[i]
+        )));
+    }
+    Ok(())
+}
+
+/// `max |y|` and the index of its first occurrence (non-empty `y`).
+pub(crate) fn peak_abs(y: &[f64]) -> (f64, usize) {
+    let mut best = (y[0].abs(), 0);
+    for (i, v) in y.iter().enumerate() {
+        if v.abs() > best.0 {
+            best = (v.abs(), i);
+        }
+    }
+    best
+}
+
+/// `sqrt((1/T) ∫ y² dt)` by the trapezoid rule; `|y_0|` when the samples span no time.
+pub(crate) fn rms(t: &[f64], y: &[f64]) -> f64 {
+    let span = t[t.len() - 1] - t[0];
+    if span <= 0.0 {
+        // all samples at one instant: plain RMS of the values
+        return (y.iter().map(|v| v * v).sum::<f64>() / y.len() as f64).sqrt();
+    }
+    let integral: f64 = t
+        .windows(2)
+        .zip(y.windows(2))
+        .map(|(t, y)| 0.5 * (t[1] - t[0]) * (y[0] * y[0] + y[1] * y[1]))
+        .sum();
+    (integral / span).sqrt()
+}
+
+/// Peak and RMS torque of one run.
+pub fn load_row(run: &MassRun) -> Result<LoadRow, Error> {
+    if !(run.mass_kg.is_finite() && run.mass_kg > 0.0) {
+        return Err(Error::Invalid(format!(
+            "knee load: body mass {} kg must be a positive number",
+            run.mass_kg
+        )));
+    }
+    check_series(
+        &format!("knee load at {}", mass_label(run.mass_kg)),
+        &run.t,
+        &[("torque", &run.tau)],
+    )?;
+    let (peak_nm, i) = peak_abs(&run.tau);
+    Ok(LoadRow {
+        mass_kg: run.mass_kg,
+        peak_nm,
+        rms_nm: rms(&run.t, &run.tau),
+        peak_time_s: run.t[i],
+    })
+}
+
+/// One [`LoadRow`] per run, in the order given.
+pub fn load_table(runs: &[MassRun]) -> Result<Vec<LoadRow>, Error> {
+    runs.iter().map(load_row).collect()
+}
+
+/// The table as CSV: `mass_kg,peak_abs_tau_Nm,rms_tau_Nm,peak_time_s`, numbers shortest
+/// round-trip (ryu).
+pub fn load_table_csv(rows: &[LoadRow]) -> String {
+    let mut out = String::from("mass_kg,peak_abs_tau_Nm,rms_tau_Nm,peak_time_s\n");
+    let mut b = ryu::Buffer::new();
+    for r in rows {
+        for (k, v) in [r.mass_kg, r.peak_nm, r.rms_nm, r.peak_time_s].iter().enumerate() {
+            if k > 0 {
+                out.push(',');
+            }
+            out.push_str(b.format(*v));
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// The torque curves as CSV: `t_s` then one `tau_<mass>kg_Nm` column per run. The runs must
+/// share their sample times (the same take re-run), else an error.
+pub fn curves_csv(runs: &[MassRun]) -> Result<String, Error> {
+    let series = to_series(runs);
+    let named: Vec<Series> = series
+        .into_iter()
+        .zip(runs)
+        .map(|(s, r)| Series {
+            label: format!("tau_{}kg_Nm", short(r.mass_kg)),
+            ..s
+        })
+        .collect();
+    let (header, cols) = crate::report::chart::series_columns("t_s", &named)?;
+    crate::report::csv::columns_to_string(&header, &cols)
+}
+
+fn to_series(runs: &[MassRun]) -> Vec<Series> {
+    runs.iter()
+        .map(|r| Series::new(mass_label(r.mass_kg), r.t.clone(), r.tau.clone()))
+        .collect()
+}
+
+fn panel_title(joint: &str) -> String {
+    format!("{joint} torque across body masses")
+}
+
+/// The comparison chart: one curve of `joint`'s torque per run, legend `"60 kg"`, …, the peak
+/// of each marked.
+pub fn knee_svg(joint: &str, runs: &[MassRun]) -> Result<String, Error> {
+    load_table(runs)?;
+    knee_svg_impl(joint, runs, None)
+}
+
+/// [`knee_svg`] with the table of [`load_table`] drawn as text under the chart.
+pub fn knee_svg_with_table(joint: &str, runs: &[MassRun]) -> Result<String, Error> {
+    let rows = load_table(runs)?;
+    let table = Table {
+        header: ["mass (kg)", "peak |τ| (N·m)", "RMS τ (N·m)", "peak at (s)"]
+            .map(String::from)
+            .to_vec(),
+        rows: rows
+            .iter()
+            .map(|r| {
+                vec![
+                    short(r.mass_kg),
+                    fmt_value(r.peak_nm),
+                    fmt_value(r.rms_nm),
+                    fmt_value(r.peak_time_s),
+                ]
+            })
+            .collect(),
+    };
+    knee_svg_impl(joint, runs, Some(&table))
+}
+
+fn knee_svg_impl(joint: &str, runs: &[MassRun], table: Option<&Table>) -> Result<String, Error> {
+    if runs.is_empty() {
+        return Err(Error::Invalid("knee load: no body mass to compare".into()));
+    }
+    let series = to_series(runs);
+    let title = panel_title(joint);
+    stacked_svg(
+        &[Panel {
+            title: &title,
+            x_label: "time (s)",
+            y_label: "joint torque (N·m)",
+            series: &series,
+            mark_min_max: true,
+        }],
+        table,
+    )
+}

@@ -1,0 +1,138 @@
+//! Knee-load comparison across body weights (the paper's figure 5): the chart holds one curve
+//! and one legend entry per mass, the table gives max |τ| with its time and the time-weighted
+//! RMS, the CSV round-trips exactly, and the same input gives the same bytes.
+
+use articula::report::csv::parse_columns;
+use articula::report::knee::{
+    LoadRow, MassRun, curves_csv, knee_svg, knee_svg_with_table, load_row, load_table,
+    load_table_csv, mass_label,
+};
+use std::f64::consts::PI;
+use std::path::Path;
+
+/// A knee torque that scales with body mass: τ = (m/80)·(10 + 40 sin 2πt) over one second.
+fn runs() -> Vec<MassRun> {
+    let t: Vec<f64> = (0..=1000).map(|i| i as f64 / 1000.0).collect();
+    [60.0, 80.0, 100.0]
+        .iter()
+        .map(|&m| MassRun {
+            mass_kg: m,
+            tau: t.iter().map(|&t| m / 80.0 * (10.0 + 40.0 * (2.0 * PI * t).sin())).collect(),
+            t: t.clone(),
+        })
+        .collect()
+}
+
+fn texts(svg: &str) -> Vec<String> {
+    let doc = roxmltree::Document::parse(svg).expect("SVG is well-formed XML");
+    doc.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .map(|n| n.text().unwrap_or("").trim().to_string())
+        .collect()
+}
+
+#[test]
+fn peak_and_rms_match_the_closed_form() {
+    // τ = k(10 + 40 sin 2πt): peak |τ| = 50k at t = 0.25;
+    // mean of τ² over a period = k²(100 + 1600/2) = 900 k² → RMS = 30k
+    for (run, row) in runs().iter().zip(load_table(&runs()).unwrap()) {
+        let k = run.mass_kg / 80.0;
+        assert_eq!(row.mass_kg, run.mass_kg);
+        assert!((row.peak_nm - 50.0 * k).abs() < 1e-9, "{row:?}");
+        assert_eq!(row.peak_time_s, 0.25);
+        assert!((row.rms_nm - 30.0 * k).abs() < 1e-3 * k, "{row:?}");
+    }
+}
+
+#[test]
+fn rms_is_time_weighted_on_uneven_samples() {
+    // τ = 2 on [0, 1] (samples at 0, 0.1, 1), then a linear ramp to 0 at t = 3
+    let run = MassRun { mass_kg: 70.0, t: vec![0.0, 0.1, 1.0, 3.0], tau: vec![2.0, 2.0, 2.0, 0.0] };
+    let row = load_row(&run).unwrap();
+    // trapezoid: 0.1·4 + 0.9·4 + 2·(4 + 0)/2 = 8 over T = 3
+    assert!((row.rms_nm - (8.0f64 / 3.0).sqrt()).abs() < 1e-12);
+    assert_eq!(row.peak_nm, 2.0);
+    assert_eq!(row.peak_time_s, 0.0);
+    // a negative peak counts by magnitude
+    let neg = MassRun { mass_kg: 70.0, t: vec![0.0, 1.0], tau: vec![1.0, -3.0] };
+    let row = load_row(&neg).unwrap();
+    assert_eq!((row.peak_nm, row.peak_time_s), (3.0, 1.0));
+    // one sample
+    let one = MassRun { mass_kg: 70.0, t: vec![0.0], tau: vec![-4.0] };
+    assert_eq!(load_row(&one).unwrap().rms_nm, 4.0);
+}
+
+#[test]
+fn bad_runs_are_errors() {
+    let bad = |mass_kg: f64, t: Vec<f64>, tau: Vec<f64>| load_row(&MassRun { mass_kg, t, tau });
+    assert!(bad(0.0, vec![0.0], vec![1.0]).is_err());
+    assert!(bad(f64::NAN, vec![0.0], vec![1.0]).is_err());
+    assert!(bad(60.0, vec![], vec![]).is_err());
+    assert!(bad(60.0, vec![0.0, 1.0], vec![1.0]).is_err());
+    assert!(bad(60.0, vec![0.0, 1.0], vec![1.0, f64::NAN]).is_err());
+    let back = bad(60.0, vec![0.0, 1.0, 0.5], vec![1.0, 1.0, 1.0]).unwrap_err();
+    assert!(back.to_string().contains("sample 2"), "{back}");
+    assert!(knee_svg("knee", &[]).is_err());
+}
+
+#[test]
+fn chart_has_one_legend_entry_per_mass_and_the_table() {
+    let svg = knee_svg_with_table("right knee", &runs()).unwrap();
+    let texts = texts(&svg);
+    for want in ["60 kg", "80 kg", "100 kg", "time (s)", "joint torque (N·m)"] {
+        assert!(texts.iter().any(|t| t == want), "no {want:?} in {texts:?}");
+    }
+    assert!(texts.iter().any(|t| t.contains("right knee")));
+    // table: header and the peak of each mass (50·m/80 N·m)
+    for want in ["mass (kg)", "peak |τ| (N·m)", "RMS τ (N·m)", "37.50", "50.00", "62.50"] {
+        assert!(texts.iter().any(|t| t == want), "no {want:?} in table");
+    }
+    // the curves alone carry no table
+    let plain = texts(&knee_svg("right knee", &runs()).unwrap());
+    assert!(!plain.iter().any(|t| t == "mass (kg)"));
+    assert!(plain.iter().any(|t| t == "100 kg"));
+}
+
+#[test]
+fn deterministic_bytes() {
+    assert_eq!(
+        knee_svg_with_table("knee", &runs()).unwrap(),
+        knee_svg_with_table("knee", &runs()).unwrap()
+    );
+}
+
+#[test]
+fn table_csv_round_trips() {
+    let rows = load_table(&runs()).unwrap();
+    let text = load_table_csv(&rows);
+    let (h, cols) = parse_columns(&text, Path::new("t.csv")).unwrap();
+    assert_eq!(h, ["mass_kg", "peak_abs_tau_Nm", "rms_tau_Nm", "peak_time_s"]);
+    let back: Vec<LoadRow> = (0..rows.len())
+        .map(|i| LoadRow {
+            mass_kg: cols[0][i],
+            peak_nm: cols[1][i],
+            rms_nm: cols[2][i],
+            peak_time_s: cols[3][i],
+        })
+        .collect();
+    assert_eq!(back, rows);
+}
+
+#[test]
+fn curves_csv_has_time_and_one_column_per_mass() {
+    let r = runs();
+    let text = curves_csv(&r).unwrap();
+    let (h, cols) = parse_columns(&text, Path::new("c.csv")).unwrap();
+    assert_eq!(h, ["t_s", "tau_60kg_Nm", "tau_80kg_Nm", "tau_100kg_Nm"]);
+    assert_eq!(cols[0], r[0].t);
+    assert_eq!(cols[3], r[2].tau);
+    let mut late = r.clone();
+    late[1].t[5] += 1e-9;
+    assert!(curves_csv(&late).is_err());
+}
+
+#[test]
+fn mass_labels() {
+    assert_eq!(mass_label(60.0), "60 kg");
+    assert_eq!(mass_label(62.5), "62.5 kg");
+}
