@@ -17,7 +17,10 @@ fn runs() -> Vec<MassRun> {
         .iter()
         .map(|&m| MassRun {
             mass_kg: m,
-            tau: t.iter().map(|&t| m / 80.0 * (10.0 + 40.0 * (2.0 * PI * t).sin())).collect(),
+            tau: t
+                .iter()
+                .map(|&t| m / 80.0 * (10.0 + 40.0 * (2.0 * PI * t).sin()))
+                .collect(),
             t: t.clone(),
         })
         .collect()
@@ -47,18 +50,30 @@ fn peak_and_rms_match_the_closed_form() {
 #[test]
 fn rms_is_time_weighted_on_uneven_samples() {
     // τ = 2 on [0, 1] (samples at 0, 0.1, 1), then a linear ramp to 0 at t = 3
-    let run = MassRun { mass_kg: 70.0, t: vec![0.0, 0.1, 1.0, 3.0], tau: vec![2.0, 2.0, 2.0, 0.0] };
+    let run = MassRun {
+        mass_kg: 70.0,
+        t: vec![0.0, 0.1, 1.0, 3.0],
+        tau: vec![2.0, 2.0, 2.0, 0.0],
+    };
     let row = load_row(&run).unwrap();
     // trapezoid: 0.1·4 + 0.9·4 + 2·(4 + 0)/2 = 8 over T = 3
     assert!((row.rms_nm - (8.0f64 / 3.0).sqrt()).abs() < 1e-12);
     assert_eq!(row.peak_nm, 2.0);
     assert_eq!(row.peak_time_s, 0.0);
     // a negative peak counts by magnitude
-    let neg = MassRun { mass_kg: 70.0, t: vec![0.0, 1.0], tau: vec![1.0, -3.0] };
+    let neg = MassRun {
+        mass_kg: 70.0,
+        t: vec![0.0, 1.0],
+        tau: vec![1.0, -3.0],
+    };
     let row = load_row(&neg).unwrap();
     assert_eq!((row.peak_nm, row.peak_time_s), (3.0, 1.0));
     // one sample
-    let one = MassRun { mass_kg: 70.0, t: vec![0.0], tau: vec![-4.0] };
+    let one = MassRun {
+        mass_kg: 70.0,
+        t: vec![0.0],
+        tau: vec![-4.0],
+    };
     assert_eq!(load_row(&one).unwrap().rms_nm, 4.0);
 }
 
@@ -78,14 +93,21 @@ fn bad_runs_are_errors() {
 #[test]
 fn chart_has_one_legend_entry_per_mass_and_the_table() {
     let svg = knee_svg_with_table("right knee", &runs()).unwrap();
-    let texts = texts(&svg);
+    let all = texts(&svg);
     for want in ["60 kg", "80 kg", "100 kg", "time (s)", "joint torque (N·m)"] {
-        assert!(texts.iter().any(|t| t == want), "no {want:?} in {texts:?}");
+        assert!(all.iter().any(|t| t == want), "no {want:?} in {all:?}");
     }
-    assert!(texts.iter().any(|t| t.contains("right knee")));
+    assert!(all.iter().any(|t| t.contains("right knee")));
     // table: header and the peak of each mass (50·m/80 N·m)
-    for want in ["mass (kg)", "peak |τ| (N·m)", "RMS τ (N·m)", "37.50", "50.00", "62.50"] {
-        assert!(texts.iter().any(|t| t == want), "no {want:?} in table");
+    for want in [
+        "mass (kg)",
+        "peak |τ| (N·m)",
+        "RMS τ (N·m)",
+        "37.50",
+        "50.00",
+        "62.50",
+    ] {
+        assert!(all.iter().any(|t| t == want), "no {want:?} in table");
     }
     // the curves alone carry no table
     let plain = texts(&knee_svg("right knee", &runs()).unwrap());
@@ -106,7 +128,10 @@ fn table_csv_round_trips() {
     let rows = load_table(&runs()).unwrap();
     let text = load_table_csv(&rows);
     let (h, cols) = parse_columns(&text, Path::new("t.csv")).unwrap();
-    assert_eq!(h, ["mass_kg", "peak_abs_tau_Nm", "rms_tau_Nm", "peak_time_s"]);
+    assert_eq!(
+        h,
+        ["mass_kg", "peak_abs_tau_Nm", "rms_tau_Nm", "peak_time_s"]
+    );
     let back: Vec<LoadRow> = (0..rows.len())
         .map(|i| LoadRow {
             mass_kg: cols[0][i],

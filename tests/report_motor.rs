@@ -9,11 +9,20 @@ use articula::report::motor::{
 };
 
 fn spec(km: f64, n: f64, eta: Option<f64>) -> MotorSpec {
-    MotorSpec { km_nm_per_a: km, gear_ratio: n, efficiency: eta }
+    MotorSpec {
+        km_nm_per_a: km,
+        gear_ratio: n,
+        efficiency: eta,
+    }
 }
 
 fn constant(joint: &str, tau: f64, qd: f64) -> JointMotion {
-    JointMotion { joint: joint.into(), t: vec![0.0, 1.0], tau: vec![tau, tau], qd: vec![qd, qd] }
+    JointMotion {
+        joint: joint.into(),
+        t: vec![0.0, 1.0],
+        tau: vec![tau, tau],
+        qd: vec![qd, qd],
+    }
 }
 
 #[test]
@@ -56,7 +65,12 @@ fn joint_load_by_hand() {
 #[test]
 fn class_limits_are_inclusive_and_all_three_count() {
     let c0 = &MOTOR_CLASSES[0];
-    let exact = choose_class(MOTOR_CLASSES, c0.rated_torque_nm, c0.peak_torque_nm, c0.rated_speed_rad_s);
+    let exact = choose_class(
+        MOTOR_CLASSES,
+        c0.rated_torque_nm,
+        c0.peak_torque_nm,
+        c0.rated_speed_rad_s,
+    );
     assert_eq!(exact.map(|c| c.name), Some(c0.name));
     let up = |x: f64| f64::from_bits(x.to_bits() + 1);
     // a hair over any one limit moves to the next class (or to none for speed: bigger motors
@@ -68,7 +82,15 @@ fn class_limits_are_inclusive_and_all_three_count() {
     assert!(choose_class(MOTOR_CLASSES, 0.0, 0.0, up(c0.rated_speed_rad_s)).is_none());
     // torque of class 3 with more speed than class 3 has: none
     let c2 = &MOTOR_CLASSES[2];
-    assert!(choose_class(MOTOR_CLASSES, c2.rated_torque_nm, 0.0, up(c2.rated_speed_rad_s)).is_none());
+    assert!(
+        choose_class(
+            MOTOR_CLASSES,
+            c2.rated_torque_nm,
+            0.0,
+            up(c2.rated_speed_rad_s)
+        )
+        .is_none()
+    );
     // beyond the largest class: none
     let last = MOTOR_CLASSES.last().unwrap();
     assert!(choose_class(MOTOR_CLASSES, up(last.rated_torque_nm), 0.0, 0.0).is_none());
@@ -81,7 +103,11 @@ fn sizing_picks_the_class_at_its_boundary() {
     let l = size_motor(&constant("wrist", 0.08, 100.0), &spec(0.01, 4.0, None)).unwrap();
     assert_eq!(l.motor_rms_torque_nm, 0.02);
     assert_eq!(class_name(&l), MOTOR_CLASSES[0].name);
-    let l = size_motor(&constant("wrist", f64::from_bits(0.08f64.to_bits() + 1), 100.0), &spec(0.01, 4.0, None)).unwrap();
+    let l = size_motor(
+        &constant("wrist", f64::from_bits(0.08f64.to_bits() + 1), 100.0),
+        &spec(0.01, 4.0, None),
+    )
+    .unwrap();
     assert_eq!(class_name(&l), MOTOR_CLASSES[1].name);
     // too fast for every class
     let l = size_motor(&constant("wrist", 0.08, 1000.0), &spec(0.01, 4.0, None)).unwrap();
@@ -95,14 +121,23 @@ fn catalogue_is_ordered_smallest_first() {
         assert!(w[0].rated_torque_nm < w[1].rated_torque_nm);
         assert!(w[0].peak_torque_nm < w[1].peak_torque_nm);
         assert!(w[0].rated_speed_rad_s >= w[1].rated_speed_rad_s);
-        assert!(w[0].rated_torque_nm * w[0].rated_speed_rad_s < w[1].rated_torque_nm * w[1].rated_speed_rad_s);
+        assert!(
+            w[0].rated_torque_nm * w[0].rated_speed_rad_s
+                < w[1].rated_torque_nm * w[1].rated_speed_rad_s
+        );
     }
 }
 
 #[test]
 fn bad_specs_and_data_are_errors() {
     let m = constant("j", 1.0, 1.0);
-    for s in [spec(0.0, 10.0, None), spec(0.1, -1.0, None), spec(0.1, 10.0, Some(1.5)), spec(0.1, 10.0, Some(0.0)), spec(f64::NAN, 1.0, None)] {
+    for s in [
+        spec(0.0, 10.0, None),
+        spec(0.1, -1.0, None),
+        spec(0.1, 10.0, Some(1.5)),
+        spec(0.1, 10.0, Some(0.0)),
+        spec(f64::NAN, 1.0, None),
+    ] {
         assert!(size_motor(&m, &s).is_err(), "{s:?}");
     }
     let mut nan = m.clone();
@@ -121,7 +156,10 @@ fn arm() -> Vec<JointMotion> {
         .enumerate()
         .map(|(k, name)| JointMotion {
             joint: name.to_string(),
-            tau: t.iter().map(|&t| (30.0 - 10.0 * k as f64) * (t + k as f64).sin()).collect(),
+            tau: t
+                .iter()
+                .map(|&t| (30.0 - 10.0 * k as f64) * (t + k as f64).sin())
+                .collect(),
             qd: t.iter().map(|&t| (1.0 + k as f64) * t.cos()).collect(),
             t: t.clone(),
         })
@@ -131,7 +169,11 @@ fn arm() -> Vec<JointMotion> {
 #[test]
 fn report_svg_has_three_panels_every_joint_and_the_table() {
     let joints = arm();
-    let loads = size_motors(&joints, &[spec(0.05, 100.0, None), spec(0.05, 50.0, Some(0.9))]).unwrap();
+    let loads = size_motors(
+        &joints,
+        &[spec(0.05, 100.0, None), spec(0.05, 50.0, Some(0.9))],
+    )
+    .unwrap();
     let svg = motor_svg(&joints, &loads).unwrap();
     let doc = roxmltree::Document::parse(&svg).expect("well-formed");
     let texts: Vec<String> = doc
@@ -139,7 +181,16 @@ fn report_svg_has_three_panels_every_joint_and_the_table() {
         .filter(|n| n.has_tag_name("text"))
         .map(|n| n.text().unwrap_or("").trim().to_string())
         .collect();
-    for want in ["Joint torque", "Joint speed", "Mechanical power τ·q̇", "torque (N·m)", "speed (rad/s)", "power (W)", "peak I (A)", "class"] {
+    for want in [
+        "Joint torque",
+        "Joint speed",
+        "Mechanical power τ·q̇",
+        "torque (N·m)",
+        "speed (rad/s)",
+        "power (W)",
+        "peak I (A)",
+        "class",
+    ] {
         assert!(texts.iter().any(|t| t == want), "no {want:?}");
     }
     // each joint: a legend entry in each of the three panels plus its table row
@@ -150,7 +201,12 @@ fn report_svg_has_three_panels_every_joint_and_the_table() {
         assert!(texts.iter().any(|t| t == class_name(l)));
     }
     // 2 joints × 3 panels × (min + max)
-    assert_eq!(doc.descendants().filter(|n| n.has_tag_name("circle")).count(), 12);
+    assert_eq!(
+        doc.descendants()
+            .filter(|n| n.has_tag_name("circle"))
+            .count(),
+        12
+    );
     assert_eq!(svg, motor_svg(&joints, &loads).unwrap());
 }
 
@@ -175,8 +231,17 @@ fn table_csv_has_a_row_per_joint() {
 fn curves_csv_holds_torque_speed_and_power() {
     let joints = arm();
     let text = motor_curves_csv(&joints).unwrap();
-    let (h, cols) = articula::report::csv::parse_columns(&text, std::path::Path::new("m.csv")).unwrap();
-    assert_eq!(h[..4], ["t_s", "shoulder_tau_Nm", "shoulder_qd_rad_s", "shoulder_power_W"]);
+    let (h, cols) =
+        articula::report::csv::parse_columns(&text, std::path::Path::new("m.csv")).unwrap();
+    assert_eq!(
+        h[..4],
+        [
+            "t_s",
+            "shoulder_tau_Nm",
+            "shoulder_qd_rad_s",
+            "shoulder_power_W"
+        ]
+    );
     assert_eq!(h.len(), 7);
     assert_eq!(cols[1], joints[0].tau);
     assert_eq!(cols[6][50], joints[1].tau[50] * joints[1].qd[50]);

@@ -69,7 +69,10 @@ pub(crate) fn check_series(what: &str, t: &[f64], ys: &[(&str, &[f64])]) -> Resu
         }
     }
     if let Some(i) = t.iter().position(|v| !v.is_finite()) {
-        return Err(Error::Invalid(format!("{what}: time at sample {i} is {}", t[i])));
+        return Err(Error::Invalid(format!(
+            "{what}: time at sample {i} is {}",
+            t[i]
+        )));
     }
     if let Some(i) = t.windows(2).position(|w| w[1] < w[0]) {
         return Err(Error::Invalid(format!(
@@ -141,7 +144,10 @@ pub fn load_table_csv(rows: &[LoadRow]) -> String {
     let mut out = String::from("mass_kg,peak_abs_tau_Nm,rms_tau_Nm,peak_time_s\n");
     let mut b = ryu::Buffer::new();
     for r in rows {
-        for (k, v) in [r.mass_kg, r.peak_nm, r.rms_nm, r.peak_time_s].iter().enumerate() {
+        for (k, v) in [r.mass_kg, r.peak_nm, r.rms_nm, r.peak_time_s]
+            .iter()
+            .enumerate()
+        {
             if k > 0 {
                 out.push(',');
             }

@@ -250,7 +250,11 @@ pub fn size_motors(joints: &[JointMotion], specs: &[MotorSpec]) -> Result<Vec<Jo
             specs.len()
         )));
     }
-    joints.iter().zip(specs).map(|(m, s)| size_motor(m, s)).collect()
+    joints
+        .iter()
+        .zip(specs)
+        .map(|(m, s)| size_motor(m, s))
+        .collect()
 }
 
 /// Name of a class for tables, `"none in catalogue"` when no class fits.
@@ -372,8 +376,16 @@ pub fn motor_curves_csv(joints: &[JointMotion]) -> Result<String, Error> {
             &[("torque", &m.tau), ("speed", &m.qd)],
         )?;
         let p: Vec<f64> = m.tau.iter().zip(&m.qd).map(|(t, w)| t * w).collect();
-        series.push(Series::new(format!("{}_tau_Nm", m.joint), m.t.clone(), m.tau.clone()));
-        series.push(Series::new(format!("{}_qd_rad_s", m.joint), m.t.clone(), m.qd.clone()));
+        series.push(Series::new(
+            format!("{}_tau_Nm", m.joint),
+            m.t.clone(),
+            m.tau.clone(),
+        ));
+        series.push(Series::new(
+            format!("{}_qd_rad_s", m.joint),
+            m.t.clone(),
+            m.qd.clone(),
+        ));
         series.push(Series::new(format!("{}_power_W", m.joint), m.t.clone(), p));
     }
     let (header, cols) = crate::report::chart::series_columns("t_s", &series)?;
