@@ -1,1 +1,705 @@
-//! (in progress)
+//! Link masses, centres of mass, inertias and drawing shapes of a human skeleton from total body
+//! mass and sex, after de Leva (1996).
+//!
+//! Source: P. de Leva, "Adjustments to Zatsiorsky-Seluyanov's segment inertia parameters",
+//! *J. Biomechanics* 29(9):1223–1230, 1996, Table 4 (the numbers of
+//! `../shared/reference/de_leva_1996.csv`, embedded in [`DE_LEVA_1996`]).
+//!
+//! How a skeleton gets its masses ([`distribute`]):
+//! 1. every joint is classified by name into a de Leva segment and a side ([`classify`]: CMU,
+//!    Daz/Poser, Mixamo, Bandai, MakeHuman, Blender and the generated walk's names); a joint whose
+//!    name says nothing inherits the class of its parent (fingers → hand, toes → foot, face →
+//!    head); joints above every classified joint (`joint_Root`, MakeHuman's `Root`) stay
+//!    unclassified and massless;
+//! 2. each segment instance (head, trunk, left/right upper arm, forearm, hand, thigh, shank,
+//!    foot) gets its de Leva fraction of the body mass; a segment missing from the skeleton gives
+//!    its mass to the next segment towards the trunk (hand → forearm → upper arm → trunk);
+//! 3. a segment's mass is shared among its joints in proportion to their bone lengths (the bone
+//!    of a joint is the mean of its non-zero child offsets, End Sites included);
+//! 4. fallback, when no trunk is recognised (an unknown naming scheme): the body mass is shared
+//!    by bone volume, each bone a solid cylinder of radius 0.1 × its length (volume ∝ L³);
+//! 5. per-link overrides ([`BodyParams::link_mass`]) are applied and every other link is
+//!    rescaled so that the masses sum exactly to the body mass.
+//!
+//! Each link's centre of mass lies on its bone at de Leva's fraction (measured from the joint:
+//! de Leva measures the head and trunk from their upper end, so those are mirrored), and its
+//! inertia about the COM comes from the radii of gyration times the bone length, axisymmetric
+//! about the bone (the transverse radius is the mean of de Leva's sagittal and transverse ones,
+//! because a BVH bone does not say which way is anterior).
+
+use crate::error::Error;
+use crate::model::Superquadric;
+use nalgebra::{Matrix3, Vector3};
+use std::collections::BTreeMap;
+use std::str::FromStr;
+
+/// Sex, which selects de Leva's male or female table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Sex {
+    Female,
+    #[default]
+    Male,
+}
+
+impl FromStr for Sex {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "female" | "f" => Ok(Sex::Female),
+            "male" | "m" => Ok(Sex::Male),
+            other => Err(Error::Invalid(format!(
+                "unknown sex {other:?}: expected \"female\" or \"male\""
+            ))),
+        }
+    }
+}
+
+impl std::fmt::Display for Sex {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Sex::Female => "female",
+            Sex::Male => "male",
+        })
+    }
+}
+
+/// What the anthropometry needs to know about the body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodyParams {
+    /// Total body mass (kg), > 0.
+    pub mass_kg: f64,
+    /// Selects de Leva's table.
+    pub sex: Sex,
+    /// Per-link mass overrides (kg) by BVH joint name; the other links are rescaled so that the
+    /// total stays `mass_kg`.
+    pub link_mass: BTreeMap<String, f64>,
+}
+
+impl BodyParams {
+    /// A body of `mass_kg` kg without overrides.
+    pub fn new(mass_kg: f64, sex: Sex) -> Self {
+        Self {
+            mass_kg,
+            sex,
+            link_mass: BTreeMap::new(),
+        }
+    }
+}
+
+impl Default for BodyParams {
+    /// 75 kg, male: the body the fixtures and the paper's examples use.
+    fn default() -> Self {
+        Self::new(75.0, Sex::Male)
+    }
+}
+
+/// A de Leva body segment.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Segment {
+    /// Head and neck (vertex to C7).
+    Head,
+    /// Trunk (C7 to mid-hip), with the pelvis and the shoulder girdle.
+    Trunk,
+    UpperArm,
+    Forearm,
+    Hand,
+    Thigh,
+    Shank,
+    Foot,
+}
+
+impl Segment {
+    /// The segment that receives this one's mass when it is missing from a skeleton.
+    fn proximal(self) -> Option<Segment> {
+        match self {
+            Segment::Head | Segment::UpperArm | Segment::Thigh => Some(Segment::Trunk),
+            Segment::Forearm => Some(Segment::UpperArm),
+            Segment::Hand => Some(Segment::Forearm),
+            Segment::Shank => Some(Segment::Thigh),
+            Segment::Foot => Some(Segment::Shank),
+            Segment::Trunk => None,
+        }
+    }
+    /// Whether the segment comes in a left and a right copy.
+    fn is_limb(self) -> bool {
+        !matches!(self, Segment::Head | Segment::Trunk)
+    }
+    /// Lowercase name as in de Leva's table (`upper_arm`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            Segment::Head => "head",
+            Segment::Trunk => "trunk",
+            Segment::UpperArm => "upper_arm",
+            Segment::Forearm => "forearm",
+            Segment::Hand => "hand",
+            Segment::Thigh => "thigh",
+            Segment::Shank => "shank",
+            Segment::Foot => "foot",
+        }
+    }
+}
+
+/// Body side of a joint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Side {
+    Left,
+    Right,
+    Center,
+}
+
+/// One row of de Leva (1996) Table 4.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SegmentParams {
+    pub segment: Segment,
+    pub sex: Sex,
+    /// Mass, % of body mass.
+    pub mass_pct: f64,
+    /// Centre of mass, % of segment length from the proximal endpoint of de Leva's definition
+    /// (head: vertex; trunk: C7; limbs: the proximal joint; foot: heel).
+    pub com_pct: f64,
+    /// Radii of gyration, % of segment length: sagittal, transverse, longitudinal axes.
+    pub r_sag_pct: f64,
+    pub r_trans_pct: f64,
+    pub r_long_pct: f64,
+}
+
+const fn row(
+    segment: Segment,
+    sex: Sex,
+    mass_pct: f64,
+    com_pct: f64,
+    r_sag_pct: f64,
+    r_trans_pct: f64,
+    r_long_pct: f64,
+) -> SegmentParams {
+    SegmentParams {
+        segment,
+        sex,
+        mass_pct,
+        com_pct,
+        r_sag_pct,
+        r_trans_pct,
+        r_long_pct,
+    }
+}
+
+/// de Leva (1996), Table 4: head (vertex–C7), trunk (C7–mid-hip), upper arm, forearm, hand
+/// (wrist–3rd metacarpale), thigh, shank (knee–lateral malleolus), foot (heel–toe tip).
+/// The female foot's longitudinal radius is 13.9 (cross-checked; one implementation copies the
+/// male 12.4). Each sex sums to 100 % of body mass.
+pub const DE_LEVA_1996: [SegmentParams; 16] = [
+    row(Segment::Head, Sex::Male, 6.94, 50.02, 30.3, 31.5, 26.1),
+    row(Segment::Head, Sex::Female, 6.68, 48.41, 27.1, 29.5, 26.1),
+    row(Segment::Trunk, Sex::Male, 43.46, 51.38, 32.8, 30.6, 16.9),
+    row(Segment::Trunk, Sex::Female, 42.57, 49.64, 30.7, 29.2, 14.7),
+    row(Segment::UpperArm, Sex::Male, 2.71, 57.72, 28.5, 26.9, 15.8),
+    row(Segment::UpperArm, Sex::Female, 2.55, 57.54, 27.8, 26.0, 14.8),
+    row(Segment::Forearm, Sex::Male, 1.62, 45.74, 27.6, 26.5, 12.1),
+    row(Segment::Forearm, Sex::Female, 1.38, 45.59, 26.1, 25.7, 9.4),
+    row(Segment::Hand, Sex::Male, 0.61, 79.00, 62.8, 51.3, 40.1),
+    row(Segment::Hand, Sex::Female, 0.56, 74.74, 53.1, 45.4, 33.5),
+    row(Segment::Thigh, Sex::Male, 14.16, 40.95, 32.9, 32.9, 14.9),
+    row(Segment::Thigh, Sex::Female, 14.78, 36.12, 36.9, 36.4, 16.2),
+    row(Segment::Shank, Sex::Male, 4.33, 44.59, 25.5, 24.9, 10.3),
+    row(Segment::Shank, Sex::Female, 4.81, 44.16, 27.1, 26.7, 9.3),
+    row(Segment::Foot, Sex::Male, 1.37, 44.15, 25.7, 24.5, 12.4),
+    row(Segment::Foot, Sex::Female, 1.29, 40.14, 29.9, 27.9, 13.9),
+];
+
+/// The de Leva row of `segment` for `sex`.
+pub fn de_leva(segment: Segment, sex: Sex) -> &'static SegmentParams {
+    DE_LEVA_1996
+        .iter()
+        .find(|r| r.segment == segment && r.sex == sex)
+        .expect("DE_LEVA_1996 has every segment for both sexes")
+}
+
+/// Splits a joint name into side and the rest (lowercase): `LeftUpLeg` → (Left, `upleg`),
+/// `lThigh` → (Left, `thigh`), `UpperLeg_L` → (Left, `upperleg`), `thigh.L` → (Left, `thigh`),
+/// `mixamorig:RightArm` → (Right, `arm`).
+fn split_side(name: &str) -> (Side, String) {
+    // namespaces (`mixamorig:`) and helper prefixes (`__UpLeg_L`)
+    let name = name.rsplit(':').next().unwrap_or(name);
+    let name = name.trim_start_matches('_');
+    let lower = name.to_ascii_lowercase();
+    for (side, word) in [(Side::Left, "left"), (Side::Right, "right")] {
+        if let Some(rest) = lower.strip_prefix(word) {
+            return (side, rest.trim_start_matches(['_', '.', '-', ' ']).into());
+        }
+        for sep in ['_', '.', '-', ' '] {
+            if let Some(rest) = lower.strip_suffix(&format!("{sep}{word}")) {
+                return (side, rest.into());
+            }
+        }
+    }
+    for (side, c) in [(Side::Left, 'l'), (Side::Right, 'r')] {
+        for sep in ['_', '.', '-', ' '] {
+            if let Some(rest) = lower.strip_suffix(&format!("{sep}{c}")) {
+                return (side, rest.into());
+            }
+        }
+    }
+    // CMU / Daz short prefixes: `LHipJoint`, `lThigh`, `rShldr`
+    let mut chars = name.chars();
+    if let (Some(c0), Some(c1)) = (chars.next(), chars.next())
+        && c1.is_ascii_uppercase()
+    {
+        match c0 {
+            'l' | 'L' => return (Side::Left, lower[1..].into()),
+            'r' | 'R' => return (Side::Right, lower[1..].into()),
+            _ => {}
+        }
+    }
+    (Side::Center, lower)
+}
+
+/// The de Leva segment and side a joint name denotes, or `None` if the name says nothing
+/// (then [`distribute`] lets the joint inherit its parent's class).
+pub fn classify(name: &str) -> Option<(Segment, Side)> {
+    let (side, base) = split_side(name);
+    let has = |words: &[&str]| words.iter().any(|w| base.contains(w));
+    let seg = if has(&[
+        "hand", "finger", "thumb", "index", "mid", "ring", "pinky", "wrist", "metacarpal", "palm",
+    ]) {
+        Segment::Hand
+    } else if has(&["foot", "toe", "ankle", "heel", "metatarsal"]) {
+        Segment::Foot
+    } else if has(&["forearm", "lowerarm", "loarm", "lowarm", "elbow"]) {
+        Segment::Forearm
+    } else if has(&["upperarm", "uparm", "upper_arm", "shldr", "humerus"]) || base == "arm" {
+        Segment::UpperArm
+    } else if has(&["upleg", "upperleg", "thigh", "femur"]) {
+        Segment::Thigh
+    } else if has(&["lowerleg", "loleg", "lowleg", "shin", "calf", "knee", "leg"]) {
+        Segment::Shank
+    } else if has(&[
+        "shoulder", "collar", "clavicle", "scapula", "hipjoint", "buttock", "pelvis", "breast",
+    ]) {
+        Segment::Trunk
+    } else if has(&["head", "neck", "skull", "jaw", "eye", "nose", "tongue"]) {
+        Segment::Head
+    } else if has(&[
+        "hip", "spine", "back", "abdomen", "chest", "torso", "waist", "thorax", "lumbar",
+    ]) {
+        Segment::Trunk
+    } else {
+        return None;
+    };
+    Some((seg, if seg.is_limb() { side } else { Side::Center }))
+}
+
+/// What [`distribute`] needs to know about one BVH joint.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bone {
+    /// Joint name (BVH).
+    pub name: String,
+    /// Parent joint index (`< self`), `None` for the root.
+    pub parent: Option<usize>,
+    /// Offsets of the child joints and End Sites, in this joint's frame (m).
+    pub ends: Vec<Vector3<f64>>,
+}
+
+impl Bone {
+    /// Mean of the non-zero child offsets (the bone direction and reach; m) and the mean of
+    /// their lengths (the bone length used for shares and radii; m).
+    fn geometry(&self) -> (Vector3<f64>, f64) {
+        let ends: Vec<&Vector3<f64>> = self.ends.iter().filter(|e| e.norm() > 0.0).collect();
+        if ends.is_empty() {
+            return (Vector3::zeros(), 0.0);
+        }
+        let n = ends.len() as f64;
+        let b = ends.iter().copied().sum::<Vector3<f64>>() / n;
+        let l = ends.iter().map(|e| e.norm()).sum::<f64>() / n;
+        (b, l)
+    }
+}
+
+/// Mass properties of one link (the body that carries a BVH joint's frame).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkMass {
+    /// Mass (kg).
+    pub mass: f64,
+    /// Centre of mass in the joint frame (m).
+    pub com: Vector3<f64>,
+    /// Inertia about the COM, joint-frame axes (kg·m²).
+    pub inertia_com: Matrix3<f64>,
+    /// Drawing shape sized from the bone length and radius of gyration (`None` for a joint
+    /// without a bone).
+    pub shape: Option<Superquadric>,
+    /// The segment the joint was assigned to (`None`: unclassified helper or fallback).
+    pub segment: Option<(Segment, Side)>,
+}
+
+/// Per-unit-mass geometry of a link: COM and inertia about the COM for 1 kg.
+struct UnitLink {
+    com: Vector3<f64>,
+    inertia: Matrix3<f64>,
+    shape: Option<Superquadric>,
+}
+
+/// Radii of gyration (fractions of the bone length) of the fallback solid cylinder of radius
+/// 0.1 L: transverse √((3R² + L²)/12), longitudinal R/√2.
+const FALLBACK_R_TRANS: f64 = 0.295_803_989_154_980_8;
+const FALLBACK_R_LONG: f64 = 0.070_710_678_118_654_76;
+
+/// Shape and 1-kg inertia of a bone `b` of mean length `l`, with COM at `com_frac` along `b` and
+/// radii of gyration `r_trans`, `r_long` (fractions of `l`).
+fn unit_link(b: &Vector3<f64>, l: f64, com_frac: f64, r_trans: f64, r_long: f64) -> UnitLink {
+    let (rt, rl) = ((r_trans * l).powi(2), (r_long * l).powi(2));
+    let reach = b.norm();
+    if l <= 0.0 {
+        return UnitLink {
+            com: Vector3::zeros(),
+            inertia: Matrix3::zeros(),
+            shape: None,
+        };
+    }
+    // a cylinder with the same longitudinal radius of gyration has radius √2 r_long L
+    let radius = std::f64::consts::SQRT_2 * r_long * l;
+    if reach <= 1e-12 * l {
+        // a hub (children on opposite sides, e.g. the hips): isotropic, drawn as a sphere
+        return UnitLink {
+            com: Vector3::zeros(),
+            inertia: Matrix3::identity() * rt,
+            shape: Some(Superquadric {
+                center: Vector3::zeros(),
+                rot: Matrix3::identity(),
+                size: Vector3::repeat(radius.max(0.5 * r_trans * l)),
+                exponents: [1.0, 1.0],
+            }),
+        };
+    }
+    let u = b / reach;
+    let uu = u * u.transpose();
+    UnitLink {
+        com: b * com_frac,
+        inertia: (Matrix3::identity() - uu) * rt + uu * rl,
+        shape: Some(Superquadric {
+            center: b * 0.5,
+            rot: frame_with_z(&u),
+            size: Vector3::new(radius, radius, 0.5 * reach),
+            exponents: [0.5, 1.0],
+        }),
+    }
+}
+
+/// A rotation whose third column is the unit vector `u`.
+fn frame_with_z(u: &Vector3<f64>) -> Matrix3<f64> {
+    let a = if u.x.abs() < 0.9 {
+        Vector3::x()
+    } else {
+        Vector3::y()
+    };
+    let x = (a - u * a.dot(u)).normalize();
+    let y = u.cross(&x);
+    Matrix3::from_columns(&[x, y, *u])
+}
+
+/// Link masses, centres of mass, inertias and shapes of a skeleton (see the module doc for the
+/// rules). Returns one [`LinkMass`] per bone; the masses sum to `body.mass_kg`.
+///
+/// Errors: a non-positive body mass, an override naming no joint, negative overrides, or
+/// overrides that exceed the body mass.
+pub fn distribute(bones: &[Bone], body: &BodyParams) -> Result<Vec<LinkMass>, Error> {
+    let total = body.mass_kg;
+    if !(total.is_finite() && total > 0.0) {
+        return Err(Error::Invalid(format!(
+            "body mass {total} kg: give a positive mass (--mass or `mass` in the scene)"
+        )));
+    }
+    let n = bones.len();
+    let geom: Vec<(Vector3<f64>, f64)> = bones.iter().map(Bone::geometry).collect();
+
+    // 1. classes: by name, else inherited from the parent
+    let mut class: Vec<Option<(Segment, Side)>> = Vec::with_capacity(n);
+    for b in bones {
+        let inherited = b.parent.and_then(|p| class[p]);
+        class.push(classify(&b.name).or(inherited));
+    }
+    let has_trunk = class.iter().any(|c| matches!(c, Some((Segment::Trunk, _))));
+
+    let mut mass = vec![0.0; n];
+    let mut unit: Vec<UnitLink> = Vec::with_capacity(n);
+    if has_trunk {
+        // 2. segment instances and their de Leva masses; missing ones go proximal
+        let mut instance_mass: BTreeMap<(Segment, Side), f64> = BTreeMap::new();
+        let present: std::collections::BTreeSet<(Segment, Side)> =
+            class.iter().flatten().copied().collect();
+        let expected = DE_LEVA_1996
+            .iter()
+            .filter(|r| r.sex == body.sex)
+            .flat_map(|r| {
+                let sides: &[Side] = if r.segment.is_limb() {
+                    &[Side::Left, Side::Right]
+                } else {
+                    &[Side::Center]
+                };
+                sides.iter().map(move |s| (r.segment, *s, r.mass_pct))
+            });
+        for (seg, side, pct) in expected {
+            let mut key = (seg, side);
+            while !present.contains(&key) {
+                key = match key.0.proximal() {
+                    Some(Segment::Trunk) => (Segment::Trunk, Side::Center),
+                    Some(p) => (p, side),
+                    None => break,
+                };
+            }
+            *instance_mass.entry(key).or_insert(0.0) += pct / 100.0 * total;
+        }
+        // unsided limb joints (`thigh` without L/R) get one limb's share
+        for key in &present {
+            if key.1 == Side::Center && key.0.is_limb() {
+                *instance_mass.entry(*key).or_insert(0.0) +=
+                    de_leva(key.0, body.sex).mass_pct / 100.0 * total;
+            }
+        }
+        // 3. share each instance among its joints by bone length (equally if all are zero)
+        for (key, m) in &instance_mass {
+            let members: Vec<usize> = (0..n).filter(|&j| class[j] == Some(*key)).collect();
+            let sum_l: f64 = members.iter().map(|&j| geom[j].1).sum();
+            for &j in &members {
+                mass[j] += if sum_l > 0.0 {
+                    m * geom[j].1 / sum_l
+                } else {
+                    m / members.len() as f64
+                };
+            }
+        }
+        for j in 0..n {
+            let (b, l) = &geom[j];
+            unit.push(match class[j] {
+                Some((seg, _)) => {
+                    let p = de_leva(seg, body.sex);
+                    // de Leva measures head and trunk from their upper end; BVH bones point up
+                    let com_frac = match seg {
+                        Segment::Head | Segment::Trunk => 1.0 - p.com_pct / 100.0,
+                        _ => p.com_pct / 100.0,
+                    };
+                    let r_trans = 0.5 * (p.r_sag_pct + p.r_trans_pct) / 100.0;
+                    unit_link(b, *l, com_frac, r_trans, p.r_long_pct / 100.0)
+                }
+                None => unit_link(b, *l, 0.5, FALLBACK_R_TRANS, FALLBACK_R_LONG),
+            });
+        }
+    } else {
+        // 4. fallback: by bone volume (cylinders of radius 0.1 L, volume ∝ L³)
+        let w: Vec<f64> = geom.iter().map(|g| g.1.powi(3)).collect();
+        let sum_w: f64 = w.iter().sum();
+        for j in 0..n {
+            mass[j] = if sum_w > 0.0 {
+                total * w[j] / sum_w
+            } else {
+                total / n as f64
+            };
+            unit.push(unit_link(
+                &geom[j].0,
+                geom[j].1,
+                0.5,
+                FALLBACK_R_TRANS,
+                FALLBACK_R_LONG,
+            ));
+        }
+    }
+
+    // 5. overrides, then rescale the others so that the sum is exactly the body mass
+    let mut fixed = vec![false; n];
+    for (name, &m) in &body.link_mass {
+        let j = bones.iter().position(|b| &b.name == name).ok_or_else(|| {
+            Error::Invalid(format!(
+                "link mass override for {name:?}, which is not a joint of this skeleton \
+                 (joints: {})",
+                bones
+                    .iter()
+                    .map(|b| b.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))
+        })?;
+        if !(m.is_finite() && m >= 0.0) {
+            return Err(Error::Invalid(format!(
+                "link mass override {name:?} = {m} kg: give a mass ≥ 0"
+            )));
+        }
+        mass[j] = m;
+        fixed[j] = true;
+    }
+    let fixed_sum: f64 = (0..n).filter(|&j| fixed[j]).map(|j| mass[j]).sum();
+    let free_sum: f64 = (0..n).filter(|&j| !fixed[j]).map(|j| mass[j]).sum();
+    let rest = total - fixed_sum;
+    if rest < -1e-12 * total {
+        return Err(Error::Invalid(format!(
+            "link mass overrides sum to {fixed_sum} kg, more than the body mass {total} kg: \
+             lower them or raise the body mass"
+        )));
+    }
+    if rest > 1e-12 * total && free_sum <= 0.0 {
+        return Err(Error::Invalid(format!(
+            "link mass overrides sum to {fixed_sum} kg and no other link carries mass: the \
+             remaining {rest} kg of the {total} kg body has nowhere to go; override fewer links"
+        )));
+    }
+    if free_sum > 0.0 {
+        let k = rest.max(0.0) / free_sum;
+        for j in (0..n).filter(|&j| !fixed[j]) {
+            mass[j] *= k;
+        }
+    }
+    // put the rounding residual on the heaviest link so that the sum is exact
+    let residual = total - mass.iter().sum::<f64>();
+    if let Some(heaviest) = (0..n).max_by(|&a, &b| mass[a].total_cmp(&mass[b])) {
+        mass[heaviest] += residual;
+    }
+
+    Ok((0..n)
+        .map(|j| LinkMass {
+            mass: mass[j],
+            com: unit[j].com,
+            inertia_com: unit[j].inertia * mass[j],
+            shape: unit[j].shape,
+            segment: if has_trunk { class[j] } else { None },
+        })
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_sex_sums_to_the_whole_body() {
+        for sex in [Sex::Male, Sex::Female] {
+            let s: f64 = DE_LEVA_1996
+                .iter()
+                .filter(|r| r.sex == sex)
+                .map(|r| r.mass_pct * if r.segment.is_limb() { 2.0 } else { 1.0 })
+                .sum();
+            assert!((s - 100.0).abs() < 0.06, "{sex}: {s}");
+        }
+    }
+
+    #[test]
+    fn naming_schemes_map_to_segments() {
+        use Segment::*;
+        use Side::*;
+        let cases = [
+            ("LeftUpLeg", Thigh, Left),
+            ("mixamorig:RightUpLeg", Thigh, Right),
+            ("RightLeg", Shank, Right),
+            ("LHipJoint", Trunk, Center),
+            ("LowerBack", Trunk, Center),
+            ("Neck1", Head, Center),
+            ("LFingers", Hand, Left),
+            ("RThumb", Hand, Right),
+            ("hip", Trunk, Center),
+            ("abdomen", Trunk, Center),
+            ("chest", Trunk, Center),
+            ("lThigh", Thigh, Left),
+            ("lShin", Shank, Left),
+            ("lCollar", Trunk, Center),
+            ("lShldr", UpperArm, Left),
+            ("rForeArm", Forearm, Right),
+            ("UpperLeg_L", Thigh, Left),
+            ("LowerArm_R", Forearm, Right),
+            ("Toes_L", Foot, Left),
+            ("upperleg01.L", Thigh, Left),
+            ("lowerleg02.R", Shank, Right),
+            ("metatarsal3.L", Foot, Left),
+            ("wrist.R", Hand, Right),
+            ("thigh.L", Thigh, Left),
+            ("shin.R", Shank, Right),
+            ("upper_arm.L", UpperArm, Left),
+            ("forearm.R", Forearm, Right),
+            ("LeftArm", UpperArm, Left),
+            ("LeftForeArm", Forearm, Left),
+            ("LeftToeBase", Foot, Left),
+            ("Spine1", Trunk, Center),
+            ("UpArm_L", UpperArm, Left),
+            ("LoLeg_R", Shank, Right),
+            ("__UpLeg_L", Thigh, Left),
+            ("LeftHandThumb1", Hand, Left),
+        ];
+        for (name, seg, side) in cases {
+            assert_eq!(classify(name), Some((seg, side)), "{name}");
+        }
+        assert_eq!(classify("joint_Root"), None);
+        assert_eq!(classify("special04"), None);
+    }
+
+    fn chain() -> Vec<Bone> {
+        // hips → spine; hips → left thigh → left shank; no arms, no head, no right leg
+        let v = Vector3::new;
+        vec![
+            Bone {
+                name: "Hips".into(),
+                parent: None,
+                ends: vec![v(0.0, 0.3, 0.0), v(0.1, -0.05, 0.0)],
+            },
+            Bone {
+                name: "Spine".into(),
+                parent: Some(0),
+                ends: vec![v(0.0, 0.3, 0.0)],
+            },
+            Bone {
+                name: "LeftUpLeg".into(),
+                parent: Some(0),
+                ends: vec![v(0.0, -0.4, 0.0)],
+            },
+            Bone {
+                name: "LeftLeg".into(),
+                parent: Some(2),
+                ends: vec![v(0.0, -0.4, 0.0)],
+            },
+        ]
+    }
+
+    #[test]
+    fn masses_sum_to_the_body_and_missing_segments_go_proximal() {
+        let links = distribute(&chain(), &BodyParams::new(80.0, Sex::Female)).unwrap();
+        let sum: f64 = links.iter().map(|l| l.mass).sum();
+        assert_eq!(sum, 80.0);
+        // the left foot is missing: its mass joins the left shank (the female table sums to
+        // 99.99 %, so compare ratios)
+        let p = |s| de_leva(s, Sex::Female).mass_pct;
+        let ratio = links[3].mass / links[2].mass;
+        let expected = (p(Segment::Shank) + p(Segment::Foot)) / p(Segment::Thigh);
+        assert!((ratio - expected).abs() < 1e-12, "{ratio} vs {expected}");
+        assert!((links[2].mass - p(Segment::Thigh) * 0.8).abs() < 1e-2);
+        // the thigh COM lies on the bone at de Leva's fraction from the hip
+        let c = links[2].com;
+        assert!((c.y + 0.4 * 0.3612).abs() < 1e-12 && c.x == 0.0, "{c}");
+        // longitudinal inertia from the longitudinal radius of gyration
+        let i_long = links[2].inertia_com[(1, 1)];
+        assert!((i_long - links[2].mass * (0.162 * 0.4_f64).powi(2)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn overrides_are_kept_and_the_rest_rescaled() {
+        let mut body = BodyParams::new(70.0, Sex::Male);
+        body.link_mass.insert("LeftLeg".into(), 10.0);
+        let links = distribute(&chain(), &body).unwrap();
+        assert_eq!(links[3].mass, 10.0);
+        let sum: f64 = links.iter().map(|l| l.mass).sum();
+        assert!((sum - 70.0).abs() < 1e-12);
+        body.link_mass.insert("Nope".into(), 1.0);
+        assert!(distribute(&chain(), &body).is_err());
+        body.link_mass.remove("Nope");
+        body.link_mass.insert("Spine".into(), 65.0);
+        assert!(distribute(&chain(), &body).is_err());
+    }
+
+    #[test]
+    fn unknown_names_fall_back_to_bone_volume() {
+        let mut bones = chain();
+        for (i, b) in bones.iter_mut().enumerate() {
+            b.name = format!("link{i}");
+        }
+        let links = distribute(&bones, &BodyParams::new(50.0, Sex::Male)).unwrap();
+        let sum: f64 = links.iter().map(|l| l.mass).sum();
+        assert!((sum - 50.0).abs() < 1e-12);
+        // equal 0.4 m bones get equal mass; the 0.3 m spine gets (0.3/0.4)³ of that
+        assert!((links[2].mass - links[3].mass).abs() < 1e-12);
+        assert!((links[1].mass / links[2].mass - 0.421875).abs() < 1e-12);
+    }
+}
