@@ -50,7 +50,12 @@ fn definition_positions(
 }
 
 /// World positions (m) of every BVH joint from the model's forward kinematics.
-fn model_positions(model: &Model, map: &BvhMap, ws: &mut Workspace, q: &[f64]) -> Vec<Vector3<f64>> {
+fn model_positions(
+    model: &Model,
+    map: &BvhMap,
+    ws: &mut Workspace,
+    q: &[f64],
+) -> Vec<Vector3<f64>> {
     forward_kinematics(model, ws, q);
     map.joints
         .iter()

@@ -194,7 +194,15 @@ pub const DE_LEVA_1996: [SegmentParams; 16] = [
     row(Segment::Trunk, Sex::Male, 43.46, 51.38, 32.8, 30.6, 16.9),
     row(Segment::Trunk, Sex::Female, 42.57, 49.64, 30.7, 29.2, 14.7),
     row(Segment::UpperArm, Sex::Male, 2.71, 57.72, 28.5, 26.9, 15.8),
-    row(Segment::UpperArm, Sex::Female, 2.55, 57.54, 27.8, 26.0, 14.8),
+    row(
+        Segment::UpperArm,
+        Sex::Female,
+        2.55,
+        57.54,
+        27.8,
+        26.0,
+        14.8,
+    ),
     row(Segment::Forearm, Sex::Male, 1.62, 45.74, 27.6, 26.5, 12.1),
     row(Segment::Forearm, Sex::Female, 1.38, 45.59, 26.1, 25.7, 9.4),
     row(Segment::Hand, Sex::Male, 0.61, 79.00, 62.8, 51.3, 40.1),
@@ -260,7 +268,16 @@ pub fn classify(name: &str) -> Option<(Segment, Side)> {
     let (side, base) = split_side(name);
     let has = |words: &[&str]| words.iter().any(|w| base.contains(w));
     let seg = if has(&[
-        "hand", "finger", "thumb", "index", "mid", "ring", "pinky", "wrist", "metacarpal", "palm",
+        "hand",
+        "finger",
+        "thumb",
+        "index",
+        "mid",
+        "ring",
+        "pinky",
+        "wrist",
+        "metacarpal",
+        "palm",
     ]) {
         Segment::Hand
     } else if has(&["foot", "toe", "ankle", "heel", "metatarsal"]) {

@@ -334,9 +334,7 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
     let mut lock = weld;
     for name in &opts.lock {
         if let Some(j) = bvh.joint_index(name) {
-            for i in first_body[j]..=maps[j].body {
-                lock[i] = true;
-            }
+            lock[first_body[j]..=maps[j].body].fill(true);
         } else if let Some(i) = full.body_index(name) {
             lock[i] = true;
         } else {

@@ -104,9 +104,9 @@ pub fn bodies_named(model: &Model, names: &[impl AsRef<str>]) -> Result<Vec<bool
     for name in names {
         let name = name.as_ref();
         let mut found = false;
-        for i in 1..model.nbodies() {
+        for (i, l) in lock.iter_mut().enumerate().skip(1) {
             if model.joint_names[i] == name || model.body_names[i] == name {
-                lock[i] = true;
+                *l = true;
                 found = true;
             }
         }
@@ -172,7 +172,10 @@ mod tests {
             )
         };
         let mut p = 0;
-        for (k, axis) in [Vector3::x(), Vector3::y(), Vector3::z()].iter().enumerate() {
+        for (k, axis) in [Vector3::x(), Vector3::y(), Vector3::z()]
+            .iter()
+            .enumerate()
+        {
             p = b.add_body(
                 p,
                 format!("b{k}"),
@@ -195,7 +198,14 @@ mod tests {
         let mut ws = Workspace::new(&full);
         let tau = rnea(&full, &mut ws, &q, &v, &a, None).clone();
         let mut ws_r = Workspace::new(&r.model);
-        let tau_r = rnea(&r.model, &mut ws_r, &[q[0], q[2]], &[v[0], v[2]], &[a[0], a[2]], None);
+        let tau_r = rnea(
+            &r.model,
+            &mut ws_r,
+            &[q[0], q[2]],
+            &[v[0], v[2]],
+            &[a[0], a[2]],
+            None,
+        );
         assert!((tau_r[0] - tau[0]).abs() < 1e-12, "{tau_r} vs {tau}");
         assert!((tau_r[1] - tau[2]).abs() < 1e-12, "{tau_r} vs {tau}");
         assert!(lock(&full, &["nope"]).is_err());
