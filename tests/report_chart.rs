@@ -212,3 +212,59 @@ fn value_labels_have_four_significant_digits() {
     assert_eq!(fmt_value(0.0), "0");
     assert_eq!(fmt_value(1.5e9), "1.500e9");
 }
+
+#[test]
+fn long_series_are_reduced_to_the_pixels_keeping_extremes() {
+    use articula::report::chart::decimate_m4;
+    // 36 000 samples (5 min at 120 Hz) of a noisy sine with one spike
+    let t: Vec<f64> = (0..36_000).map(|i| i as f64 / 120.0).collect();
+    let mut y: Vec<f64> = t
+        .iter()
+        .map(|&t| t.sin() + 0.1 * (37.0 * t).sin())
+        .collect();
+    y[12_345] = 7.5;
+    let keep = decimate_m4(&t, &y, 0.0, t[35_999], 800);
+    assert!(keep.len() <= 4 * 800, "{}", keep.len());
+    assert!(keep.windows(2).all(|w| w[0] < w[1]), "in order, no repeats");
+    assert_eq!(keep[0], 0);
+    assert_eq!(*keep.last().unwrap(), 35_999);
+    assert!(keep.contains(&12_345), "the spike survives");
+    // within every pixel column the kept samples span the same y range as all samples
+    let column = |v: f64| ((v / t[35_999] * 800.0) as usize).min(799);
+    for c in [0, 137, 411, 799] {
+        let all: Vec<f64> = (0..36_000)
+            .filter(|&i| column(t[i]) == c)
+            .map(|i| y[i])
+            .collect();
+        let kept: Vec<f64> = keep
+            .iter()
+            .filter(|&&i| column(t[i]) == c)
+            .map(|&i| y[i])
+            .collect();
+        let range = |v: &[f64]| {
+            (
+                v.iter().copied().fold(f64::MAX, f64::min),
+                v.iter().copied().fold(f64::MIN, f64::max),
+            )
+        };
+        assert_eq!(range(&all), range(&kept), "column {c}");
+    }
+    // short or unsorted series are kept whole
+    assert_eq!(decimate_m4(&t[..100], &y[..100], 0.0, 1.0, 800).len(), 100);
+    let back = [0.0, 2.0, 1.0];
+    assert_eq!(decimate_m4(&back, &[0.0; 3], 0.0, 2.0, 0).len(), 3);
+    assert_eq!(decimate_m4(&t[..100], &y[..100], 0.0, 1.0, 0).len(), 100);
+    let descending: Vec<f64> = (0..100).map(|i| -(i as f64)).collect();
+    assert_eq!(
+        decimate_m4(&descending, &y[..100], -99.0, 0.0, 2).len(),
+        100
+    );
+    // the chart of the long series stays small and still marks the spike
+    let svg = time_series_svg("long", "time (s)", "y", &[Series::new("s", t, y)], true).unwrap();
+    assert!(svg.len() < 200_000, "{} bytes", svg.len());
+    assert!(
+        texts(&svg).iter().any(|s| s == "max 7.500 @ 102.9"),
+        "{:?}",
+        texts(&svg)
+    );
+}

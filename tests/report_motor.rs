@@ -213,7 +213,9 @@ fn report_svg_has_three_panels_every_joint_and_the_table() {
 #[test]
 fn table_csv_has_a_row_per_joint() {
     let joints = arm();
-    let loads = size_motors(&joints, &[spec(0.05, 100.0, None), spec(0.05, 50.0, None)]).unwrap();
+    let mut loads =
+        size_motors(&joints, &[spec(0.05, 100.0, None), spec(0.05, 50.0, None)]).unwrap();
+    loads[0].joint = "shoulder, \"left\"".into();
     let text = motor_table_csv(&loads);
     let mut rdr = csv::Reader::from_reader(text.as_bytes());
     let header: Vec<String> = rdr.headers().unwrap().iter().map(String::from).collect();

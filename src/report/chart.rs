@@ -210,6 +210,12 @@ pub fn series_columns<'a>(
     Ok((header, cols))
 }
 
+/// The CSV text of [`series_columns`] (what a chart plots, at full resolution).
+pub fn series_csv(x_name: &str, series: &[Series]) -> Result<String, Error> {
+    let (header, cols) = series_columns(x_name, series)?;
+    crate::report::csv::columns_to_string(&header, &cols)
+}
+
 /// A short decimal for labels: four significant digits, no exponent for ordinary magnitudes.
 pub fn fmt_value(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
@@ -230,6 +236,49 @@ pub fn fmt_value(v: f64) -> String {
     } else {
         s
     }
+}
+
+/// Indices of the samples worth drawing when `x` (non-decreasing, within `[x0, x1]`) is drawn
+/// `columns` pixels wide: in every pixel column the first, lowest, highest and last sample
+/// (M4 aggregation, Jugel et al. 2014, "M4: a visualization-oriented time series data
+/// aggregation", PVLDB 7(10)), which draws the same line at that resolution. Series with at most
+/// `4 · columns` samples, or whose `x` goes back, are kept whole, as is everything when
+/// `columns` is 0.
+pub fn decimate_m4(x: &[f64], y: &[f64], x0: f64, x1: f64, columns: usize) -> Vec<usize> {
+    let n = x.len().min(y.len());
+    let sorted = x[..n].windows(2).all(|w| w[0] <= w[1]);
+    if columns == 0 || n <= 4 * columns || !sorted || x1 <= x0 {
+        return (0..n).collect();
+    }
+    let column = |v: f64| (((v - x0) / (x1 - x0) * columns as f64) as usize).min(columns - 1);
+    let mut keep = Vec::with_capacity(4 * columns);
+    let mut start = 0;
+    while start < n {
+        // one pixel column: samples start..end
+        let c = column(x[start]);
+        let mut end = start + 1;
+        while end < n && column(x[end]) == c {
+            end += 1;
+        }
+        let (mut lo, mut hi) = (start, start);
+        for i in start..end {
+            if y[i] < y[lo] {
+                lo = i;
+            }
+            if y[i] > y[hi] {
+                hi = i;
+            }
+        }
+        let mut four = [start, lo, hi, end - 1];
+        four.sort_unstable();
+        for i in four {
+            if keep.last() != Some(&i) {
+                keep.push(i);
+            }
+        }
+        start = end;
+    }
+    keep
 }
 
 /// Rejects panels plotters cannot draw or would draw misleadingly.
@@ -346,12 +395,14 @@ where
         .draw()
         .map_err(plot_err)?;
 
-    // curves with their legend entries
+    // curves with their legend entries, long ones reduced to what the pixels can show
+    let columns = chart.plotting_area().dim_in_pixel().0 as usize;
     for (k, s) in p.series.iter().enumerate() {
         let color = PALETTE[k % PALETTE.len()];
+        let keep = decimate_m4(&s.x, &s.y, x0, x1, columns);
         chart
             .draw_series(LineSeries::new(
-                s.x.iter().copied().zip(s.y.iter().copied()),
+                keep.iter().map(|&i| (s.x[i], s.y[i])),
                 color.stroke_width(2),
             ))
             .map_err(plot_err)?

@@ -170,8 +170,7 @@ pub fn curves_csv(runs: &[MassRun]) -> Result<String, Error> {
             ..s
         })
         .collect();
-    let (header, cols) = crate::report::chart::series_columns("t_s", &named)?;
-    crate::report::csv::columns_to_string(&header, &cols)
+    crate::report::chart::series_csv("t_s", &named)
 }
 
 fn to_series(runs: &[MassRun]) -> Vec<Series> {

@@ -268,13 +268,10 @@ motor_peak_tau_Nm,motor_rms_tau_Nm,motor_peak_speed_rad_s,peak_current_A,rms_cur
 
 /// The sizing table as CSV ([`MOTOR_TABLE_HEADER`], numbers shortest round-trip).
 pub fn motor_table_csv(loads: &[JointLoad]) -> String {
-    let mut w = ::csv::WriterBuilder::new()
-        .terminator(::csv::Terminator::Any(b'\n'))
-        .from_writer(Vec::new());
     let mut out = format!("{MOTOR_TABLE_HEADER}\n");
     let mut b = ryu::Buffer::new();
     for l in loads {
-        let mut rec: Vec<String> = vec![l.joint.clone()];
+        out.push_str(&csv_field(&l.joint));
         for v in [
             l.peak_torque_nm,
             l.rms_torque_nm,
@@ -286,17 +283,23 @@ pub fn motor_table_csv(loads: &[JointLoad]) -> String {
             l.peak_current_a,
             l.rms_current_a,
         ] {
-            rec.push(b.format(v).to_string());
+            out.push(',');
+            out.push_str(b.format(v));
         }
-        rec.push(class_name(l).to_string());
-        // the csv writer quotes joint and class names holding commas; writing to memory
-        // cannot fail
-        let _ = w.write_record(&rec);
-    }
-    if let Ok(bytes) = w.into_inner() {
-        out.push_str(&String::from_utf8_lossy(&bytes));
+        out.push(',');
+        out.push_str(&csv_field(class_name(l)));
+        out.push('\n');
     }
     out
+}
+
+/// A text field quoted as RFC 4180 asks when it holds a comma, a quote or a line break.
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
 }
 
 /// Torque, speed and power curves (one panel each, one curve per joint, min/max marked),
@@ -388,6 +391,5 @@ pub fn motor_curves_csv(joints: &[JointMotion]) -> Result<String, Error> {
         ));
         series.push(Series::new(format!("{}_power_W", m.joint), m.t.clone(), p));
     }
-    let (header, cols) = crate::report::chart::series_columns("t_s", &series)?;
-    crate::report::csv::columns_to_string(&header, &cols)
+    crate::report::chart::series_csv("t_s", &series)
 }
