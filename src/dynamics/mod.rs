@@ -11,6 +11,7 @@ pub mod bias;
 pub mod crba;
 pub mod energy;
 pub mod forward;
+pub mod grf;
 pub mod inertia6;
 pub mod kinematics;
 pub mod rnea;

@@ -2,6 +2,7 @@
 //! C² ramps and blending/warping of takes.
 
 pub mod blend;
+pub mod contact;
 pub mod derive;
 pub mod ramp;
 pub mod smooth;

@@ -1,0 +1,537 @@
+//! Ground reaction forces estimated from kinematics alone, and inverse dynamics with them.
+//!
+//! Top-down inverse dynamics of a floating avatar (RNEA from the root) hangs the body from its
+//! root: the six root coordinates act as a non-physical actuator that supplies whatever wrench
+//! the motion needs. On the ground that wrench comes through the feet. Method (Winter 2009,
+//! *Biomechanics and Motor Control of Human Movement*, 4th ed., ch. 5 — the whole-body
+//! equations of motion give the ground reaction when one foot is down; Ren, Jones & Howard
+//! 2008, "Whole body inverse dynamics over a complete gait cycle based only on measured
+//! kinematics", *J. Biomech.* 41, 2750–2759 — the same with a smooth transition assumption to
+//! share the load in double support; the residual reported as a quality figure as OpenSim's
+//! residual reduction does, Delp et al. 2007, *IEEE TBME* 54):
+//!
+//! 1. the whole-body external wrench `W` the motion needs: RNEA without external forces, the
+//!    force each root-level body receives from the world, summed in world axes;
+//! 2. its centre of pressure `p` on the floor (the point about which `W`'s moment is vertical:
+//!    a force through `p` plus a free moment about the vertical);
+//! 3. `W` assigned to the feet in contact ([`crate::motion::contact`]): one foot carries all of
+//!    it; two feet share it, the trailing foot's share falling from 1 to 0 over the double
+//!    support by the C² ramp `1 − (10u³ − 15u⁴ + 6u⁵)` between the last frame of its single
+//!    support and the first of the leading foot's (Ren et al.'s smooth transition; their shape
+//!    is an exponential decay, ours a polynomial that reaches exactly 0 and 1); double supports
+//!    that are not a step (standing, landing on both feet) share by the lever rule, in
+//!    proportion to how close `p` lies to each ankle; in flight the feet carry nothing;
+//! 4. each foot's force acts at `p` shifted by the foot's offset from the load-weighted ankle
+//!    centre (so the shares together still reproduce `W`), kept inside the foot's support
+//!    region (the heel–toe segment widened by [`ContactParams::cop_margin`]), pushing only
+//!    (vertical force ≥ 0) and inside the friction cone; what these limits remove is left to
+//!    the root;
+//! 5. RNEA again with the foot wrenches as external forces; the root's six generalized forces
+//!    that remain are the **residual**, the part of the motion the feet cannot explain (capture
+//!    noise, mass model errors, a missed contact).
+
+use super::{Workspace, forward_kinematics, rnea};
+use crate::error::Error;
+use crate::model::{JointKind, Model};
+use crate::motion::contact::{
+    ContactParams, Foot, FootPoints, contact_phases, floor_height, foot_bodies,
+};
+use crate::spatial::{ForceVec, SpatialTransform};
+use nalgebra::Vector3;
+
+/// Ground reactions and the inverse dynamics with them, frame by frame. World quantities are in
+/// the take's axes, moments about the root joint's origin (the pelvis) unless said otherwise.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GroundReactions {
+    /// Foot names (`left`, `right`): the order of every per-foot vector below.
+    pub feet: Vec<String>,
+    /// Floor height along the up axis (m).
+    pub floor: f64,
+    /// `[frame][foot]`: the foot is in contact.
+    pub contact: Vec<Vec<bool>>,
+    /// `[frame][foot]`: force of the ground on the foot (N, world axes); zero off the floor.
+    pub grf: Vec<Vec<Vector3<f64>>>,
+    /// `[frame][foot]`: centre of pressure of that force on the floor (m, world); for an
+    /// unloaded foot, its ankle's projection on the floor (so that plots stay continuous).
+    pub cop: Vec<Vec<Vector3<f64>>>,
+    /// `[frame][foot]`: free moment of the ground on the foot about the vertical (N·m).
+    pub free_moment: Vec<Vec<f64>>,
+    /// `[frame]`: the whole-body external wrench the motion needs, `[fx, fy, fz, tx, ty, tz]`
+    /// (N, N·m about the root joint's origin, world axes): the root residual without contact.
+    pub wrench: Vec<[f64; 6]>,
+    /// `[frame]`: what the root still supplies with the ground reactions applied, same layout.
+    pub residual: Vec<[f64; 6]>,
+    /// `[frame][nv]`: generalized forces with the ground reactions applied (N·m, N).
+    pub tau: Vec<Vec<f64>>,
+}
+
+impl GroundReactions {
+    /// CSV column names: `grf:<foot>:x|y|z`, `cop:<foot>:x|y|z` per foot, then
+    /// `residual:fx|fy|fz|tx|ty|tz`.
+    pub fn columns(&self) -> Vec<String> {
+        let mut c = vec![];
+        for what in ["grf", "cop"] {
+            for f in &self.feet {
+                c.extend(["x", "y", "z"].map(|a| format!("{what}:{f}:{a}")));
+            }
+        }
+        c.extend(["fx", "fy", "fz", "tx", "ty", "tz"].map(|a| format!("residual:{a}")));
+        c
+    }
+
+    /// The values of [`columns`](Self::columns) at frame `k`, appended to `out`.
+    pub fn row(&self, k: usize, out: &mut Vec<f64>) {
+        for per_foot in [&self.grf[k], &self.cop[k]] {
+            for p in per_foot {
+                out.extend_from_slice(p.as_slice());
+            }
+        }
+        out.extend_from_slice(&self.residual[k]);
+    }
+}
+
+/// Estimates ground reaction forces and the joint torques with them for a take given as
+/// samples `time` (s) of `q`, `v`, `a` (nq, nv, nv per sample), `up` being the index of the
+/// vertical axis (0, 1, 2). See the module documentation for the method.
+///
+/// Errors: sizes that disagree, fewer than two samples, a model whose gravity does not point
+/// down the up axis, without a floating root (three translations and three rotations from the
+/// world), or without recognisable feet.
+pub fn estimate_ground_reactions(
+    model: &Model,
+    time: &[f64],
+    q: &[Vec<f64>],
+    v: &[Vec<f64>],
+    a: &[Vec<f64>],
+    up: usize,
+    params: &ContactParams,
+) -> Result<GroundReactions, Error> {
+    let n = time.len();
+    check_inputs(model, time, q, v, a, up)?;
+    let root = floating_root(model).ok_or_else(|| {
+        Error::Invalid(format!(
+            "model {}: ground contact needs a floating root (a free joint, or three prismatic \
+             and three revolute joints from the world); use --contact none",
+            model.name
+        ))
+    })?;
+    let feet = foot_bodies(model);
+    if feet.is_empty() {
+        return Err(Error::Invalid(format!(
+            "model {}: no feet found (joints named like LeftFoot/RightFoot, lFoot, Foot_L, \
+             foot.L); use --contact none",
+            model.name
+        )));
+    }
+    let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
+    let mut ws = Workspace::new(model);
+
+    // contact phases from the heel and toe paths
+    let points = foot_paths(model, &mut ws, &feet, q);
+    let by_foot = contact_phases(&points, up, dt, params);
+    let floor = floor_height(&points, up);
+    let contact: Vec<Vec<bool>> = (0..n)
+        .map(|k| by_foot.iter().map(|c| c[k]).collect())
+        .collect();
+    let steps = step_transitions(&contact, time);
+
+    let nf = feet.len();
+    let mut out = GroundReactions {
+        feet: feet.iter().map(|f| f.name.clone()).collect(),
+        floor,
+        contact,
+        grf: vec![vec![Vector3::zeros(); nf]; n],
+        cop: vec![vec![Vector3::zeros(); nf]; n],
+        free_moment: vec![vec![0.0; nf]; n],
+        wrench: vec![[0.0; 6]; n],
+        residual: vec![[0.0; 6]; n],
+        tau: vec![vec![0.0; model.nv]; n],
+    };
+    let mut f_ext = vec![ForceVec::ZERO; model.nbodies()];
+    let mut loads = vec![FootLoad::default(); nf];
+    let mut share = vec![0.0; nf];
+    let mut support = vec![Support::default(); nf];
+    let e_up = Vector3::ith(up, 1.0);
+    for k in 0..n {
+        // whole-body wrench the motion needs (world axes, about the world origin)
+        forward_kinematics(model, &mut ws, &q[k]);
+        rnea(model, &mut ws, &q[k], &v[k], &a[k], None);
+        let w = root_wrench(model, &ws);
+        let pelvis = ws.o_x_i[root].trans;
+        out.wrench[k] = about(&w, &pelvis);
+
+        // the feet's shares and their wrenches
+        for (s, f) in support.iter_mut().zip(&feet) {
+            *s = Support::new(f, &ws.o_x_i, up, floor);
+        }
+        let c = &out.contact[k];
+        assign_to_feet(
+            &w, &support, c, steps[k], up, floor, params, &mut share, &mut loads,
+        );
+        f_ext.fill(ForceVec::ZERO);
+        for (j, (foot, load)) in feet.iter().zip(&loads).enumerate() {
+            out.grf[k][j] = load.force;
+            out.cop[k][j] = load.cop;
+            out.free_moment[k][j] = load.free_moment;
+            let w_j = ForceVec::new(
+                load.cop.cross(&load.force) + e_up * load.free_moment,
+                load.force,
+            );
+            f_ext[foot.ankle_body] += ws.o_x_i[foot.ankle_body].act_inv_force(&w_j);
+        }
+
+        // inverse dynamics with the ground reactions; what the root still supplies
+        let tau = rnea(model, &mut ws, &q[k], &v[k], &a[k], Some(&f_ext));
+        out.tau[k].copy_from_slice(tau.as_slice());
+        out.residual[k] = about(&root_wrench(model, &ws), &pelvis);
+    }
+    Ok(out)
+}
+
+fn check_inputs(
+    model: &Model,
+    time: &[f64],
+    q: &[Vec<f64>],
+    v: &[Vec<f64>],
+    a: &[Vec<f64>],
+    up: usize,
+) -> Result<(), Error> {
+    let n = time.len();
+    if n < 2 || q.len() != n || v.len() != n || a.len() != n {
+        return Err(Error::Invalid(format!(
+            "ground reactions need at least two samples of time, q, v, a of equal length (got \
+             {n}, {}, {}, {})",
+            q.len(),
+            v.len(),
+            a.len()
+        )));
+    }
+    if let Some(k) =
+        (0..n).find(|&k| q[k].len() != model.nq || v[k].len() != model.nv || a[k].len() != model.nv)
+    {
+        return Err(Error::Invalid(format!(
+            "sample {k}: q, v, a have {}, {}, {} values; model {} has nq = {}, nv = {}",
+            q[k].len(),
+            v[k].len(),
+            a[k].len(),
+            model.name,
+            model.nq,
+            model.nv
+        )));
+    }
+    if time[n - 1].partial_cmp(&time[0]) != Some(std::cmp::Ordering::Greater) {
+        return Err(Error::Invalid(format!(
+            "sample times must increase (first {}, last {})",
+            time[0],
+            time[n - 1]
+        )));
+    }
+    if up > 2 || model.gravity[up].partial_cmp(&0.0) != Some(std::cmp::Ordering::Less) {
+        return Err(Error::Invalid(format!(
+            "up axis {up}: expected 0, 1 or 2 with the model's gravity {:?} pointing down it",
+            model.gravity.as_slice()
+        )));
+    }
+    Ok(())
+}
+
+/// The last body of the floating root chain: bodies `1..=r` form a chain from the world whose
+/// joints give three translations and three rotations (one free joint, or prismatic and
+/// revolute/spherical joints), owning velocity coordinates `0..6`.
+fn floating_root(model: &Model) -> Option<usize> {
+    if model.nv < 6 {
+        return None;
+    }
+    let r = model.body_of_v(5);
+    let (mut lin, mut ang) = (0, 0);
+    for i in 1..=r {
+        if model.parent[i] != i - 1 {
+            return None;
+        }
+        match model.joints[i] {
+            JointKind::Free => (lin, ang) = (lin + 3, ang + 3),
+            JointKind::Prismatic { .. } => lin += 1,
+            JointKind::Revolute { .. } => ang += 1,
+            JointKind::Spherical => ang += 3,
+            JointKind::Fixed => {}
+        }
+    }
+    (lin == 3 && ang == 3).then_some(r)
+}
+
+/// World path of each foot's heel and toe over the take.
+fn foot_paths(model: &Model, ws: &mut Workspace, feet: &[Foot], q: &[Vec<f64>]) -> Vec<FootPoints> {
+    let mut paths = vec![FootPoints::default(); feet.len()];
+    for qk in q {
+        forward_kinematics(model, ws, qk);
+        for (p, f) in paths.iter_mut().zip(feet) {
+            p.heel.push(f.heel(&ws.o_x_i));
+            p.toe.push(f.toe(&ws.o_x_i));
+        }
+    }
+    paths
+}
+
+/// The wrench the world applies on the model through the joints of the root-level bodies
+/// (world axes, about the world origin), from `ws.f` and `ws.o_x_i`.
+fn root_wrench(model: &Model, ws: &Workspace) -> ForceVec {
+    (1..model.nbodies())
+        .filter(|&i| model.parent[i] == 0)
+        .map(|i| ws.o_x_i[i].act_force(&ws.f[i]))
+        .fold(ForceVec::ZERO, |s, f| s + f)
+}
+
+/// `[fx, fy, fz, tx, ty, tz]` of a wrench given about the world origin, taken about `point`.
+fn about(w: &ForceVec, point: &Vector3<f64>) -> [f64; 6] {
+    let n = w.ang - point.cross(&w.lin);
+    [w.lin.x, w.lin.y, w.lin.z, n.x, n.y, n.z]
+}
+
+/// A step in double support: the trailing foot and its share of the load.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Step {
+    trailing: usize,
+    leading: usize,
+    trailing_share: f64,
+}
+
+/// For every frame of double support that lies between a single support of one foot and a
+/// single support of the other, the smooth transition of the load (Ren et al. 2008):
+/// `u` runs from 0 at the trailing foot's last single-support frame to 1 at the leading foot's
+/// first, and the trailing share is `1 − (10u³ − 15u⁴ + 6u⁵)`.
+fn step_transitions(contact: &[Vec<bool>], time: &[f64]) -> Vec<Option<Step>> {
+    let n = contact.len();
+    let mut steps = vec![None; n];
+    let only = |k: usize| {
+        let on: Vec<usize> = (0..contact[k].len()).filter(|&j| contact[k][j]).collect();
+        (on.len() == 1).then(|| on[0])
+    };
+    let double = |k: usize| contact[k].iter().filter(|c| **c).count() == 2;
+    let mut k = 0;
+    while k < n {
+        if !double(k) {
+            k += 1;
+            continue;
+        }
+        let s = k;
+        while k < n && double(k) {
+            k += 1;
+        }
+        // frames s..k are double support
+        let before = if s > 0 { only(s - 1) } else { None };
+        let after = if k < n { only(k) } else { None };
+        if let (Some(trailing), Some(leading)) = (before, after)
+            && trailing != leading
+        {
+            let (t0, t1) = (time[s - 1], time[k]);
+            for (m, step) in steps.iter_mut().enumerate().take(k).skip(s) {
+                let u = ((time[m] - t0) / (t1 - t0)).clamp(0.0, 1.0);
+                let ramp = u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
+                *step = Some(Step {
+                    trailing,
+                    leading,
+                    trailing_share: 1.0 - ramp,
+                });
+            }
+        }
+    }
+    steps
+}
+
+/// A foot's support region on the floor: its ankle and toe projected.
+#[derive(Debug, Clone, Copy, Default)]
+struct Support {
+    heel: Vector3<f64>,
+    toe: Vector3<f64>,
+}
+
+impl Support {
+    fn new(foot: &Foot, o_x_i: &[SpatialTransform], up: usize, floor: f64) -> Self {
+        let mut heel = foot.heel(o_x_i);
+        let mut toe = foot.toe(o_x_i);
+        heel[up] = floor;
+        toe[up] = floor;
+        Self { heel, toe }
+    }
+
+    /// `p` (on the floor) moved to the nearest point of the heel–toe segment widened by
+    /// `margin`, if it lies outside.
+    fn clamp(&self, p: &Vector3<f64>, margin: f64) -> Vector3<f64> {
+        let d = self.toe - self.heel;
+        let len2 = d.norm_squared();
+        let s = if len2 > 0.0 {
+            self.heel + d * ((p - self.heel).dot(&d) / len2).clamp(0.0, 1.0)
+        } else {
+            self.heel
+        };
+        let off = p - s;
+        let dist = off.norm();
+        if dist > margin {
+            s + off * (margin / dist)
+        } else {
+            *p
+        }
+    }
+}
+
+/// One foot's share of the ground reaction.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct FootLoad {
+    force: Vector3<f64>,
+    cop: Vector3<f64>,
+    free_moment: f64,
+}
+
+/// The centre of pressure of wrench `w` (about the world origin) on the floor plane at height
+/// `floor`, and the free moment about the vertical there; `None` if the wrench does not press
+/// on the floor. With `(i, j, u)` a right-handed permutation of the axes, `u` vertical, the
+/// moment about `p` has no `i`, `j` components when
+/// `p_i = (h f_i − n_j) / f_u`, `p_j = (h f_j + n_i) / f_u` (Winter 2009, force plate CoP).
+fn centre_of_pressure(w: &ForceVec, up: usize, floor: f64) -> Option<(Vector3<f64>, f64)> {
+    let (i, j) = ((up + 1) % 3, (up + 2) % 3);
+    let f = &w.lin;
+    if f[up].is_nan() || f[up] <= 1e-9 {
+        return None;
+    }
+    let mut p = Vector3::zeros();
+    p[up] = floor;
+    p[i] = (floor * f[i] - w.ang[j]) / f[up];
+    p[j] = (floor * f[j] + w.ang[i]) / f[up];
+    let free = (w.ang - p.cross(f))[up];
+    Some((p, free))
+}
+
+/// Shares `w` among the feet in contact (see the module documentation), writing `loads`.
+#[allow(clippy::too_many_arguments)]
+fn assign_to_feet(
+    w: &ForceVec,
+    support: &[Support],
+    contact: &[bool],
+    step: Option<Step>,
+    up: usize,
+    floor: f64,
+    params: &ContactParams,
+    share: &mut [f64],
+    loads: &mut [FootLoad],
+) {
+    for (l, s) in loads.iter_mut().zip(support) {
+        *l = FootLoad {
+            force: Vector3::zeros(),
+            cop: s.heel,
+            free_moment: 0.0,
+        };
+    }
+    let Some((p, free)) = centre_of_pressure(w, up, floor) else {
+        return;
+    };
+    let mut on = (0..contact.len()).filter(|&j| contact[j]);
+    let (first, second) = (on.next(), on.next());
+    let count = contact.iter().filter(|c| **c).count();
+
+    // shares: one foot takes all; a step ramps trailing → leading; otherwise the lever rule
+    share.fill(0.0);
+    match (first, second, step) {
+        (None, _, _) => return,
+        (Some(j), None, _) => share[j] = 1.0,
+        (_, _, Some(s)) => {
+            share[s.trailing] = s.trailing_share;
+            share[s.leading] = 1.0 - s.trailing_share;
+        }
+        (Some(a), Some(b), None) if count == 2 => {
+            let (ca, cb) = (support[a].heel, support[b].heel);
+            let d = ca - cb;
+            let r = if d.norm_squared() > 1e-12 {
+                ((p - cb).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
+            } else {
+                0.5
+            };
+            share[a] = r;
+            share[b] = 1.0 - r;
+        }
+        _ => (0..contact.len())
+            .filter(|&j| contact[j])
+            .for_each(|j| share[j] = 1.0 / count as f64),
+    }
+
+    // each foot: the force share at p shifted by its offset from the load-weighted ankle
+    // centre, kept inside its support region, pushing, within the friction cone
+    let centre: Vector3<f64> = support.iter().zip(&*share).map(|(s, r)| s.heel * *r).sum();
+    for j in (0..contact.len()).filter(|&j| contact[j]) {
+        let mut force = w.lin * share[j];
+        let horizontal = force - Vector3::ith(up, force[up]);
+        let limit = params.friction * force[up];
+        if horizontal.norm() > limit {
+            force -= horizontal * (1.0 - limit / horizontal.norm());
+        }
+        let cop = support[j].clamp(&(p + support[j].heel - centre), params.cop_margin);
+        loads[j] = FootLoad {
+            force,
+            cop,
+            free_moment: free * share[j],
+        };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn centre_of_pressure_of_a_force_through_a_floor_point_is_that_point() {
+        // a force F through p0 on the floor at height h, for each up axis
+        for up in 0..3 {
+            let h = 0.1;
+            let mut p0 = Vector3::new(0.3, -0.7, 0.45);
+            p0[up] = h;
+            let mut f = Vector3::new(12.0, -30.0, 8.0);
+            f[up] = 700.0;
+            let free = 2.5;
+            let w = ForceVec::new(p0.cross(&f) + Vector3::ith(up, free), f);
+            let (p, m) = centre_of_pressure(&w, up, h).unwrap();
+            assert!((p - p0).norm() < 1e-12, "up {up}: {p} vs {p0}");
+            assert!((m - free).abs() < 1e-12);
+        }
+        let pull = ForceVec::new(Vector3::zeros(), Vector3::new(0.0, -10.0, 0.0));
+        assert!(centre_of_pressure(&pull, 1, 0.0).is_none());
+    }
+
+    #[test]
+    fn a_step_ramps_the_load_from_trailing_to_leading_foot() {
+        // left alone, 4 frames of double support, right alone
+        let c = |l, r| vec![l, r];
+        let contact = vec![
+            c(true, false),
+            c(true, true),
+            c(true, true),
+            c(true, true),
+            c(true, true),
+            c(false, true),
+        ];
+        let time: Vec<f64> = (0..6).map(|k| k as f64 * 0.1).collect();
+        let steps = step_transitions(&contact, &time);
+        assert!(steps[0].is_none() && steps[5].is_none());
+        let shares: Vec<f64> = steps[1..5]
+            .iter()
+            .map(|s| s.unwrap().trailing_share)
+            .collect();
+        assert!(steps[1].unwrap().trailing == 0 && steps[1].unwrap().leading == 1);
+        assert!(shares.windows(2).all(|w| w[1] < w[0]), "{shares:?}");
+        // symmetric about the middle of the double support
+        assert!((shares[0] + shares[3] - 1.0).abs() < 1e-12);
+        assert!(shares[0] > 0.8 && shares[3] < 0.2);
+    }
+
+    #[test]
+    fn clamp_keeps_points_inside_and_moves_outside_points_to_the_edge() {
+        let s = Support {
+            heel: Vector3::new(0.0, 0.0, 0.0),
+            toe: Vector3::new(0.0, 0.0, 0.2),
+        };
+        let inside = Vector3::new(0.03, 0.0, 0.1);
+        assert_eq!(s.clamp(&inside, 0.05), inside);
+        let ahead = s.clamp(&Vector3::new(0.0, 0.0, 0.5), 0.05);
+        assert!((ahead - Vector3::new(0.0, 0.0, 0.25)).norm() < 1e-12);
+        let side = s.clamp(&Vector3::new(0.4, 0.0, 0.1), 0.05);
+        assert!((side - Vector3::new(0.05, 0.0, 0.1)).norm() < 1e-12);
+    }
+}

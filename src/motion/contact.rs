@@ -1,0 +1,443 @@
+//! Foot contact from kinematics alone: which bodies are the feet, where the floor is, and in
+//! which frames each foot is on it.
+//!
+//! Method: the height-and-speed test on foot points that motion-capture pipelines use to find
+//! footplants (Le Callennec & Boulic 2006, "Robust kinematic constraint detection for motion
+//! data", *Proc. ACM SIGGRAPH/Eurographics SCA*; Ikemoto, Arikan & Forsyth 2006, "Knowing when
+//! to put your foot down", *Proc. I3D*, whose hand annotations this test approximates): a foot
+//! point is planted when it is near its own floor level **and** nearly still; a foot is in
+//! contact when its heel or its toe is planted (heel strike, flat foot, push-off on the toe).
+//! Each test has an entry and an exit threshold (hysteresis, a Schmitt trigger), so noise at a
+//! threshold does not toggle the state, and phases shorter than [`ContactParams::min_phase_s`]
+//! are absorbed by their neighbours.
+//!
+//! Foot points: the heel is the ankle joint (the origin of the foot joint's frame), the toe is
+//! the toe joint (the ball of the foot) or, for skeletons without one, a point of the foot
+//! segment. Their heights differ at rest (an ankle is 6–10 cm above the floor), so each kind of
+//! point is measured against its own floor level ([`detect_floor`] over both feet), and a foot
+//! that never comes down stays above that level.
+
+use crate::model::Model;
+use nalgebra::Vector3;
+
+/// Thresholds of contact detection and of the ground reaction estimate
+/// ([`crate::dynamics::grf`]). Lengths in m, speeds in m/s, times in s.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactParams {
+    /// A point enters contact below this height above its floor level. Default 0.03 m: a
+    /// planted ankle or toe joint moves ~1–2 cm vertically (rolling over the heel, skin and
+    /// solver noise of optical capture), a swinging foot clears the floor by 1–2 cm at the toe
+    /// but then moves fast, which the speed test rejects.
+    pub height_on: f64,
+    /// A point leaves contact above this height. Default 0.06 m (twice `height_on`).
+    pub height_off: f64,
+    /// A point enters contact below this speed. Default 0.5 m/s: planted points move at
+    /// < 0.3 m/s (heel roll, push-off), swinging feet at 2–5 m/s in walking (Winter 2009,
+    /// *Biomechanics and Motor Control of Human Movement*, 4th ed., ch. 2 toe trajectory) and
+    /// faster in running.
+    pub speed_on: f64,
+    /// A point leaves contact above this speed. Default 1.0 m/s.
+    pub speed_off: f64,
+    /// Contact or flight phases shorter than this are absorbed by their neighbours (except at
+    /// the ends of the take). Default 0.04 s: one frame at 30 fps, five at 120 fps; flight in
+    /// running lasts ~0.1 s, so it survives.
+    pub min_phase_s: f64,
+    /// Half-width (m) of the support region around the heel–toe segment inside which a centre
+    /// of pressure is kept. Default 0.05 m: half a foot's width, and the heel and the tips of
+    /// the toes lie ~5 cm beyond the ankle and toe joints (de Leva 1996 foot lengths).
+    pub cop_margin: f64,
+    /// Friction coefficient bounding the horizontal ground force (|F_h| ≤ μ F_v). Default 1.0:
+    /// shoe on a dry floor is 0.6–1.0, and walking needs ≤ 0.3 (Chang et al. 2015, "The
+    /// required coefficient of friction during walking", *Gait & Posture*), so the bound only
+    /// removes noise spikes, which stay in the residual.
+    pub friction: f64,
+}
+
+impl Default for ContactParams {
+    fn default() -> Self {
+        Self {
+            height_on: 0.03,
+            height_off: 0.06,
+            speed_on: 0.5,
+            speed_off: 1.0,
+            min_phase_s: 0.04,
+            cop_margin: 0.05,
+            friction: 1.0,
+        }
+    }
+}
+
+/// World positions of one foot's heel and toe points over the take (m, the take's axes), one
+/// entry per frame.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FootPoints {
+    pub heel: Vec<Vector3<f64>>,
+    pub toe: Vec<Vector3<f64>>,
+}
+
+/// The fraction of a take's samples below which the floor lies: [`detect_floor`] returns this
+/// quantile. 5 %: robust to a few glitched frames (a minimum is one noisy sample) and still
+/// within the stance cluster as long as the feet are down for more than ~10 % of the take.
+pub const FLOOR_QUANTILE: f64 = 0.05;
+
+/// The floor level of a set of heights (m): their [`FLOOR_QUANTILE`] quantile (linear
+/// interpolation between order statistics). Non-finite heights are ignored; with none left the
+/// result is 0 (the world's origin plane).
+pub fn detect_floor(heights: &[f64]) -> f64 {
+    let mut h: Vec<f64> = heights.iter().copied().filter(|x| x.is_finite()).collect();
+    if h.is_empty() {
+        return 0.0;
+    }
+    h.sort_by(f64::total_cmp);
+    let pos = FLOOR_QUANTILE * (h.len() - 1) as f64;
+    let (lo, frac) = (pos.floor() as usize, pos.fract());
+    let hi = (lo + 1).min(h.len() - 1);
+    h[lo] + (h[hi] - h[lo]) * frac
+}
+
+/// The floor height (m along the up axis) under a set of feet: the floor level of their toe
+/// points, the lowest points a foot stands on.
+pub fn floor_height(feet: &[FootPoints], up: usize) -> f64 {
+    let toes: Vec<f64> = feet
+        .iter()
+        .flat_map(|f| f.toe.iter().map(|p| p[up]))
+        .collect();
+    detect_floor(&toes)
+}
+
+/// Contact of every foot in every frame (`[foot][frame]`), from the heel and toe points of each
+/// foot sampled every `dt` seconds, `up` being the index (0, 1, 2) of the vertical axis.
+///
+/// A point is planted while it is within `height_on` of its floor level and slower than
+/// `speed_on`, and stays planted until it rises above `height_off` or moves faster than
+/// `speed_off`; a foot is in contact while its heel or its toe is planted. Speeds are central
+/// differences (one-sided at the ends).
+pub fn contact_phases(
+    feet: &[FootPoints],
+    up: usize,
+    dt: f64,
+    params: &ContactParams,
+) -> Vec<Vec<bool>> {
+    // floor level of each kind of point, over all feet
+    let level = |pick: fn(&FootPoints) -> &Vec<Vector3<f64>>| {
+        let h: Vec<f64> = feet
+            .iter()
+            .flat_map(|f| pick(f).iter().map(|p| p[up]))
+            .collect();
+        detect_floor(&h)
+    };
+    let (heel_level, toe_level) = (level(|f| &f.heel), level(|f| &f.toe));
+    let min_frames = (params.min_phase_s / dt).ceil().max(1.0) as usize;
+    feet.iter()
+        .map(|f| {
+            let heel = planted(&f.heel, up, heel_level, dt, params);
+            let toe = planted(&f.toe, up, toe_level, dt, params);
+            let mut c: Vec<bool> = heel.iter().zip(&toe).map(|(h, t)| *h || *t).collect();
+            absorb_short_phases(&mut c, min_frames);
+            c
+        })
+        .collect()
+}
+
+/// The planted state of one point over time (hysteresis on height above `level` and speed).
+fn planted(
+    p: &[Vector3<f64>],
+    up: usize,
+    level: f64,
+    dt: f64,
+    params: &ContactParams,
+) -> Vec<bool> {
+    let n = p.len();
+    let mut state = false;
+    (0..n)
+        .map(|k| {
+            let (a, b) = (k.saturating_sub(1), (k + 1).min(n - 1));
+            let speed = if b > a {
+                (p[b] - p[a]).norm() / ((b - a) as f64 * dt)
+            } else {
+                0.0
+            };
+            let h = p[k][up] - level;
+            state = if state {
+                h <= params.height_off && speed <= params.speed_off
+            } else {
+                h < params.height_on && speed < params.speed_on
+            };
+            state
+        })
+        .collect()
+}
+
+/// Flips runs of equal states shorter than `min_frames` that have neighbours on both sides:
+/// first short contacts (blips), then short gaps.
+fn absorb_short_phases(c: &mut [bool], min_frames: usize) {
+    for target in [true, false] {
+        let mut k = 0;
+        while k < c.len() {
+            let start = k;
+            while k < c.len() && c[k] == c[start] {
+                k += 1;
+            }
+            let inner = start > 0 && k < c.len();
+            if c[start] == target && inner && k - start < min_frames {
+                c[start..k].fill(!target);
+            }
+        }
+    }
+}
+
+/// Left or right.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    Left,
+    Right,
+}
+
+impl Side {
+    /// `left` / `right`, the foot names of output columns.
+    pub fn name(self) -> &'static str {
+        match self {
+            Side::Left => "left",
+            Side::Right => "right",
+        }
+    }
+}
+
+/// One foot of a model: the bodies whose points are its heel and toe.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Foot {
+    /// `left` or `right` (output column names: `grf:left:x`, …).
+    pub name: String,
+    pub side: Side,
+    /// The skeleton's name of the ankle joint (`LeftFoot`, `lFoot`, `Foot_L`, `foot.L`, …).
+    pub joint: String,
+    /// The body whose frame is the ankle joint's: its origin is the heel point, and ground
+    /// reactions act on it. In the euler model, the body of the joint's last rotation channel.
+    pub ankle_body: usize,
+    /// The body that carries the toe point.
+    pub toe_body: usize,
+    /// The toe point in the frame of `toe_body` (m): the toe joint's origin (zero), or without a
+    /// toe joint the far end of the foot's drawing shape, or the ankle itself.
+    pub toe_point: Vector3<f64>,
+}
+
+impl Foot {
+    /// World position of the heel point (m), from world body poses (`ws.o_x_i`).
+    pub fn heel(&self, o_x_i: &[crate::spatial::SpatialTransform]) -> Vector3<f64> {
+        o_x_i[self.ankle_body].trans
+    }
+    /// World position of the toe point (m), from world body poses (`ws.o_x_i`).
+    pub fn toe(&self, o_x_i: &[crate::spatial::SpatialTransform]) -> Vector3<f64> {
+        o_x_i[self.toe_body].transform_point(&self.toe_point)
+    }
+}
+
+/// The role a skeleton joint name plays for contact.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Role {
+    /// `foot`, `ankle`.
+    Foot,
+    /// `ankle` in skeletons that also have a `foot` (SMPL: `L_Ankle`, `L_Foot` = the toes).
+    Ankle,
+    /// `toe`, `toes`, `toebase`, `toe1-1`, …
+    Toe,
+}
+
+/// The skeleton joint a body stands for: its name without the euler model's channel suffix
+/// (`LeftFoot.Zrotation` → `LeftFoot`, `foot.L.Xrotation` → `foot.L`).
+pub fn skeleton_joint(body_name: &str) -> &str {
+    const CHANNELS: [&str; 6] = [
+        ".Xrotation",
+        ".Yrotation",
+        ".Zrotation",
+        ".Xposition",
+        ".Yposition",
+        ".Zposition",
+    ];
+    CHANNELS
+        .iter()
+        .find_map(|c| body_name.strip_suffix(c))
+        .unwrap_or(body_name)
+}
+
+/// Side and role of a skeleton joint name, across the naming schemes of common skeletons:
+/// CMU/Mixamo/Motionbuilder `LeftFoot` `LeftToeBase` (with or without a `mixamorig:`
+/// namespace), Daz/Poser `lFoot` `lToe`, Bandai-Namco `Foot_L` `Toes_L`, MakeHuman `foot.L`
+/// `toe1-1.L`, SMPL `L_Ankle` `L_Foot`, and `LFoot`/`RFoot` styles.
+fn classify(name: &str) -> Option<(Side, Role)> {
+    let name = name.rsplit(':').next().unwrap_or(name);
+    let lower = name.to_lowercase();
+    let chars: Vec<char> = name.chars().collect();
+    let (side, base) = if let Some(rest) = lower.strip_prefix("left") {
+        (Side::Left, rest.to_string())
+    } else if let Some(rest) = lower.strip_prefix("right") {
+        (Side::Right, rest.to_string())
+    } else if let Some(rest) = lower.strip_suffix("left") {
+        (Side::Left, rest.to_string())
+    } else if let Some(rest) = lower.strip_suffix("right") {
+        (Side::Right, rest.to_string())
+    } else if ["_l", ".l", "-l", " l"].iter().any(|s| lower.ends_with(s)) {
+        (Side::Left, lower[..lower.len() - 2].to_string())
+    } else if ["_r", ".r", "-r", " r"].iter().any(|s| lower.ends_with(s)) {
+        (Side::Right, lower[..lower.len() - 2].to_string())
+    } else if chars.len() > 1
+        && (chars[1].is_uppercase() || chars[1] == '_')
+        && matches!(chars[0], 'l' | 'L' | 'r' | 'R')
+    {
+        let side = if matches!(chars[0], 'l' | 'L') {
+            Side::Left
+        } else {
+            Side::Right
+        };
+        (side, lower[1..].to_string())
+    } else {
+        return None;
+    };
+    let base = base.trim_matches(|c| matches!(c, '_' | '.' | '-' | ' '));
+    let role = if base == "foot" {
+        Role::Foot
+    } else if base == "ankle" {
+        Role::Ankle
+    } else if base.starts_with("toe") {
+        Role::Toe
+    } else {
+        return None;
+    };
+    Some((side, role))
+}
+
+/// The feet of a model, found by joint names (see [`classify`] for the schemes), left first.
+/// Empty when the model has no recognisable feet (an arm, a robot).
+///
+/// For each side: the ankle is the `ankle` joint if there is one (SMPL, whose `foot` is then the
+/// toe), else the `foot` joint; the toe is the first toe joint below the ankle in body order
+/// (MakeHuman's `toe1-1`, the big toe). Without a toe joint the toe point is the far end of
+/// the foot body's drawing shape along its long axis, or the ankle itself.
+pub fn foot_bodies(model: &Model) -> Vec<Foot> {
+    // the frame body of each named skeleton joint: the last body carrying its name
+    let n = model.nbodies();
+    let mut joints: Vec<(String, usize, Side, Role)> = vec![];
+    for i in 1..n {
+        let name = skeleton_joint(&model.body_names[i]);
+        let Some((side, role)) = classify(name) else {
+            continue;
+        };
+        match joints.iter_mut().find(|j| j.0 == name) {
+            Some(j) => j.1 = i,
+            None => joints.push((name.to_string(), i, side, role)),
+        }
+    }
+    let descends = |mut i: usize, ancestor: usize| {
+        while i > ancestor {
+            i = model.parent[i];
+        }
+        i == ancestor
+    };
+    let mut feet = vec![];
+    for side in [Side::Left, Side::Right] {
+        let of = |role: Role| joints.iter().find(|j| j.2 == side && j.3 == role);
+        let has_ankle = of(Role::Ankle).is_some();
+        let Some(ankle) = of(Role::Ankle).or_else(|| of(Role::Foot)) else {
+            continue;
+        };
+        let toe = joints
+            .iter()
+            .filter(|j| j.2 == side && (j.3 == Role::Toe || (has_ankle && j.3 == Role::Foot)))
+            .filter(|j| descends(j.1, ankle.1))
+            .min_by_key(|j| j.1);
+        let (toe_body, toe_point) = match toe {
+            Some(t) => (t.1, Vector3::zeros()),
+            None => (ankle.1, shape_tip(model, ankle.1)),
+        };
+        feet.push(Foot {
+            name: side.name().to_string(),
+            side,
+            joint: ankle.0.clone(),
+            ankle_body: ankle.1,
+            toe_body,
+            toe_point,
+        });
+    }
+    feet
+}
+
+/// The far end of body `i`'s drawing shape along the shape's long (local z) axis, body frame;
+/// the body origin when it has no shape.
+fn shape_tip(model: &Model, i: usize) -> Vector3<f64> {
+    match &model.shapes[i] {
+        Some(s) => {
+            let axis = s.rot * Vector3::z() * s.size.z;
+            let (a, b) = (s.center + axis, s.center - axis);
+            if a.norm() >= b.norm() { a } else { b }
+        }
+        None => Vector3::zeros(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn side_and_role_across_naming_schemes() {
+        use Role::*;
+        use Side::*;
+        let cases = [
+            ("LeftFoot", Some((Left, Foot))),
+            ("RightToeBase", Some((Right, Toe))),
+            ("mixamorig:LeftFoot", Some((Left, Foot))),
+            ("mixamorig:RightToe_End", Some((Right, Toe))),
+            ("lFoot", Some((Left, Foot))),
+            ("rToe", Some((Right, Toe))),
+            ("Foot_L", Some((Left, Foot))),
+            ("Toes_R", Some((Right, Toe))),
+            ("foot.L", Some((Left, Foot))),
+            ("toe1-1.R", Some((Right, Toe))),
+            ("L_Ankle", Some((Left, Ankle))),
+            ("R_Foot", Some((Right, Foot))),
+            ("LFoot", Some((Left, Foot))),
+            ("LeftLeg", None),
+            ("LHipJoint", None),
+            ("Hips", None),
+            ("lShin", None),
+            ("lowerleg01.L", None),
+            ("Root", None),
+        ];
+        for (name, want) in cases {
+            assert_eq!(classify(name), want, "{name}");
+        }
+    }
+
+    #[test]
+    fn channel_suffix_is_stripped_but_dots_in_names_stay() {
+        assert_eq!(skeleton_joint("LeftFoot.Zrotation"), "LeftFoot");
+        assert_eq!(skeleton_joint("foot.L.Xrotation"), "foot.L");
+        assert_eq!(skeleton_joint("foot.L"), "foot.L");
+    }
+
+    #[test]
+    fn floor_is_a_low_quantile_not_the_minimum() {
+        // 100 samples at 0.0..0.99 plus one glitch far below
+        let mut h: Vec<f64> = (0..100).map(|k| k as f64 * 0.01).collect();
+        h.push(-5.0);
+        let f = detect_floor(&h);
+        assert!((0.03..0.06).contains(&f), "{f}");
+        assert_eq!(detect_floor(&[]), 0.0);
+    }
+
+    #[test]
+    fn short_blips_and_gaps_are_absorbed_but_not_at_the_ends() {
+        let mut c = vec![
+            true, false, false, false, true, false, false, true, true, false, true,
+        ];
+        absorb_short_phases(&mut c, 2);
+        // the lone `true` at 4 is a blip → false; the lone false at 9 is a gap → true;
+        // the first `true` touches the start and stays
+        assert_eq!(
+            c,
+            vec![
+                true, false, false, false, false, false, false, true, true, true, true
+            ]
+        );
+    }
+}
