@@ -1,1 +1,202 @@
-//! (in progress)
+//! Rotations about the coordinate axes and Tait–Bryan ("Euler") angles in the six orders BVH
+//! files use.
+//!
+//! Convention (the BVH one, see `io::bvh`): an order `c1 c2 c3` with angles `[a1, a2, a3]` (rad)
+//! means `R = R_c1(a1) · R_c2(a2) · R_c3(a3)`, i.e. intrinsic rotations applied in the listed
+//! order (equivalently extrinsic ones in the reverse order). `R` maps child-frame coordinates to
+//! parent-frame coordinates; each `R_x(a)` is the right-handed (counter-clockwise) rotation.
+//!
+//! Extraction follows Shoemake (*Euler angle conversion*, Graphics Gems IV, 1994, pp. 222–229)
+//! for the axis permutation and parity, with the numerically robust variant used by Eigen's
+//! `MatrixBase::eulerAngles`: the first angle is taken from the third column, the matrix is
+//! de-rotated by it, and the remaining two angles are read from the de-rotated matrix. Whatever
+//! the first angle (even at gimbal lock, where it is arbitrary), the triple reproduces `R` to
+//! rounding.
+
+use nalgebra::Matrix3;
+use std::f64::consts::PI;
+
+/// One of the six Tait–Bryan orders (three distinct axes), named by its channel order:
+/// `ZXY` is `Zrotation Xrotation Yrotation`, i.e. `R = R_z(a1) · R_x(a2) · R_y(a3)`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EulerOrder {
+    XYZ,
+    XZY,
+    YXZ,
+    YZX,
+    ZXY,
+    ZYX,
+}
+
+impl EulerOrder {
+    /// All six orders.
+    pub const ALL: [EulerOrder; 6] = [
+        EulerOrder::XYZ,
+        EulerOrder::XZY,
+        EulerOrder::YXZ,
+        EulerOrder::YZX,
+        EulerOrder::ZXY,
+        EulerOrder::ZYX,
+    ];
+
+    /// Axis indices (0 = X, 1 = Y, 2 = Z) in application order.
+    pub fn axes(self) -> [usize; 3] {
+        match self {
+            EulerOrder::XYZ => [0, 1, 2],
+            EulerOrder::XZY => [0, 2, 1],
+            EulerOrder::YXZ => [1, 0, 2],
+            EulerOrder::YZX => [1, 2, 0],
+            EulerOrder::ZXY => [2, 0, 1],
+            EulerOrder::ZYX => [2, 1, 0],
+        }
+    }
+
+    /// The order whose axes are `axes` (e.g. the axes of a joint's rotation channels in file
+    /// order); `None` unless they are three distinct axes in `0..3`.
+    pub fn from_axes(axes: [usize; 3]) -> Option<EulerOrder> {
+        EulerOrder::ALL.into_iter().find(|o| o.axes() == axes)
+    }
+
+    /// `XYZ`, `ZXY`, ...
+    pub fn name(self) -> &'static str {
+        match self {
+            EulerOrder::XYZ => "XYZ",
+            EulerOrder::XZY => "XZY",
+            EulerOrder::YXZ => "YXZ",
+            EulerOrder::YZX => "YZX",
+            EulerOrder::ZXY => "ZXY",
+            EulerOrder::ZYX => "ZYX",
+        }
+    }
+
+    /// +1 when the axes are an even (cyclic) permutation of X, Y, Z, −1 otherwise.
+    fn parity(self) -> f64 {
+        match self {
+            EulerOrder::XYZ | EulerOrder::YZX | EulerOrder::ZXY => 1.0,
+            _ => -1.0,
+        }
+    }
+}
+
+impl std::fmt::Display for EulerOrder {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Right-handed rotation by `angle` (rad) about coordinate axis `axis` (0 = X, 1 = Y, 2 = Z).
+///
+/// Panics if `axis > 2` (a programming error, not bad input).
+pub fn axis_rotation(axis: usize, angle: f64) -> Matrix3<f64> {
+    let (s, c) = angle.sin_cos();
+    match axis {
+        0 => Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c),
+        1 => Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c),
+        2 => Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0),
+        _ => panic!("axis_rotation: axis {axis} is not 0, 1 or 2"),
+    }
+}
+
+/// `R = R_c1(a1) · R_c2(a2) · R_c3(a3)` for `order = c1 c2 c3`, angles in radians.
+pub fn euler_to_matrix(order: EulerOrder, angles: [f64; 3]) -> Matrix3<f64> {
+    let [i, j, k] = order.axes();
+    axis_rotation(i, angles[0]) * axis_rotation(j, angles[1]) * axis_rotation(k, angles[2])
+}
+
+/// Angles `[a1, a2, a3]` (rad) with `euler_to_matrix(order, angles) ≈ r`, for a rotation
+/// matrix `r`: `a2 ∈ [−π/2, π/2]`, `a1, a3 ∈ [−π, π]`. At gimbal lock (`|a2| = π/2`) only a
+/// combination of `a1` and `a3` is determined; the split returned is the one the third column
+/// happens to give (usually `a1 ≈ 0`); use [`matrix_to_euler_near`] for continuity.
+pub fn matrix_to_euler(order: EulerOrder, r: &Matrix3<f64>) -> [f64; 3] {
+    let [_, j, k] = order.axes();
+    let s = order.parity();
+    // third column: r e_k = R_i(a1) R_j(a2) e_k; its j and k rows give a1 (up to cos a2 ≥ 0)
+    let a1 = if r[(j, k)].hypot(r[(k, k)]) > 1e-12 {
+        (-s * r[(j, k)]).atan2(r[(k, k)])
+    } else {
+        0.0
+    };
+    let (a2, a3) = rest_after_first(order, r, a1);
+    [a1, a2, a3]
+}
+
+/// Given the first angle, the two others from `M = R_i(a1)ᵀ · r = R_j(a2) · R_k(a3)`:
+/// `M e_k = e_k cos a2 + s e_i sin a2` and row j of `M` is row j of `R_k(a3)`.
+fn rest_after_first(order: EulerOrder, r: &Matrix3<f64>, a1: f64) -> (f64, f64) {
+    let [i, j, k] = order.axes();
+    let s = order.parity();
+    let m = axis_rotation(i, a1).transpose() * r;
+    let a2 = (s * m[(i, k)]).atan2(m[(k, k)]);
+    let a3 = (s * m[(j, i)]).atan2(m[(j, j)]);
+    (a2, a3)
+}
+
+/// Like [`matrix_to_euler`], but returns the equivalent triple nearest to `previous` (e.g. the
+/// angles of the previous frame): among the two Tait–Bryan branches `(a1, a2, a3)` and
+/// `(a1 + π, π − a2, a3 + π)`, each angle shifted by whole turns to lie within π of
+/// `previous`, the one with the smallest squared distance. At gimbal lock, where a whole
+/// family of triples gives `r`, `a1` is held at `previous[0]` and the others follow, so the
+/// angles stay continuous through the pole. The result may lie outside ±π (unwrapped).
+pub fn matrix_to_euler_near(order: EulerOrder, r: &Matrix3<f64>, previous: [f64; 3]) -> [f64; 3] {
+    let [i, j, _] = order.axes();
+    // |cos a2| from row i: r[i][i] = cos a2 cos a3, r[i][j] = −s cos a2 sin a3
+    let cos_a2 = r[(i, i)].hypot(r[(i, j)]);
+    let [a1, a2, a3] = if cos_a2 < 1e-9 {
+        let a1 = previous[0];
+        let (a2, a3) = rest_after_first(order, r, a1);
+        [a1, a2, a3]
+    } else {
+        matrix_to_euler(order, r)
+    };
+    let candidates = [[a1, a2, a3], [a1 + PI, PI - a2, a3 + PI]];
+    let mut best = [0.0; 3];
+    let mut best_d = f64::INFINITY;
+    for c in candidates {
+        let shifted = [
+            nearest_turn(c[0], previous[0]),
+            nearest_turn(c[1], previous[1]),
+            nearest_turn(c[2], previous[2]),
+        ];
+        let d: f64 = (0..3).map(|n| (shifted[n] - previous[n]).powi(2)).sum();
+        if d < best_d {
+            best_d = d;
+            best = shifted;
+        }
+    }
+    best
+}
+
+/// `angle + 2πn` for the integer `n` that brings it nearest to `target`.
+fn nearest_turn(angle: f64, target: f64) -> f64 {
+    let turns = ((target - angle) / (2.0 * PI)).round();
+    angle + turns * 2.0 * PI
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector3;
+
+    #[test]
+    fn quarter_turns_are_right_handed() {
+        let x = Vector3::x();
+        let y = Vector3::y();
+        let z = Vector3::z();
+        let q = PI / 2.0;
+        assert!((axis_rotation(2, q) * x - y).norm() < 1e-15);
+        assert!((axis_rotation(0, q) * y - z).norm() < 1e-15);
+        assert!((axis_rotation(1, q) * z - x).norm() < 1e-15);
+    }
+
+    #[test]
+    fn order_is_intrinsic_in_listed_order() {
+        // ZXY: R = Rz(a) Rx(b) Ry(c); a vector along child y rotated by Ry (no change),
+        // then Rx(90°) sends y to z, then Rz(90°) leaves z alone.
+        let r = euler_to_matrix(EulerOrder::ZXY, [PI / 2.0, PI / 2.0, 0.3]);
+        assert!((r * Vector3::y() - Vector3::z()).norm() < 1e-15);
+        for o in EulerOrder::ALL {
+            assert_eq!(EulerOrder::from_axes(o.axes()), Some(o));
+        }
+        assert_eq!(EulerOrder::from_axes([0, 0, 1]), None);
+    }
+}

@@ -1,0 +1,603 @@
+//! What the numbers of a BVH file mean: position-channel modes, forward kinematics straight
+//! from the definition, up axis, length unit and stature.
+//!
+//! All lengths here are in the file's units unless a name ends in `_m`; angles in the file are
+//! degrees. The forward kinematics below is deliberately the plain definition (one matrix
+//! product per channel, no model, no caching) so that it can serve as the independent
+//! reference for `model`'s kinematics.
+
+use super::{Bvh, BvhJoint};
+use crate::error::Error;
+use crate::rotation::axis_rotation;
+use nalgebra::{Matrix3, Vector3};
+use std::str::FromStr;
+
+/// How position channels relate to a joint's OFFSET (a user option; `auto` by default).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PositionMode {
+    /// Translation = OFFSET + channel values (most parsers; MakeHuman files).
+    Add,
+    /// Translation = channel values, the OFFSET only a rest pose (Blender's importer; Bandai
+    /// files).
+    Replace,
+    /// Per joint from the data: see [`resolve_position_modes`].
+    #[default]
+    Auto,
+}
+
+impl FromStr for PositionMode {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        match s.to_ascii_lowercase().as_str() {
+            "add" => Ok(PositionMode::Add),
+            "replace" => Ok(PositionMode::Replace),
+            "auto" => Ok(PositionMode::Auto),
+            _ => Err(Error::Invalid(format!(
+                "unknown position mode '{s}': expected add, replace or auto"
+            ))),
+        }
+    }
+}
+
+impl std::fmt::Display for PositionMode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            PositionMode::Add => "add",
+            PositionMode::Replace => "replace",
+            PositionMode::Auto => "auto",
+        })
+    }
+}
+
+/// The mode in force for one joint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ResolvedPosition {
+    /// The joint has no position channels: translation = OFFSET.
+    None,
+    /// Translation = OFFSET + channel values (per axis present).
+    Add,
+    /// Translation = channel value on each axis that has a channel, OFFSET on the others.
+    Replace,
+}
+
+impl std::fmt::Display for ResolvedPosition {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ResolvedPosition::None => "none",
+            ResolvedPosition::Add => "add",
+            ResolvedPosition::Replace => "replace",
+        })
+    }
+}
+
+/// The position mode of every joint (indexed like `bvh.joints`).
+///
+/// `Add` and `Replace` apply to every joint with position channels. `Auto` decides per joint
+/// from the mean `m` of the joint's position-channel values over the take and its OFFSET `o`,
+/// both restricted to the axes that have a channel:
+///
+/// 1. **clear evidence:** `|m − o| ≤ 5 % |o|` (the values repeat the OFFSET, as in the
+///    Bandai files) → replace; `|m| ≤ 5 % |o|` (the values are deltas around zero, as in the
+///    MakeHuman files) → add;
+/// 2. **otherwise** (a travelling root, a zero OFFSET where both modes agree): the file's
+///    majority among the joints with clear evidence, since one exporter wrote them all (the
+///    Bandai `bye_old` hips have an OFFSET 4.5 m from the capture start, but every other
+///    joint repeats its OFFSET, so the hips replace too);
+/// 3. **no majority** (typically only the root has position channels): replace when the
+///    values sit nearer the OFFSET than the origin, `|m − o| < |m|`, add otherwise. The PyMO
+///    sample's root OFFSET `11 35 −54` with values around `−6 35 −163` is replace (adding
+///    would float the hips at twice their height); a zero OFFSET gives add.
+pub fn resolve_position_modes(bvh: &Bvh, mode: PositionMode) -> Vec<ResolvedPosition> {
+    if mode != PositionMode::Auto {
+        return bvh
+            .joints
+            .iter()
+            .map(|joint| match (joint.has_position(), mode) {
+                (false, _) => ResolvedPosition::None,
+                (true, PositionMode::Replace) => ResolvedPosition::Replace,
+                (true, _) => ResolvedPosition::Add,
+            })
+            .collect();
+    }
+    let evidence: Vec<Evidence> = bvh.joints.iter().map(|j| evidence(bvh, j)).collect();
+    let replace = evidence
+        .iter()
+        .filter(|e| matches!(e, Evidence::Replace))
+        .count();
+    let add = evidence
+        .iter()
+        .filter(|e| matches!(e, Evidence::Add))
+        .count();
+    evidence
+        .into_iter()
+        .map(|e| match e {
+            Evidence::NoChannels => ResolvedPosition::None,
+            Evidence::Replace => ResolvedPosition::Replace,
+            Evidence::Add => ResolvedPosition::Add,
+            Evidence::Unclear { nearer_offset } => {
+                if replace > add || (replace == add && nearer_offset) {
+                    ResolvedPosition::Replace
+                } else {
+                    ResolvedPosition::Add
+                }
+            }
+        })
+        .collect()
+}
+
+/// What one joint's own data says about its position mode (rule 1 of
+/// [`resolve_position_modes`]).
+enum Evidence {
+    NoChannels,
+    Replace,
+    Add,
+    /// Neither; `nearer_offset` is rule 3, `|m − o| < |m|`.
+    Unclear {
+        nearer_offset: bool,
+    },
+}
+
+/// Relative tolerance of "the values repeat the OFFSET" / "the values are zero".
+const CLEAR: f64 = 0.05;
+
+fn evidence(bvh: &Bvh, joint: &BvhJoint) -> Evidence {
+    if !joint.has_position() {
+        return Evidence::NoChannels;
+    }
+    let cols = joint.position_columns();
+    let mut mean: Vector3<f64> = Vector3::zeros();
+    let mut offset: Vector3<f64> = Vector3::zeros();
+    for axis in 0..3 {
+        if let Some(c) = cols[axis] {
+            let col = joint.first_channel + c;
+            let sum: f64 = (0..bvh.frames).map(|k| bvh.frame(k)[col]).sum();
+            mean[axis] = sum / bvh.frames.max(1) as f64;
+            offset[axis] = joint.offset[axis];
+        }
+    }
+    let (to_offset, to_zero, tol) = ((mean - offset).norm(), mean.norm(), CLEAR * offset.norm());
+    if tol > 0.0 && to_offset <= tol {
+        Evidence::Replace
+    } else if tol > 0.0 && to_zero <= tol {
+        Evidence::Add
+    } else {
+        Evidence::Unclear {
+            nearer_offset: to_offset < to_zero,
+        }
+    }
+}
+
+/// The translation part of `joint`'s local transform (file units, parent frame) in the frame
+/// whose values are `frame_row` (a whole frame, `bvh.frame(k)`).
+pub fn joint_translation(
+    joint: &BvhJoint,
+    mode: ResolvedPosition,
+    frame_row: &[f64],
+) -> Vector3<f64> {
+    let mut t = joint.offset;
+    if mode == ResolvedPosition::None {
+        return t;
+    }
+    for (n, c) in joint.channels.iter().enumerate() {
+        if !c.is_rotation() {
+            let v = frame_row[joint.first_channel + n];
+            match mode {
+                ResolvedPosition::Add => t[c.axis()] += v,
+                _ => t[c.axis()] = v,
+            }
+        }
+    }
+    t
+}
+
+/// The rotation part of `joint`'s local transform, `R = R_c1(a1) · R_c2(a2) · R_c3(a3)` over
+/// its rotation channels in file order (degrees in the file), for the frame `frame_row`.
+pub fn joint_rotation(joint: &BvhJoint, frame_row: &[f64]) -> Matrix3<f64> {
+    let mut r = Matrix3::identity();
+    for (n, c) in joint.channels.iter().enumerate() {
+        if c.is_rotation() {
+            let a = frame_row[joint.first_channel + n].to_radians();
+            r *= axis_rotation(c.axis(), a);
+        }
+    }
+    r
+}
+
+/// World position (file units, the file's axes) of every joint at frame `frame`, from the
+/// definition: `p_j = p_parent + R_parent · t_j`, `R_j = R_parent · R(channels of j)`, with
+/// `t_j` from [`joint_translation`].
+pub fn bvh_world_positions(
+    bvh: &Bvh,
+    modes: &[ResolvedPosition],
+    frame: usize,
+) -> Vec<Vector3<f64>> {
+    world_poses(bvh, modes, frame).0
+}
+
+/// World position of every End Site at frame `frame`, in joint order and, within a joint, in
+/// file order (`p = p_j + R_j · offset`).
+pub fn bvh_end_site_positions(
+    bvh: &Bvh,
+    modes: &[ResolvedPosition],
+    frame: usize,
+) -> Vec<Vector3<f64>> {
+    let (p, r) = world_poses(bvh, modes, frame);
+    bvh.joints
+        .iter()
+        .enumerate()
+        .flat_map(|(j, joint)| joint.end_sites.iter().map(move |s| (j, s)))
+        .map(|(j, s)| p[j] + r[j] * s)
+        .collect()
+}
+
+fn world_poses(
+    bvh: &Bvh,
+    modes: &[ResolvedPosition],
+    frame: usize,
+) -> (Vec<Vector3<f64>>, Vec<Matrix3<f64>>) {
+    let row = bvh.frame(frame);
+    let n = bvh.joints.len();
+    let mut p: Vec<Vector3<f64>> = Vec::with_capacity(n);
+    let mut r: Vec<Matrix3<f64>> = Vec::with_capacity(n);
+    for (j, joint) in bvh.joints.iter().enumerate() {
+        let t = joint_translation(joint, modes[j], row);
+        let rot = joint_rotation(joint, row);
+        match joint.parent {
+            Some(q) => {
+                p.push(p[q] + r[q] * t);
+                r.push(r[q] * rot);
+            }
+            None => {
+                p.push(t);
+                r.push(rot);
+            }
+        }
+    }
+    (p, r)
+}
+
+/// Rest-pose positions (file units): every joint (OFFSETs only, no channel values), then
+/// every End Site in the order of [`bvh_end_site_positions`].
+pub fn rest_points(bvh: &Bvh) -> Vec<Vector3<f64>> {
+    let mut p: Vec<Vector3<f64>> = Vec::with_capacity(bvh.joints.len());
+    for joint in &bvh.joints {
+        let base = joint.parent.map_or(Vector3::zeros(), |q| p[q]);
+        p.push(base + joint.offset);
+    }
+    let sites: Vec<Vector3<f64>> = bvh
+        .joints
+        .iter()
+        .enumerate()
+        .flat_map(|(j, joint)| joint.end_sites.iter().map(move |s| (j, s)))
+        .map(|(j, s)| p[j] + s)
+        .collect();
+    p.extend(sites);
+    p
+}
+
+/// A coordinate axis of the file taken as "up" (gravity along its negative direction).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UpAxis {
+    X,
+    Y,
+    Z,
+}
+
+impl UpAxis {
+    /// 0, 1, 2.
+    pub fn index(self) -> usize {
+        match self {
+            UpAxis::X => 0,
+            UpAxis::Y => 1,
+            UpAxis::Z => 2,
+        }
+    }
+    fn from_index(i: usize) -> UpAxis {
+        match i {
+            0 => UpAxis::X,
+            1 => UpAxis::Y,
+            _ => UpAxis::Z,
+        }
+    }
+}
+
+impl FromStr for UpAxis {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        match s.to_ascii_lowercase().as_str() {
+            "x" => Ok(UpAxis::X),
+            "y" => Ok(UpAxis::Y),
+            "z" => Ok(UpAxis::Z),
+            _ => Err(Error::Invalid(format!(
+                "unknown up axis '{s}': expected x, y or z"
+            ))),
+        }
+    }
+}
+
+impl std::fmt::Display for UpAxis {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            UpAxis::X => "x",
+            UpAxis::Y => "y",
+            UpAxis::Z => "z",
+        })
+    }
+}
+
+/// The up axis of the file.
+///
+/// A standing human is longest from feet to head, so the up axis is the axis of largest
+/// extent of the body. The extent is measured in the poses of the take itself (the median
+/// over up to 64 evenly spaced frames, position channels resolved by `auto`), not only in the
+/// rest pose, because some rest poses are not upright: the Bandai files' bones all lie along
+/// local X, so their OFFSET-only pose lies on its side while every frame stands along Y.
+/// When the two largest extents are within 20 % of each other (a T-pose, where the arm span
+/// ≈ the stature), the rest pose decides if its own largest extent is clear; otherwise mirror
+/// symmetry does: a body is left–right symmetric but not head–feet symmetric, so the up axis
+/// is the one of the two whose mirror image of the first frame (about the middle of the
+/// extent) lies farther, on average, from the nearest body point.
+///
+/// A root joint with a single child and no End Site is a placement node (Bandai's
+/// `joint_Root`, which stays on the floor while the hips travel), not a body point: it is
+/// left out of these extents.
+pub fn detect_up(bvh: &Bvh) -> UpAxis {
+    let modes = resolve_position_modes(bvh, PositionMode::Auto);
+    let ext = median_extents(bvh, &modes);
+    let [first, second, _] = by_extent(ext);
+    if ext[second] < TIE * ext[first] {
+        return UpAxis::from_index(first);
+    }
+    let rest = body_points(bvh, &rest_points(bvh));
+    let rest_ext = extents(&rest);
+    let [r1, r2, _] = by_extent(rest_ext);
+    if rest_ext[r2] < TIE * rest_ext[r1] && (r1 == first || r1 == second) {
+        return UpAxis::from_index(r1);
+    }
+    let pts = body_points(bvh, &pose_points(bvh, &modes, 0));
+    if mirror_asymmetry(&pts, second) > mirror_asymmetry(&pts, first) {
+        UpAxis::from_index(second)
+    } else {
+        UpAxis::from_index(first)
+    }
+}
+
+/// Two extents closer than this ratio are a tie.
+const TIE: f64 = 0.8;
+
+/// Axis indices sorted by decreasing extent.
+fn by_extent(ext: [f64; 3]) -> [usize; 3] {
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&a, &b| ext[b].total_cmp(&ext[a]));
+    order
+}
+
+/// Joints then End Sites (the order of [`rest_points`]) at frame `frame`.
+fn pose_points(bvh: &Bvh, modes: &[ResolvedPosition], frame: usize) -> Vec<Vector3<f64>> {
+    let mut p = bvh_world_positions(bvh, modes, frame);
+    p.extend(bvh_end_site_positions(bvh, modes, frame));
+    p
+}
+
+/// `points` (joints then End Sites) without a placement root: a root joint with exactly one
+/// child joint and no End Site.
+fn body_points(bvh: &Bvh, points: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
+    let placement_root = bvh.joints.first().is_some_and(|root| {
+        root.end_sites.is_empty() && bvh.joints.iter().filter(|j| j.parent == Some(0)).count() == 1
+    });
+    let skip = usize::from(placement_root);
+    points.iter().skip(skip).copied().collect()
+}
+
+/// Up to 64 evenly spaced frame indices, the first and the last included.
+fn sampled_frames(bvh: &Bvh) -> Vec<usize> {
+    let n = bvh.frames;
+    if n == 0 {
+        return Vec::new();
+    }
+    let k = n.min(64);
+    let mut out: Vec<usize> = (0..k)
+        .map(|i| if k == 1 { 0 } else { i * (n - 1) / (k - 1) })
+        .collect();
+    out.dedup();
+    out
+}
+
+/// Per axis, the median over [`sampled_frames`] of the body's extent along that axis.
+fn median_extents(bvh: &Bvh, modes: &[ResolvedPosition]) -> [f64; 3] {
+    let per_frame: Vec<[f64; 3]> = sampled_frames(bvh)
+        .into_iter()
+        .map(|k| extents(&body_points(bvh, &pose_points(bvh, modes, k))))
+        .collect();
+    let mut out = [0.0; 3];
+    for (axis, e) in out.iter_mut().enumerate() {
+        let mut v: Vec<f64> = per_frame.iter().map(|x| x[axis]).collect();
+        v.sort_by(f64::total_cmp);
+        *e = v.get(v.len() / 2).copied().unwrap_or(0.0);
+    }
+    out
+}
+
+/// `max − min` of the points along each axis.
+fn extents(pts: &[Vector3<f64>]) -> [f64; 3] {
+    let mut out = [0.0; 3];
+    for (axis, e) in out.iter_mut().enumerate() {
+        let (lo, hi) = min_max(pts, axis);
+        *e = hi - lo;
+    }
+    out
+}
+
+fn min_max(pts: &[Vector3<f64>], axis: usize) -> (f64, f64) {
+    pts.iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p[axis]), hi.max(p[axis]))
+        })
+}
+
+/// Mean distance from each point mirrored across the mid-plane normal to `axis` to the
+/// nearest point of the set.
+fn mirror_asymmetry(pts: &[Vector3<f64>], axis: usize) -> f64 {
+    let (lo, hi) = min_max(pts, axis);
+    let mid = 0.5 * (lo + hi);
+    let total: f64 = pts
+        .iter()
+        .map(|p| {
+            let mut m = *p;
+            m[axis] = 2.0 * mid - m[axis];
+            pts.iter()
+                .map(|q| (q - m).norm_squared())
+                .fold(f64::INFINITY, f64::min)
+                .sqrt()
+        })
+        .sum();
+    total / pts.len().max(1) as f64
+}
+
+/// Rest-pose height in file units: highest minus lowest rest-pose point along `up` (OFFSETs
+/// only), End Sites included.
+pub fn rest_stature(bvh: &Bvh, up: UpAxis) -> f64 {
+    let (lo, hi) = min_max(&rest_points(bvh), up.index());
+    if hi >= lo { hi - lo } else { 0.0 }
+}
+
+/// The stature (file units) that unit detection and `--stature` scaling use: the
+/// [`rest_stature`] when the rest pose is upright along `up` (its body extent along `up` is
+/// within 20 % of its largest extent), otherwise (a rest pose on its side, as in the Bandai
+/// files) the median over the take's sampled frames of the body's extent along `up`.
+pub fn stature(bvh: &Bvh, up: UpAxis) -> f64 {
+    let rest_ext = extents(&body_points(bvh, &rest_points(bvh)));
+    let largest = rest_ext.iter().copied().fold(0.0, f64::max);
+    if rest_ext[up.index()] >= TIE * largest {
+        return rest_stature(bvh, up);
+    }
+    let modes = resolve_position_modes(bvh, PositionMode::Auto);
+    median_extents(bvh, &modes)[up.index()]
+}
+
+/// A length unit of a BVH file.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LengthUnit {
+    M,
+    Dm,
+    Cm,
+    Mm,
+    In,
+    /// The CMU ASF unit of the CMU mocap database's BVH conversions: the ASF files say
+    /// `length 0.45` with inches as the base unit, so one unit is `1/0.45` in `= 0.0254/0.45`
+    /// m ≈ 0.05644 m.
+    Cmu,
+    /// Any other unit, given as metres per unit.
+    Custom(f64),
+}
+
+impl LengthUnit {
+    /// The units `detect_unit` chooses among.
+    pub const DETECTABLE: [LengthUnit; 6] = [
+        LengthUnit::M,
+        LengthUnit::Dm,
+        LengthUnit::Cm,
+        LengthUnit::Mm,
+        LengthUnit::In,
+        LengthUnit::Cmu,
+    ];
+
+    /// Metres per unit.
+    pub fn scale_to_m(self) -> f64 {
+        match self {
+            LengthUnit::M => 1.0,
+            LengthUnit::Dm => 0.1,
+            LengthUnit::Cm => 0.01,
+            LengthUnit::Mm => 0.001,
+            LengthUnit::In => 0.0254,
+            LengthUnit::Cmu => 0.0254 / 0.45,
+            LengthUnit::Custom(s) => s,
+        }
+    }
+}
+
+impl FromStr for LengthUnit {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        match s.to_ascii_lowercase().as_str() {
+            "m" => Ok(LengthUnit::M),
+            "dm" => Ok(LengthUnit::Dm),
+            "cm" => Ok(LengthUnit::Cm),
+            "mm" => Ok(LengthUnit::Mm),
+            "in" => Ok(LengthUnit::In),
+            "cmu" => Ok(LengthUnit::Cmu),
+            other => match other.parse::<f64>() {
+                Ok(v) if v.is_finite() && v > 0.0 => Ok(LengthUnit::Custom(v)),
+                _ => Err(Error::Invalid(format!(
+                    "unknown length unit '{s}': expected m, dm, cm, mm, in, cmu or a positive \
+                     number of metres per unit"
+                ))),
+            },
+        }
+    }
+}
+
+impl std::fmt::Display for LengthUnit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LengthUnit::M => f.write_str("m"),
+            LengthUnit::Dm => f.write_str("dm"),
+            LengthUnit::Cm => f.write_str("cm"),
+            LengthUnit::Mm => f.write_str("mm"),
+            LengthUnit::In => f.write_str("in"),
+            LengthUnit::Cmu => f.write_str("cmu"),
+            LengthUnit::Custom(s) => write!(f, "{s}"),
+        }
+    }
+}
+
+/// Plausible adult stature (m); outside it `check_stature` asks for `--unit` or `--stature`.
+pub const STATURE_RANGE_M: (f64, f64) = (1.0, 2.3);
+
+/// The stature a unit guess aims at (m).
+const TYPICAL_STATURE_M: f64 = 1.7;
+
+/// The length unit that makes the rest-pose stature plausible, and that stature (m).
+///
+/// Among [`LengthUnit::DETECTABLE`], the units that put [`stature`] inside
+/// [`STATURE_RANGE_M`] compete; the one nearest 1.7 m (by ratio, `|ln(s / 1.7)|`) wins. When
+/// none is plausible, the nearest overall is returned and [`check_stature`] rejects it.
+pub fn detect_unit(bvh: &Bvh, up: UpAxis) -> (LengthUnit, f64) {
+    let stature = stature(bvh, up);
+    let (lo, hi) = STATURE_RANGE_M;
+    let score = |u: &LengthUnit| {
+        let s = stature * u.scale_to_m();
+        let plausible = (lo..=hi).contains(&s);
+        (!plausible, (s / TYPICAL_STATURE_M).ln().abs())
+    };
+    let best = LengthUnit::DETECTABLE
+        .into_iter()
+        .min_by(|a, b| {
+            let (pa, da) = score(a);
+            let (pb, db) = score(b);
+            pa.cmp(&pb).then(da.total_cmp(&db))
+        })
+        .unwrap_or(LengthUnit::M);
+    (best, stature * best.scale_to_m())
+}
+
+/// Accepts a stature (m) within [`STATURE_RANGE_M`]; the error says which option fixes it.
+pub fn check_stature(stature_m: f64) -> Result<(), Error> {
+    let (lo, hi) = STATURE_RANGE_M;
+    if stature_m.is_finite() && (lo..=hi).contains(&stature_m) {
+        return Ok(());
+    }
+    Err(Error::Invalid(format!(
+        "the skeleton's stature comes out at {stature_m:.3} m, outside the plausible {lo}–{hi} m: \
+         give the file's length unit with --unit (m, dm, cm, mm, in, cmu or metres per unit), \
+         or the person's height with --stature (e.g. --stature 1.75), or check the up axis \
+         (--up x|y|z)"
+    )))
+}
+
+/// Metres per file unit that give the skeleton a [`stature`] of `stature_m` along `up`.
+/// A skeleton with zero rest stature (all points at one height) gives infinity; callers
+/// validate the result with [`check_stature`] or reject non-finite scales.
+pub fn scale_for_stature(bvh: &Bvh, up: UpAxis, stature_m: f64) -> f64 {
+    stature_m / stature(bvh, up)
+}

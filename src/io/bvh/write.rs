@@ -1,0 +1,129 @@
+//! The BVH writer.
+//!
+//! Layout: the one Blender's exporter writes and that Blender's and three.js's importers read:
+//! keywords in their usual case, one tab per nesting level, `End Site` blocks after a joint's
+//! child joints, `Frames: N`, `Frame Time: 0.008333`, one line per frame with values separated
+//! by single spaces, LF line ends and a final newline.
+//!
+//! Numbers are printed in their shortest form that parses back to the same `f64` (ryu; e.g.
+//! `93.9241`, `-0`, `0.0000187007`, `1e-7`), so parse → write → parse reproduces every value exactly.
+//! Integral values drop the `.0` (`0`, `-0`, `90`) as most BVH files do.
+
+use super::Bvh;
+use crate::error::Error;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// The BVH text of `bvh`.
+pub fn write_string(bvh: &Bvh) -> String {
+    let mut out = String::with_capacity(64 * bvh.joints.len() + 10 * bvh.motion.len() + 64);
+    let mut children: Vec<Vec<usize>> = vec![Vec::new(); bvh.joints.len()];
+    for (j, joint) in bvh.joints.iter().enumerate() {
+        if let Some(p) = joint.parent {
+            children[p].push(j);
+        }
+    }
+    let mut ryu = ryu::Buffer::new();
+    out.push_str("HIERARCHY\n");
+    // depth-first over the roots (one in a parsed file); `Close(j)` ends joint j's body
+    enum Step {
+        Open(usize, usize),
+        Close(usize, usize),
+    }
+    let mut stack: Vec<Step> = bvh
+        .joints
+        .iter()
+        .enumerate()
+        .rev()
+        .filter(|(_, j)| j.parent.is_none())
+        .map(|(j, _)| Step::Open(j, 0))
+        .collect();
+    while let Some(step) = stack.pop() {
+        match step {
+            Step::Open(j, depth) => {
+                let joint = &bvh.joints[j];
+                indent(&mut out, depth);
+                out.push_str(if joint.parent.is_none() {
+                    "ROOT "
+                } else {
+                    "JOINT "
+                });
+                out.push_str(&joint.name);
+                out.push('\n');
+                indent(&mut out, depth);
+                out.push_str("{\n");
+                indent(&mut out, depth + 1);
+                out.push_str("OFFSET");
+                for v in joint.offset.iter() {
+                    out.push(' ');
+                    out.push_str(number(&mut ryu, *v));
+                }
+                out.push('\n');
+                indent(&mut out, depth + 1);
+                let _ = write!(out, "CHANNELS {}", joint.channels.len());
+                for c in &joint.channels {
+                    out.push(' ');
+                    out.push_str(c.name());
+                }
+                out.push('\n');
+                stack.push(Step::Close(j, depth));
+                for &c in children[j].iter().rev() {
+                    stack.push(Step::Open(c, depth + 1));
+                }
+            }
+            Step::Close(j, depth) => {
+                for site in &bvh.joints[j].end_sites {
+                    indent(&mut out, depth + 1);
+                    out.push_str("End Site\n");
+                    indent(&mut out, depth + 1);
+                    out.push_str("{\n");
+                    indent(&mut out, depth + 2);
+                    out.push_str("OFFSET");
+                    for v in site.iter() {
+                        out.push(' ');
+                        out.push_str(number(&mut ryu, *v));
+                    }
+                    out.push('\n');
+                    indent(&mut out, depth + 1);
+                    out.push_str("}\n");
+                }
+                indent(&mut out, depth);
+                out.push_str("}\n");
+            }
+        }
+    }
+    out.push_str("MOTION\n");
+    let _ = writeln!(out, "Frames: {}", bvh.frames);
+    out.push_str("Frame Time: ");
+    out.push_str(number(&mut ryu, bvh.frame_time));
+    out.push('\n');
+    if bvh.channel_count > 0 {
+        for row in bvh.motion.chunks(bvh.channel_count) {
+            for (n, v) in row.iter().enumerate() {
+                if n > 0 {
+                    out.push(' ');
+                }
+                out.push_str(number(&mut ryu, *v));
+            }
+            out.push('\n');
+        }
+    }
+    out
+}
+
+/// Writes `bvh` to `path` atomically (see [`crate::io::write_atomic`]).
+pub fn write(bvh: &Bvh, path: &Path) -> Result<(), Error> {
+    crate::io::write_atomic(path, write_string(bvh).as_bytes())
+}
+
+fn indent(out: &mut String, depth: usize) {
+    for _ in 0..depth {
+        out.push('\t');
+    }
+}
+
+/// Shortest round-tripping text of `v`, without a trailing `.0`.
+fn number(buf: &mut ryu::Buffer, v: f64) -> &str {
+    let s = buf.format(v);
+    s.strip_suffix(".0").unwrap_or(s)
+}
