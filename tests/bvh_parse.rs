@@ -90,7 +90,7 @@ fn error_lines_count_crlf_as_one_line() {
 #[test]
 fn no_final_newline() {
     check_small(&parse(SMALL.trim_end()));
-    check_small(&parse(&SMALL.replace('\n', "\r\n").trim_end().to_string()));
+    check_small(&parse(SMALL.replace('\n', "\r\n").trim_end()));
 }
 
 #[test]

@@ -193,12 +193,15 @@ fn option_strings() {
     assert!("furlong".parse::<LengthUnit>().is_err());
 }
 
+/// (name, parent, offset in cm with y up, End Site offset).
+type Bone = (&'static str, Option<usize>, [f64; 3], Option<[f64; 3]>);
+
 /// A standing T-pose, Y up, in cm (stature 170 from the heel at y = −95 to the head top at
 /// y = 75), turned so that `up` is up, in units of `unit_m` metres.
 fn t_pose(up: usize, unit_m: f64) -> Bvh {
     let k = 0.01 / unit_m;
     // (name, parent, offset in cm with y up, end site)
-    let bones: &[(&str, Option<usize>, [f64; 3], Option<[f64; 3]>)] = &[
+    let bones: &[Bone] = &[
         ("Hips", None, [0.0, 0.0, 0.0], None),
         ("Spine", Some(0), [0.0, 25.0, 0.0], None),
         ("Neck", Some(1), [0.0, 25.0, 0.0], None),
