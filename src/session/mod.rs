@@ -1,1 +1,232 @@
-//! The session command language (in progress).
+//! The session language: a [`Workbench`] state changed only by [`Command`]s, session files
+//! (lists of commands) and their headless replay ([`run_session`]).
+//!
+//! The terminal UI turns keys into the same commands, and its `:` command line takes the same
+//! syntax, so anything done by hand can be written down and replayed.
+//!
+//! # Grammar
+//!
+//! One command per line. Blank lines and lines starting with `#` are ignored. Words are
+//! separated by spaces; `"…"` quotes a word that contains spaces. Relative input paths are
+//! read from the session file's folder; relative output paths are written under the output
+//! folder (`--out DIR`). Numbers are SI (kg, s, rad, m, N·m) unless a unit is written.
+//!
+//! | command | effect |
+//! |---|---|
+//! | `load PATH [as NAME]` | load a BVH take and make it active (`demo:walk`: the generated demo walk) |
+//! | `scene PATH` | read a TOML scene (takes and parameters) |
+//! | `set KEY VALUE` | change a parameter (below); results recompute on the next use |
+//! | `run id` | inverse dynamics over the active take (RNEA at every frame) |
+//! | `run sim` | computed-torque simulation tracking the active take |
+//! | `blend A B T0:T1` | blend take B into take A over the window T0‥T1 (s); the result becomes active |
+//! | `select JOINT` | select a coordinate (`LeftLeg.Xrotation`) or a joint (its first rotation) |
+//! | `frame N` | go to frame N (0-based) |
+//! | `play`, `pause` | start / stop playback |
+//! | `export csv\|svg\|bvh\|urdf PATH` | write the results (CSV: `time`, `q:`, `v:`, `a:`, `tau:` per coordinate, SI), a chart, the motion or the model |
+//! | `compare weights 60,80,100 [joint J] PATH` | re-run inverse dynamics at each body mass; one torque column of J (default: the selection) per mass |
+//! | `report motor PATH` | motor sizing report of the current model and motion |
+//! | `expect …` | an assertion (below); a failed expect fails the replay |
+//! | `screen PATH` | write the current screen of the TUI (as text) to PATH |
+//! | `key KEYS` | inject keystrokes into the TUI: characters as written, special keys as `<Enter>`, `<Esc>`, `<Tab>`, `<Space>`, `<Up>`, `<Down>`, `<Left>`, `<Right>`, `<BS>`, `<C-c>` |
+//! | `quit` | leave the TUI (ends a replay) |
+//!
+//! `set` keys: `body.mass KG`, `body.sex male|female`, `unit auto|m|dm|cm|mm|in|METRES`,
+//! `joints euler|ball`, `smooth none|gaussian:W|butterworth:F` (W in s, F in Hz),
+//! `contact none|feet`, `kp X`, `kv X`, `integrator euler|semi-implicit|rk4|dopri5`, `dt S`,
+//! `link.<joint>.mass KG`, `lock J1,J2,…` (or `none`), `blend.window S`.
+//!
+//! `expect` forms (values SI: rad, rad/s, rad/s², N·m, kg):
+//! - `expect nv N`, `expect nq N`, `expect frames N`, `expect frame N`, `expect selected NAME`;
+//! - `expect mass between LO HI`;
+//! - `expect peak|min|max|mean|rms COORD angle|velocity|acceleration|torque between LO HI`
+//!   (peak is the largest |x| over the take), e.g.
+//!   `expect peak LeftLeg.Xrotation torque between 20 150`;
+//! - `expect screen contains TEXT`, `expect message contains TEXT`.
+//!
+//! `expect`, `export` and `compare` run inverse dynamics first when the results are missing or
+//! stale, so a session needs no explicit `run id`.
+//!
+//! # Replay
+//!
+//! [`run_session`] parses the whole file first (a syntax error anywhere stops before anything
+//! runs), then applies the commands in order and stops at the first failure; every error
+//! carries the session file and line. Replays are deterministic: no wall clock, no threads,
+//! shortest round-trip number formatting, so the same session writes byte-identical files.
+
+pub mod command;
+pub mod engine;
+pub mod workbench;
+
+pub use command::{Command, Expectation, ExportKind, RunKind, parse_line, parse_session};
+pub use engine::{Analysis, Builtin, Control, Engine, Params, Take};
+pub use workbench::{Job, JobResult, Outcome, Workbench};
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Errors of the session language.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SessionError {
+    /// A line that does not parse.
+    #[error("{}{line}: {message}", file.as_ref().map(|f| format!("{}:", f.display())).unwrap_or_else(|| "line ".into()))]
+    Syntax {
+        file: Option<PathBuf>,
+        line: usize,
+        message: String,
+    },
+    /// A command that cannot be applied to the current state (unknown joint, no take, ...).
+    #[error("{0}")]
+    Command(String),
+    /// A failed `expect`.
+    #[error("expect failed: {0}")]
+    Expect(String),
+    /// The library failed (bad file, numerical failure, ...).
+    #[error(transparent)]
+    Engine(#[from] crate::error::Error),
+    /// A command of a session file failed.
+    #[error("{}:{line}: `{command}`: {source}", file.display())]
+    At {
+        file: PathBuf,
+        line: usize,
+        command: String,
+        #[source]
+        source: Box<SessionError>,
+    },
+    /// Reading the session file failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+impl SessionError {
+    /// The 1-based line of the session file this error comes from, if known.
+    pub fn line(&self) -> Option<usize> {
+        match self {
+            SessionError::Syntax { line, .. } | SessionError::At { line, .. } => Some(*line),
+            _ => None,
+        }
+    }
+    /// True for a failed `expect` (directly or at a line).
+    pub fn is_expect(&self) -> bool {
+        match self {
+            SessionError::Expect(_) => true,
+            SessionError::At { source, .. } => source.is_expect(),
+            _ => false,
+        }
+    }
+}
+
+/// What a replay did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Report {
+    /// Commands applied.
+    pub commands: usize,
+    /// `expect`s that passed.
+    pub expects: usize,
+    /// Files written, in order.
+    pub written: Vec<PathBuf>,
+    /// Every message, in order.
+    pub messages: Vec<String>,
+}
+
+/// What a session needs from a user interface: `key` and `screen` (and `expect screen`).
+pub trait Frontend {
+    /// Feeds keystrokes (the `key` syntax) to the interface, which applies the commands they
+    /// make to `wb`.
+    fn keys(&mut self, wb: &mut Workbench, keys: &str) -> Result<Outcome, SessionError>;
+    /// The current screen as text, one line per row.
+    fn screen(&mut self, wb: &Workbench) -> String;
+}
+
+/// Replays the session file at `path` headless; relative outputs go under `out_dir` (created
+/// if needed). `key` and `screen` drive the terminal UI on an off-screen 100×30 buffer.
+pub fn run_session(path: &Path, out_dir: &Path) -> Result<Report, SessionError> {
+    let mut ui = crate::tui::Ui::headless(100, 30);
+    run_session_with(path, out_dir, &mut ui)
+}
+
+/// [`run_session`] with a given front end.
+pub fn run_session_with(
+    path: &Path,
+    out_dir: &Path,
+    frontend: &mut dyn Frontend,
+) -> Result<Report, SessionError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SessionError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let commands = parse_session(&text).map_err(|e| match e {
+        SessionError::Syntax { line, message, .. } => SessionError::Syntax {
+            file: Some(path.to_path_buf()),
+            line,
+            message,
+        },
+        e => e,
+    })?;
+    std::fs::create_dir_all(out_dir).map_err(|source| SessionError::Io {
+        path: out_dir.to_path_buf(),
+        source,
+    })?;
+    let in_dir = path.parent().unwrap_or(Path::new("."));
+    let mut wb = Workbench::new(Arc::new(Builtin), in_dir, out_dir);
+    let mut report = Report::default();
+    let lines: Vec<&str> = text.lines().collect();
+    for (line, cmd) in &commands {
+        let at = |source: SessionError| SessionError::At {
+            file: path.to_path_buf(),
+            line: *line,
+            command: lines[line - 1].trim().to_string(),
+            source: Box::new(source),
+        };
+        let outcome = apply_with(&mut wb, frontend, cmd).map_err(at)?;
+        report.commands += 1;
+        if matches!(cmd, Command::Expect(_)) {
+            report.expects += 1;
+        }
+        report.written.extend(outcome.written);
+        if outcome.quit {
+            break;
+        }
+    }
+    report.messages = wb.messages.clone();
+    Ok(report)
+}
+
+/// Applies `cmd` to `wb`, sending `key`, `screen` and `expect screen` to the front end.
+pub fn apply_with(
+    wb: &mut Workbench,
+    frontend: &mut dyn Frontend,
+    cmd: &Command,
+) -> Result<Outcome, SessionError> {
+    match cmd {
+        Command::Key(keys) => frontend.keys(wb, keys),
+        Command::Screen { path } => {
+            let out = wb.out_path(path);
+            let text = frontend.screen(wb);
+            crate::io::write_atomic(&out, text.as_bytes())?;
+            Ok(Outcome {
+                message: format!("wrote {}", out.display()),
+                written: vec![out],
+                quit: false,
+            })
+        }
+        Command::Expect(Expectation::ScreenContains(t)) => {
+            let screen = frontend.screen(wb);
+            if screen.contains(t.as_str()) {
+                Ok(Outcome {
+                    message: format!("ok: screen contains '{t}'"),
+                    ..Outcome::default()
+                })
+            } else {
+                Err(SessionError::Expect(format!(
+                    "the screen does not contain '{t}':\n{screen}"
+                )))
+            }
+        }
+        _ => wb.apply(cmd),
+    }
+}

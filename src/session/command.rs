@@ -1,0 +1,463 @@
+//! Commands of the session language and their parser (one command per line).
+//!
+//! The grammar is documented in the [module doc of `session`](super).
+
+use super::SessionError;
+use std::path::PathBuf;
+
+/// What `export` writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ExportKind {
+    /// Time, q, v, a and τ of the current results, one column per coordinate (SI).
+    Csv,
+    /// Angle and torque curves of the selected coordinate (report chart).
+    Svg,
+    /// The (smoothed, blended or simulated) motion as a BVH take.
+    Bvh,
+    /// The current model as URDF.
+    Urdf,
+}
+
+/// What a computation runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RunKind {
+    /// Inverse dynamics over the take (RNEA at every frame).
+    Id,
+    /// Computed-torque simulation tracking the take.
+    Sim,
+}
+
+/// A per-frame series of the current results that `expect` can measure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quantity {
+    /// q (rad or m).
+    Angle,
+    /// v (rad/s or m/s).
+    Velocity,
+    /// a (rad/s² or m/s²).
+    Acceleration,
+    /// τ (N·m or N).
+    Torque,
+}
+
+/// A statistic of a series over the whole take.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Statistic {
+    /// max |x|.
+    Peak,
+    Min,
+    Max,
+    Mean,
+    /// sqrt(mean x²).
+    Rms,
+}
+
+/// An assertion on the state or the results. Numbers are SI (rad, m, N·m, kg).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Expectation {
+    /// `expect nv N`: degrees of freedom of the current model.
+    Nv(usize),
+    /// `expect nq N`.
+    Nq(usize),
+    /// `expect frames N`: frames of the active take.
+    Frames(usize),
+    /// `expect mass between LO HI`: total mass of the current model (kg).
+    Mass { lo: f64, hi: f64 },
+    /// `expect STAT COORD QUANTITY between LO HI`.
+    Stat {
+        stat: Statistic,
+        coord: String,
+        quantity: Quantity,
+        lo: f64,
+        hi: f64,
+    },
+    /// `expect screen contains TEXT`: the current screen (as `screen` writes it) contains TEXT.
+    ScreenContains(String),
+    /// `expect message contains TEXT`: the last message contains TEXT.
+    MessageContains(String),
+    /// `expect selected NAME`: the selected coordinate.
+    Selected(String),
+    /// `expect frame N`: the current frame.
+    Frame(usize),
+}
+
+/// One command of the session language.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Command {
+    /// `load PATH [as NAME]`: a BVH take (or `demo:walk`, the generated walk).
+    Load { path: PathBuf, name: Option<String> },
+    /// `scene PATH`: a TOML scene.
+    Scene { path: PathBuf },
+    /// `set KEY VALUE`.
+    Set { key: String, value: String },
+    /// `run id` / `run sim`.
+    Run(RunKind),
+    /// `blend A B WINDOW`: blend take B into take A over WINDOW (`t0:t1`, seconds).
+    Blend { a: String, b: String, window: (f64, f64) },
+    /// `select JOINT`: a coordinate (`LeftLeg.Xrotation`) or a BVH joint (its first coordinate).
+    Select(String),
+    /// `frame N` (0-based).
+    Frame(usize),
+    /// `play`.
+    Play,
+    /// `pause`.
+    Pause,
+    /// `export csv|svg|bvh|urdf PATH`.
+    Export { kind: ExportKind, path: PathBuf },
+    /// `compare weights 60,80,100 [joint J] PATH`.
+    CompareWeights {
+        masses: Vec<f64>,
+        joint: Option<String>,
+        path: PathBuf,
+    },
+    /// `report motor PATH`.
+    ReportMotor { path: PathBuf },
+    /// `expect …`.
+    Expect(Expectation),
+    /// `screen PATH`: write the current screen as text.
+    Screen { path: PathBuf },
+    /// `key KEYS`: inject keystrokes (`<Enter>`, `<Esc>`, `<Left>`, `<Space>`, … or characters).
+    Key(String),
+    /// `quit`.
+    Quit,
+}
+
+/// Every command word, for completion and error messages.
+pub const COMMAND_WORDS: &[&str] = &[
+    "load", "scene", "set", "run", "blend", "select", "frame", "play", "pause", "export",
+    "compare", "report", "expect", "screen", "key", "quit",
+];
+
+/// Every `set` key (`link.<name>.mass` stands for any link).
+pub const SET_KEYS: &[&str] = &[
+    "body.mass",
+    "body.sex",
+    "unit",
+    "joints",
+    "smooth",
+    "contact",
+    "kp",
+    "kv",
+    "integrator",
+    "dt",
+    "link.<name>.mass",
+    "lock",
+    "blend.window",
+];
+
+/// Splits a line into words: whitespace separated, `"…"` quotes a word with spaces.
+fn words(line: &str, lineno: usize) -> Result<Vec<String>, SessionError> {
+    let mut out = vec![];
+    let mut chars = line.chars().peekable();
+    while let Some(&c) = chars.peek() {
+        if c.is_whitespace() {
+            chars.next();
+        } else if c == '"' {
+            chars.next();
+            let mut w = String::new();
+            loop {
+                match chars.next() {
+                    Some('"') => break,
+                    Some(c) => w.push(c),
+                    None => return Err(syntax(lineno, "unterminated \"quoted\" word")),
+                }
+            }
+            out.push(w);
+        } else {
+            let mut w = String::new();
+            while let Some(&c) = chars.peek() {
+                if c.is_whitespace() {
+                    break;
+                }
+                w.push(c);
+                chars.next();
+            }
+            out.push(w);
+        }
+    }
+    Ok(out)
+}
+
+fn syntax(line: usize, message: impl Into<String>) -> SessionError {
+    SessionError::Syntax {
+        file: None,
+        line,
+        message: message.into(),
+    }
+}
+
+fn number(w: &str, line: usize, what: &str) -> Result<f64, SessionError> {
+    match w.parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err(syntax(line, format!("expected {what} (a number), found '{w}'"))),
+    }
+}
+
+fn count(w: &str, line: usize, what: &str) -> Result<usize, SessionError> {
+    w.parse::<usize>()
+        .map_err(|_| syntax(line, format!("expected {what} (a whole number), found '{w}'")))
+}
+
+/// `t0:t1` in seconds, `t0 < t1`.
+pub fn parse_window(w: &str, line: usize) -> Result<(f64, f64), SessionError> {
+    let (a, b) = w
+        .split_once(':')
+        .ok_or_else(|| syntax(line, format!("expected a window t0:t1 (s), found '{w}'")))?;
+    let (t0, t1) = (number(a, line, "t0")?, number(b, line, "t1")?);
+    if t1 <= t0 {
+        return Err(syntax(line, format!("window {w}: t1 must be after t0")));
+    }
+    Ok((t0, t1))
+}
+
+/// Parses one line of a session. `Ok(None)` for blank lines and `#` comments. `lineno` is
+/// 1-based and goes into the error.
+pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionError> {
+    let trimmed = line.trim();
+    if trimmed.is_empty() || trimmed.starts_with('#') {
+        return Ok(None);
+    }
+    // `key` takes the rest of the line verbatim (spaces are keystrokes too)
+    if let Some(rest) = trimmed.strip_prefix("key ") {
+        return Ok(Some(Command::Key(rest.trim_start().to_string())));
+    }
+    let w = words(trimmed, lineno)?;
+    let (head, args) = (w[0].as_str(), &w[1..]);
+    let arity = |n: &[usize], usage: &str| -> Result<(), SessionError> {
+        if n.contains(&args.len()) {
+            Ok(())
+        } else {
+            Err(syntax(lineno, format!("usage: {usage}")))
+        }
+    };
+    let cmd = match head {
+        "load" => {
+            arity(&[1, 3], "load PATH [as NAME]")?;
+            if args.len() == 3 && args[1] != "as" {
+                return Err(syntax(lineno, "usage: load PATH [as NAME]"));
+            }
+            Command::Load {
+                path: PathBuf::from(&args[0]),
+                name: args.get(2).cloned(),
+            }
+        }
+        "scene" => {
+            arity(&[1], "scene PATH")?;
+            Command::Scene {
+                path: PathBuf::from(&args[0]),
+            }
+        }
+        "set" => {
+            if args.len() < 2 {
+                return Err(syntax(lineno, "usage: set KEY VALUE"));
+            }
+            let key = args[0].clone();
+            let known = SET_KEYS.contains(&key.as_str())
+                || (key.starts_with("link.") && key.ends_with(".mass") && key.len() > 10);
+            if !known {
+                return Err(syntax(
+                    lineno,
+                    format!("unknown setting '{key}' (expected one of {})", SET_KEYS.join(", ")),
+                ));
+            }
+            Command::Set {
+                key,
+                value: args[1..].join(" "),
+            }
+        }
+        "run" => {
+            arity(&[1], "run id|sim")?;
+            match args[0].as_str() {
+                "id" => Command::Run(RunKind::Id),
+                "sim" => Command::Run(RunKind::Sim),
+                o => return Err(syntax(lineno, format!("run: expected id or sim, found '{o}'"))),
+            }
+        }
+        "blend" => {
+            arity(&[3], "blend A B WINDOW (t0:t1 in seconds)")?;
+            Command::Blend {
+                a: args[0].clone(),
+                b: args[1].clone(),
+                window: parse_window(&args[2], lineno)?,
+            }
+        }
+        "select" => {
+            arity(&[1], "select JOINT")?;
+            Command::Select(args[0].clone())
+        }
+        "frame" => {
+            arity(&[1], "frame N")?;
+            Command::Frame(count(&args[0], lineno, "a frame index")?)
+        }
+        "play" => {
+            arity(&[0], "play")?;
+            Command::Play
+        }
+        "pause" => {
+            arity(&[0], "pause")?;
+            Command::Pause
+        }
+        "quit" => {
+            arity(&[0], "quit")?;
+            Command::Quit
+        }
+        "export" => {
+            arity(&[2], "export csv|svg|bvh|urdf PATH")?;
+            let kind = match args[0].as_str() {
+                "csv" => ExportKind::Csv,
+                "svg" => ExportKind::Svg,
+                "bvh" => ExportKind::Bvh,
+                "urdf" => ExportKind::Urdf,
+                o => {
+                    return Err(syntax(
+                        lineno,
+                        format!("export: expected csv, svg, bvh or urdf, found '{o}'"),
+                    ));
+                }
+            };
+            Command::Export {
+                kind,
+                path: PathBuf::from(&args[1]),
+            }
+        }
+        "compare" => {
+            let usage = "compare weights 60,80,100 [joint J] PATH";
+            arity(&[3, 5], usage)?;
+            if args[0] != "weights" || (args.len() == 5 && args[2] != "joint") {
+                return Err(syntax(lineno, format!("usage: {usage}")));
+            }
+            let masses = args[1]
+                .split(',')
+                .map(|m| number(m, lineno, "a body mass in kg"))
+                .collect::<Result<Vec<_>, _>>()?;
+            if let Some(m) = masses.iter().find(|m| **m <= 0.0) {
+                return Err(syntax(lineno, format!("body mass {m} kg must be positive")));
+            }
+            Command::CompareWeights {
+                masses,
+                joint: (args.len() == 5).then(|| args[3].clone()),
+                path: PathBuf::from(args.last().map(String::as_str).unwrap_or_default()),
+            }
+        }
+        "report" => {
+            arity(&[2], "report motor PATH")?;
+            if args[0] != "motor" {
+                return Err(syntax(lineno, "usage: report motor PATH"));
+            }
+            Command::ReportMotor {
+                path: PathBuf::from(&args[1]),
+            }
+        }
+        "expect" => Command::Expect(parse_expect(args, lineno)?),
+        "screen" => {
+            arity(&[1], "screen PATH")?;
+            Command::Screen {
+                path: PathBuf::from(&args[0]),
+            }
+        }
+        "key" => return Err(syntax(lineno, "usage: key KEYS")),
+        o => {
+            return Err(syntax(
+                lineno,
+                format!(
+                    "unknown command '{o}' (expected one of {})",
+                    COMMAND_WORDS.join(", ")
+                ),
+            ));
+        }
+    };
+    Ok(Some(cmd))
+}
+
+const EXPECT_USAGE: &str = "expect nv N | nq N | frames N | frame N | selected NAME | \
+     mass between LO HI | peak|min|max|mean|rms COORD angle|velocity|acceleration|torque \
+     between LO HI | screen contains TEXT | message contains TEXT";
+
+fn parse_expect(args: &[String], lineno: usize) -> Result<Expectation, SessionError> {
+    let usage = || syntax(lineno, format!("usage: {EXPECT_USAGE}"));
+    let between = |a: &[String]| -> Result<(f64, f64), SessionError> {
+        if a.len() != 3 || a[0] != "between" {
+            return Err(usage());
+        }
+        let (lo, hi) = (number(&a[1], lineno, "LO")?, number(&a[2], lineno, "HI")?);
+        if hi < lo {
+            return Err(syntax(lineno, format!("between {lo} {hi}: HI is below LO")));
+        }
+        Ok((lo, hi))
+    };
+    let Some(head) = args.first() else {
+        return Err(usage());
+    };
+    let rest = &args[1..];
+    let one = |what: &str| -> Result<usize, SessionError> {
+        if rest.len() != 1 {
+            return Err(usage());
+        }
+        count(&rest[0], lineno, what)
+    };
+    Ok(match head.as_str() {
+        "nv" => Expectation::Nv(one("nv")?),
+        "nq" => Expectation::Nq(one("nq")?),
+        "frames" => Expectation::Frames(one("a frame count")?),
+        "frame" => Expectation::Frame(one("a frame index")?),
+        "selected" if rest.len() == 1 => Expectation::Selected(rest[0].clone()),
+        "mass" => {
+            let (lo, hi) = between(rest)?;
+            Expectation::Mass { lo, hi }
+        }
+        "screen" | "message" if rest.len() >= 2 && rest[0] == "contains" => {
+            let text = rest[1..].join(" ");
+            if head == "screen" {
+                Expectation::ScreenContains(text)
+            } else {
+                Expectation::MessageContains(text)
+            }
+        }
+        "peak" | "min" | "max" | "mean" | "rms" => {
+            if rest.len() != 5 {
+                return Err(usage());
+            }
+            let stat = match head.as_str() {
+                "peak" => Statistic::Peak,
+                "min" => Statistic::Min,
+                "max" => Statistic::Max,
+                "mean" => Statistic::Mean,
+                _ => Statistic::Rms,
+            };
+            let quantity = match rest[1].as_str() {
+                "angle" | "q" => Quantity::Angle,
+                "velocity" | "v" => Quantity::Velocity,
+                "acceleration" | "a" => Quantity::Acceleration,
+                "torque" | "tau" => Quantity::Torque,
+                o => {
+                    return Err(syntax(
+                        lineno,
+                        format!(
+                            "expected angle, velocity, acceleration or torque, found '{o}'"
+                        ),
+                    ));
+                }
+            };
+            let (lo, hi) = between(&rest[2..])?;
+            Expectation::Stat {
+                stat,
+                coord: rest[0].clone(),
+                quantity,
+                lo,
+                hi,
+            }
+        }
+        _ => return Err(usage()),
+    })
+}
+
+/// Parses a whole session text; the first bad line stops it. Returns `(line number, command)`.
+pub fn parse_session(text: &str) -> Result<Vec<(usize, Command)>, SessionError> {
+    let mut out = vec![];
+    for (i, line) in text.lines().enumerate() {
+        if let Some(c) = parse_line(line, i + 1)? {
+            out.push((i + 1, c));
+        }
+    }
+    Ok(out)
+}

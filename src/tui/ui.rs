@@ -1,0 +1,659 @@
+//! The interface state ([`Ui`]) and input handling: keys and mouse → [`Command`]s applied to
+//! the [`Workbench`]. Drawing is in [`super::draw`], a pure function of `(Ui, Workbench)`.
+
+use crate::session::command::{COMMAND_WORDS, SET_KEYS};
+use crate::session::engine::{Control, Smooth};
+use crate::session::{
+    Command, Frontend, Job, JobResult, Outcome, RunKind, SessionError, Workbench, apply_with,
+    parse_line,
+};
+use crossterm::event::{KeyCode, KeyEvent, KeyModifiers, MouseButton, MouseEvent, MouseEventKind};
+use ratatui::layout::Rect;
+use std::cell::Cell;
+use std::sync::Arc;
+
+/// The pane that arrows and hjkl act on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Focus {
+    Tree,
+    View,
+    Params,
+    Timeline,
+}
+
+impl Focus {
+    fn next(self, back: bool) -> Focus {
+        const ORDER: [Focus; 4] = [Focus::Tree, Focus::View, Focus::Params, Focus::Timeline];
+        let i = ORDER.iter().position(|f| *f == self).unwrap_or(0);
+        ORDER[(i + if back { 3 } else { 1 }) % 4]
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            Focus::Tree => "joints",
+            Focus::View => "avatar",
+            Focus::Params => "parameters",
+            Focus::Timeline => "timeline",
+        }
+    }
+}
+
+/// An editable parameter of the parameter panel: its `set` key.
+pub const PARAMS: &[&str] = &[
+    "body.mass",
+    "smooth",
+    "blend.window",
+    "link.<selected>.mass",
+    "kp",
+    "kv",
+    "integrator",
+    "dt",
+];
+
+/// A computation running on another thread, as the UI sees it.
+#[derive(Debug, Clone)]
+pub struct Running {
+    pub label: String,
+    pub control: Arc<Control>,
+}
+
+/// Everything the interface keeps besides the workbench: focus, cursors, the command line and
+/// its history, the view angles, the help overlay, and where the last draw put the panes (for
+/// the mouse).
+#[derive(Debug)]
+pub struct Ui {
+    pub focus: Focus,
+    /// Row of the parameter panel under the cursor.
+    pub param_cursor: usize,
+    /// The `:` command line being edited, if open.
+    pub cmdline: Option<String>,
+    /// Command lines entered, oldest first.
+    pub history: Vec<String>,
+    /// Position in `history` while browsing it with ↑/↓.
+    history_pos: Option<usize>,
+    /// Candidates shown after an ambiguous Tab.
+    pub completions: Vec<String>,
+    pub help: bool,
+    /// View angles of the avatar (rad): yaw about the up axis, pitch about the screen x.
+    pub yaw: f64,
+    pub pitch: f64,
+    /// Draw with colours (false when `NO_COLOR` is set).
+    pub color: bool,
+    /// Run computations inline (headless replay, tests) instead of on a worker thread.
+    pub sync: bool,
+    /// A computation asked for and not yet started (threaded mode).
+    pub pending: Option<Job>,
+    /// The computation running on the worker thread.
+    pub running: Option<Running>,
+    /// The last error, shown in the status line until the next command.
+    pub error: Option<String>,
+    pub quit: bool,
+    /// Screen size for `screen` in headless mode.
+    pub size: (u16, u16),
+    /// Pane rectangles of the last draw (mouse hit tests).
+    pub tree_area: Cell<Rect>,
+    pub timeline_area: Cell<Rect>,
+    /// First visible row of the joint tree at the last draw.
+    pub tree_scroll: Cell<usize>,
+    /// Fractional frames accumulated by playback.
+    play_acc: f64,
+}
+
+impl Ui {
+    /// An interface that runs computations on a worker thread (the terminal).
+    pub fn new() -> Self {
+        Self {
+            focus: Focus::Tree,
+            param_cursor: 0,
+            cmdline: None,
+            history: vec![],
+            history_pos: None,
+            completions: vec![],
+            help: false,
+            yaw: 0.6,
+            pitch: 0.15,
+            color: std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty()),
+            sync: false,
+            pending: None,
+            running: None,
+            error: None,
+            quit: false,
+            size: (80, 24),
+            tree_area: Cell::new(Rect::default()),
+            timeline_area: Cell::new(Rect::default()),
+            tree_scroll: Cell::new(0),
+            play_acc: 0.0,
+        }
+    }
+
+    /// An interface for headless use: computations inline, a `width × height` screen.
+    pub fn headless(width: u16, height: u16) -> Self {
+        Self {
+            sync: true,
+            size: (width, height),
+            ..Self::new()
+        }
+    }
+
+    /// Applies a command from a key, the command line or the initial list, reporting errors in
+    /// the status line. `run` goes to the worker (or runs inline in sync mode); a `set` or
+    /// `load` that makes the results stale starts a recompute.
+    pub fn exec(&mut self, wb: &mut Workbench, cmd: &Command) {
+        if let Err(e) = self.try_exec(wb, cmd) {
+            let msg = e.to_string();
+            wb.messages.push(format!("error: {msg}"));
+            self.error = Some(msg);
+        }
+    }
+
+    /// [`exec`](Self::exec), returning the error instead of showing it.
+    pub fn try_exec(&mut self, wb: &mut Workbench, cmd: &Command) -> Result<Outcome, SessionError> {
+        self.error = None;
+        let outcome = match cmd {
+            Command::Run(_) => {
+                if let Some(job) = wb.prepare(cmd)? {
+                    self.start(wb, job)?;
+                }
+                Outcome::default()
+            }
+            Command::Quit => {
+                self.quit = true;
+                Outcome::default()
+            }
+            _ => {
+                let o = apply_with(wb, self, cmd)?;
+                if o.quit {
+                    self.quit = true;
+                }
+                o
+            }
+        };
+        // keep results in step with the parameters and the take
+        if matches!(cmd, Command::Set { .. } | Command::Load { .. } | Command::Blend { .. })
+            && wb.take().is_some()
+            && wb.fresh_results().is_none()
+        {
+            self.try_exec(wb, &Command::Run(RunKind::Id))?;
+        }
+        Ok(outcome)
+    }
+
+    fn start(&mut self, wb: &mut Workbench, job: Job) -> Result<(), SessionError> {
+        if self.sync {
+            let done = job.run(&Control::default());
+            wb.finish(done)?;
+        } else {
+            if let Some(r) = &self.running {
+                r.control.cancel();
+            }
+            self.pending = Some(job);
+        }
+        Ok(())
+    }
+
+    /// Takes what the worker computed.
+    pub fn finish(&mut self, wb: &mut Workbench, done: JobResult) {
+        self.running = None;
+        if let Err(e) = wb.finish(done) {
+            let msg = e.to_string();
+            wb.messages.push(format!("error: {msg}"));
+            self.error = Some(msg);
+        }
+    }
+
+    /// Advances playback by `elapsed` seconds of wall time.
+    pub fn tick(&mut self, wb: &mut Workbench, elapsed: f64) {
+        if !wb.playing || wb.frames() == 0 {
+            self.play_acc = 0.0;
+            return;
+        }
+        let dt = wb.take().map_or(1.0, |t| t.bvh.frame_time);
+        self.play_acc += elapsed / dt;
+        let steps = self.play_acc.floor();
+        if steps >= 1.0 {
+            self.play_acc -= steps;
+            let n = (wb.frame + steps as usize) % wb.frames();
+            self.exec(wb, &Command::Frame(n));
+        }
+    }
+
+    /// The BVH joints of the active take in tree order, with their depths.
+    pub fn tree(wb: &Workbench) -> Vec<(String, usize)> {
+        let Some(t) = wb.take() else { return vec![] };
+        let mut depth = vec![0usize; t.bvh.joints.len()];
+        t.bvh
+            .joints
+            .iter()
+            .enumerate()
+            .map(|(i, j)| {
+                depth[i] = j.parent.map_or(0, |p| depth[p] + 1);
+                (j.name.clone(), depth[i])
+            })
+            .collect()
+    }
+
+    /// Row of the selected joint in the tree.
+    pub fn tree_cursor(wb: &Workbench) -> Option<usize> {
+        let sel = wb.selection.as_deref()?;
+        let joint = sel.rsplit_once('.').map_or(sel, |(j, _)| j);
+        wb.take()?.bvh.joint_index(joint)
+    }
+
+    /// Handles one key.
+    pub fn handle_key(&mut self, wb: &mut Workbench, key: KeyEvent) {
+        if key.modifiers.contains(KeyModifiers::CONTROL) && key.code == KeyCode::Char('c') {
+            if let Some(r) = &self.running {
+                r.control.cancel();
+            } else {
+                self.quit = true;
+            }
+            return;
+        }
+        if self.cmdline.is_some() {
+            self.cmdline_key(wb, key);
+            return;
+        }
+        if self.help {
+            // any key closes the help
+            self.help = false;
+            return;
+        }
+        let frames = wb.frames();
+        let frame_to = |ui: &mut Ui, wb: &mut Workbench, n: isize| {
+            if frames > 0 {
+                let n = n.clamp(0, frames as isize - 1) as usize;
+                ui.exec(wb, &Command::Frame(n));
+            }
+        };
+        let cur = wb.frame as isize;
+        match key.code {
+            KeyCode::Char('q') => self.quit = true,
+            KeyCode::Char('?') => self.help = true,
+            KeyCode::Char(':') => {
+                self.cmdline = Some(String::new());
+                self.history_pos = None;
+                self.completions.clear();
+            }
+            KeyCode::Esc => {
+                if let Some(r) = &self.running {
+                    r.control.cancel();
+                    wb.messages.push(format!("cancelling {}", r.label));
+                }
+                self.error = None;
+            }
+            KeyCode::Tab => self.focus = self.focus.next(false),
+            KeyCode::BackTab => self.focus = self.focus.next(true),
+            KeyCode::Char(' ') => {
+                let c = if wb.playing { Command::Pause } else { Command::Play };
+                self.exec(wb, &c);
+            }
+            KeyCode::Char('[') => frame_to(self, wb, cur - 1),
+            KeyCode::Char(']') => frame_to(self, wb, cur + 1),
+            KeyCode::Char('{') => frame_to(self, wb, cur - 10),
+            KeyCode::Char('}') => frame_to(self, wb, cur + 10),
+            KeyCode::Home | KeyCode::Char('g') => frame_to(self, wb, 0),
+            KeyCode::End | KeyCode::Char('G') => frame_to(self, wb, frames as isize - 1),
+            KeyCode::Char('<') => self.yaw -= 0.2,
+            KeyCode::Char('>') => self.yaw += 0.2,
+            KeyCode::Char('r') => {
+                self.yaw = 0.6;
+                self.pitch = 0.15;
+            }
+            KeyCode::Up | KeyCode::Down | KeyCode::Left | KeyCode::Right => {
+                self.pane_key(wb, key.code)
+            }
+            KeyCode::Char(c @ ('h' | 'j' | 'k' | 'l')) => {
+                let code = match c {
+                    'h' => KeyCode::Left,
+                    'j' => KeyCode::Down,
+                    'k' => KeyCode::Up,
+                    _ => KeyCode::Right,
+                };
+                self.pane_key(wb, code)
+            }
+            KeyCode::Char('+') | KeyCode::Char('=') if self.focus == Focus::Params => {
+                self.adjust(wb, 1.0)
+            }
+            KeyCode::Char('-') if self.focus == Focus::Params => self.adjust(wb, -1.0),
+            KeyCode::Enter if self.focus == Focus::Params => {
+                if let Some((key, value)) = self.param_row(wb, self.param_cursor) {
+                    self.cmdline = Some(format!("set {key} {value}"));
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Arrows in the focused pane.
+    fn pane_key(&mut self, wb: &mut Workbench, code: KeyCode) {
+        let frames = wb.frames() as isize;
+        match self.focus {
+            Focus::Tree => {
+                let tree = Self::tree(wb);
+                if tree.is_empty() {
+                    return;
+                }
+                let cur = Self::tree_cursor(wb).unwrap_or(0);
+                match code {
+                    KeyCode::Up | KeyCode::Down => {
+                        let n = if code == KeyCode::Up {
+                            cur.saturating_sub(1)
+                        } else {
+                            (cur + 1).min(tree.len() - 1)
+                        };
+                        self.exec(wb, &Command::Select(tree[n].0.clone()));
+                    }
+                    _ => {
+                        // ←/→: the previous / next coordinate of the joint
+                        let Some(t) = wb.take() else { return };
+                        let j = &t.bvh.joints[cur];
+                        let chans: Vec<&str> = j.channels.iter().map(|c| c.name()).collect();
+                        if chans.is_empty() {
+                            return;
+                        }
+                        let sel = wb.selection.clone().unwrap_or_default();
+                        let at = chans
+                            .iter()
+                            .position(|c| sel == format!("{}.{c}", j.name))
+                            .unwrap_or(0);
+                        let n = if code == KeyCode::Left {
+                            (at + chans.len() - 1) % chans.len()
+                        } else {
+                            (at + 1) % chans.len()
+                        };
+                        let name = format!("{}.{}", j.name, chans[n]);
+                        self.exec(wb, &Command::Select(name));
+                    }
+                }
+            }
+            Focus::View => match code {
+                KeyCode::Left => self.yaw -= 0.2,
+                KeyCode::Right => self.yaw += 0.2,
+                KeyCode::Up => self.pitch = (self.pitch + 0.1).min(1.5),
+                _ => self.pitch = (self.pitch - 0.1).max(-1.5),
+            },
+            Focus::Params => match code {
+                KeyCode::Up => self.param_cursor = self.param_cursor.saturating_sub(1),
+                KeyCode::Down => self.param_cursor = (self.param_cursor + 1).min(PARAMS.len() - 1),
+                KeyCode::Left => self.adjust(wb, -1.0),
+                _ => self.adjust(wb, 1.0),
+            },
+            Focus::Timeline => {
+                if frames == 0 {
+                    return;
+                }
+                let step = match code {
+                    KeyCode::Left => -1,
+                    KeyCode::Right => 1,
+                    KeyCode::Up => 10,
+                    _ => -10,
+                };
+                let n = (wb.frame as isize + step).clamp(0, frames - 1) as usize;
+                self.exec(wb, &Command::Frame(n));
+            }
+        }
+    }
+
+    /// The `set` key and current value of parameter row `i`.
+    pub fn param_row(&self, wb: &Workbench, i: usize) -> Option<(String, String)> {
+        let p = &wb.params;
+        let key = *PARAMS.get(i)?;
+        Some(match key {
+            "body.mass" => (key.into(), format!("{}", p.body_mass)),
+            "smooth" => (key.into(), p.smooth.to_string()),
+            "blend.window" => (key.into(), format!("{}", p.blend_window)),
+            "kp" => (key.into(), format!("{}", p.kp)),
+            "kv" => (key.into(), format!("{}", p.kv)),
+            "integrator" => (key.into(), p.integrator.clone()),
+            "dt" => (key.into(), format!("{}", p.dt)),
+            _ => {
+                let sel = wb.selection.as_deref()?;
+                let joint = sel.rsplit_once('.').map_or(sel, |(j, _)| j);
+                let value = match p.link_mass.get(joint) {
+                    Some(m) => format!("{m}"),
+                    None => match wb.latest_results() {
+                        Some(r) => {
+                            // the mass sits on the last body of the joint's chain
+                            let m: f64 = r
+                                .model
+                                .body_names
+                                .iter()
+                                .zip(&r.model.inertia)
+                                .filter(|(n, _)| {
+                                    n.rsplit_once('.').map_or(n.as_str(), |(j, _)| j) == joint
+                                })
+                                .map(|(_, i)| i.mass)
+                                .sum();
+                            format!("{}", (m * 1000.0).round() / 1000.0)
+                        }
+                        None => "auto".into(),
+                    },
+                };
+                (format!("link.{joint}.mass"), value)
+            }
+        })
+    }
+
+    /// Steps the parameter under the cursor up (`dir = 1`) or down (`-1`) and applies it.
+    fn adjust(&mut self, wb: &mut Workbench, dir: f64) {
+        let Some((key, value)) = self.param_row(wb, self.param_cursor) else {
+            return;
+        };
+        let num = value.parse::<f64>().ok();
+        let new = match (key.as_str(), num) {
+            ("body.mass", Some(m)) => format!("{}", (m + 5.0 * dir).max(5.0)),
+            ("smooth", _) => match wb.params.smooth {
+                Smooth::None if dir > 0.0 => "gaussian:0.005".into(),
+                Smooth::None => return,
+                Smooth::Gaussian { width_s } => {
+                    let w = ((width_s + 0.005 * dir) * 1000.0).round() / 1000.0;
+                    if w <= 0.0 {
+                        "none".into()
+                    } else {
+                        format!("gaussian:{w}")
+                    }
+                }
+                Smooth::Butterworth { cutoff_hz } => {
+                    format!("butterworth:{}hz", (cutoff_hz - dir).max(1.0))
+                }
+            },
+            ("blend.window", Some(w)) => format!("{}", ((w + 0.1 * dir).max(0.1) * 10.0).round() / 10.0),
+            ("kp", Some(k)) => format!("{}", (k + 50.0 * dir).max(0.0)),
+            ("kv", Some(k)) => format!("{}", (k + 5.0 * dir).max(0.0)),
+            ("dt", Some(d)) => format!("{}", if dir > 0.0 { d * 2.0 } else { d / 2.0 }),
+            ("integrator", _) => {
+                const ALL: [&str; 4] = ["euler", "semi-implicit", "rk4", "dopri5"];
+                let i = ALL.iter().position(|x| *x == value).unwrap_or(2);
+                ALL[(i + if dir > 0.0 { 1 } else { 3 }) % 4].to_string()
+            }
+            (_, Some(m)) => format!("{}", ((m + 0.5 * dir).max(0.0) * 1000.0).round() / 1000.0),
+            _ => return,
+        };
+        self.exec(wb, &Command::Set { key, value: new });
+    }
+
+    /// Keys while the `:` command line is open.
+    fn cmdline_key(&mut self, wb: &mut Workbench, key: KeyEvent) {
+        let Some(line) = self.cmdline.as_mut() else {
+            return;
+        };
+        match key.code {
+            KeyCode::Esc => self.cmdline = None,
+            KeyCode::Enter => {
+                let text = std::mem::take(line);
+                self.cmdline = None;
+                self.completions.clear();
+                if !text.trim().is_empty() {
+                    self.history.push(text.clone());
+                }
+                match parse_line(&text, 1) {
+                    Ok(Some(cmd)) => self.exec(wb, &cmd),
+                    Ok(None) => {}
+                    Err(e) => {
+                        let msg = match e {
+                            SessionError::Syntax { message, .. } => message,
+                            e => e.to_string(),
+                        };
+                        wb.messages.push(format!("error: {msg}"));
+                        self.error = Some(msg);
+                    }
+                }
+            }
+            KeyCode::Backspace if line.pop().is_none() => self.cmdline = None,
+            KeyCode::Tab => {
+                let (done, cands) = complete(wb, line);
+                *line = done;
+                self.completions = cands;
+            }
+            KeyCode::Up | KeyCode::Down => {
+                if self.history.is_empty() {
+                    return;
+                }
+                let n = self.history.len();
+                let pos = match (self.history_pos, key.code) {
+                    (None, KeyCode::Up) => n - 1,
+                    (None, _) => return,
+                    (Some(p), KeyCode::Up) => p.saturating_sub(1),
+                    (Some(p), _) if p + 1 < n => p + 1,
+                    (Some(_), _) => {
+                        self.history_pos = None;
+                        line.clear();
+                        return;
+                    }
+                };
+                self.history_pos = Some(pos);
+                *line = self.history[pos].clone();
+            }
+            KeyCode::Char(c) if !key.modifiers.contains(KeyModifiers::CONTROL) => line.push(c),
+            _ => {}
+        }
+    }
+
+    /// Handles a mouse event: a click in the tree selects a joint, a click on the timeline
+    /// goes to that frame, the wheel scrolls the selection.
+    pub fn handle_mouse(&mut self, wb: &mut Workbench, m: MouseEvent) {
+        let tree = self.tree_area.get();
+        let timeline = self.timeline_area.get();
+        let inside = |r: Rect| {
+            m.column >= r.x && m.column < r.x + r.width && m.row >= r.y && m.row < r.y + r.height
+        };
+        match m.kind {
+            MouseEventKind::Down(MouseButton::Left) if inside(tree) => {
+                self.focus = Focus::Tree;
+                let row = (m.row - tree.y) as usize + self.tree_scroll.get();
+                if let Some((name, _)) = Self::tree(wb).get(row) {
+                    self.exec(wb, &Command::Select(name.clone()));
+                }
+            }
+            MouseEventKind::Down(MouseButton::Left) | MouseEventKind::Drag(MouseButton::Left)
+                if inside(timeline) && wb.frames() > 0 =>
+            {
+                self.focus = Focus::Timeline;
+                let f = (m.column - timeline.x) as f64 / (timeline.width.max(2) - 1) as f64;
+                let n = (f * (wb.frames() - 1) as f64).round() as usize;
+                self.exec(wb, &Command::Frame(n.min(wb.frames() - 1)));
+            }
+            MouseEventKind::ScrollDown if inside(tree) => self.pane_key(wb, KeyCode::Down),
+            MouseEventKind::ScrollUp if inside(tree) => self.pane_key(wb, KeyCode::Up),
+            _ => {}
+        }
+    }
+
+    /// The screen as text at `self.size`.
+    pub fn render_text(&self, wb: &Workbench) -> String {
+        super::draw::render_text(self, wb, self.size.0, self.size.1)
+    }
+}
+
+impl Default for Ui {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Frontend for Ui {
+    fn keys(&mut self, wb: &mut Workbench, keys: &str) -> Result<Outcome, SessionError> {
+        for k in super::keys::parse_keys(keys)? {
+            self.handle_key(wb, k);
+            if self.quit {
+                return Ok(Outcome {
+                    quit: true,
+                    ..Outcome::default()
+                });
+            }
+        }
+        Ok(Outcome::default())
+    }
+    fn screen(&mut self, wb: &Workbench) -> String {
+        self.render_text(wb)
+    }
+}
+
+/// Tab completion of the last word of a command line: the completed line and, when several
+/// candidates remain, the candidates.
+pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
+    let words: Vec<&str> = line.split(' ').collect();
+    let last = words.last().copied().unwrap_or("");
+    let head = &words[..words.len() - 1];
+    let joints: Vec<String> = Ui::tree(wb).into_iter().map(|(n, _)| n).collect();
+    let coords: Vec<String> = wb
+        .latest_results()
+        .map(|r| r.model.v_names.clone())
+        .unwrap_or_default();
+    let pool: Vec<String> = match head {
+        [] => COMMAND_WORDS.iter().map(|s| s.to_string()).collect(),
+        ["set"] => SET_KEYS
+            .iter()
+            .filter(|k| !k.contains('<'))
+            .map(|s| s.to_string())
+            .chain(joints.iter().map(|j| format!("link.{j}.mass")))
+            .collect(),
+        ["set", "joints"] => vec!["euler".into(), "ball".into()],
+        ["set", "contact"] => vec!["none".into(), "feet".into()],
+        ["set", "integrator"] => ["euler", "semi-implicit", "rk4", "dopri5"]
+            .map(String::from)
+            .to_vec(),
+        ["set", "smooth"] => ["none", "gaussian:0.02", "butterworth:6hz"]
+            .map(String::from)
+            .to_vec(),
+        // joints first; coordinates once the word names a joint and a dot
+        ["select"] | ["compare", "weights", _, "joint"] if last.contains('.') => coords.clone(),
+        ["select"] | ["compare", "weights", _, "joint"] => joints.clone(),
+        ["run"] => vec!["id".into(), "sim".into()],
+        ["export"] => ["csv", "svg", "bvh", "urdf"].map(String::from).to_vec(),
+        ["report"] => vec!["motor".into()],
+        ["compare"] => vec!["weights".into()],
+        ["expect"] => ["nv", "nq", "frames", "frame", "selected", "mass", "peak", "min", "max", "mean", "rms", "screen", "message"]
+            .map(String::from)
+            .to_vec(),
+        ["expect", _, _] => ["angle", "velocity", "acceleration", "torque"]
+            .map(String::from)
+            .to_vec(),
+        ["expect", s] if ["peak", "min", "max", "mean", "rms"].contains(s) => coords.clone(),
+        _ => vec![],
+    };
+    let mut cands: Vec<String> = pool.into_iter().filter(|c| c.starts_with(last)).collect();
+    cands.dedup();
+    let prefix_of = |v: &[String]| -> String {
+        let mut p = v[0].clone();
+        for c in &v[1..] {
+            while !c.starts_with(&p) {
+                p.pop();
+            }
+        }
+        p
+    };
+    let mut out: Vec<&str> = head.to_vec();
+    match cands.len() {
+        0 => (line.to_string(), vec![]),
+        1 => {
+            let w = format!("{} ", cands[0]);
+            out.push(&w);
+            (out.join(" "), vec![])
+        }
+        _ => {
+            let p = prefix_of(&cands);
+            out.push(&p);
+            (out.join(" "), cands)
+        }
+    }
+}

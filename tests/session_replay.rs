@@ -1,0 +1,101 @@
+//! Headless replay of sessions over the generated demo walk: outputs land under the output
+//! folder, a passing `expect` passes, a failing one fails the replay with its line number, and
+//! two replays write byte-identical files.
+
+use articula::session::run_session;
+use std::path::Path;
+
+fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+const STUDY: &str = "\
+# knee torque of the demo walk at two body masses
+load demo:walk as walk
+set body.mass 80
+set smooth gaussian:0.02
+expect frames 480
+expect nv 66
+expect mass between 79.99 80.01
+select LeftLeg.Xrotation
+expect selected LeftLeg.Xrotation
+expect peak LeftLeg.Xrotation torque between 1 400
+expect max LeftLeg.Xrotation angle between 0.5 1.5
+export csv torques.csv
+expect message contains torques.csv
+compare weights 60,100 joint LeftLeg.Xrotation knee.csv
+frame 240
+key ]]
+expect frame 242
+screen screen.txt
+expect screen contains LeftLeg.Xrotation torque
+";
+
+#[test]
+fn a_study_replays_and_writes_its_outputs_deterministically() {
+    let dir = tempfile::tempdir().unwrap();
+    let session = write(dir.path(), "study.session", STUDY);
+    let out1 = dir.path().join("out1");
+    let out2 = dir.path().join("out2");
+    let r1 = run_session(&session, &out1).unwrap_or_else(|e| panic!("{e}"));
+    let r2 = run_session(&session, &out2).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(r1.expects, 9);
+    assert_eq!(r1.written.len(), 3);
+    for name in ["torques.csv", "knee.csv", "screen.txt"] {
+        let a = std::fs::read(out1.join(name)).unwrap();
+        let b = std::fs::read(out2.join(name)).unwrap();
+        assert!(!a.is_empty());
+        assert_eq!(a, b, "{name} differs between replays");
+    }
+    // the CSV: a header with time, q, v, a and tau columns, one row per frame
+    let csv = std::fs::read_to_string(out1.join("torques.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    assert!(header.starts_with("time,q:Hips.Xposition"));
+    assert!(header.contains(",tau:LeftLeg.Xrotation"));
+    assert_eq!(csv.lines().count(), 481);
+    assert_eq!(header.split(',').count(), 1 + 4 * 66);
+    // the knee torque scales with body mass (the masses scale every link alike)
+    let knee = std::fs::read_to_string(out1.join("knee.csv")).unwrap();
+    assert!(knee.starts_with("time,LeftLeg.Xrotation@60kg,LeftLeg.Xrotation@100kg\n"));
+    for row in knee.lines().skip(1).step_by(37) {
+        let v: Vec<f64> = row.split(',').map(|x| x.parse().unwrap()).collect();
+        assert!((v[2] - v[1] * 100.0 / 60.0).abs() < 1e-9 * v[2].abs().max(1.0), "{row}");
+    }
+}
+
+#[test]
+fn a_failing_expect_fails_the_replay_with_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let session = write(
+        dir.path(),
+        "bad.session",
+        "load demo:walk\n# impossible range\n\nexpect peak LeftLeg.Xrotation torque between 1000 2000\nexport csv never.csv\n",
+    );
+    let err = run_session(&session, &dir.path().join("out")).unwrap_err();
+    assert_eq!(err.line(), Some(4));
+    assert!(err.is_expect());
+    let shown = err.to_string();
+    assert!(shown.contains("bad.session:4:"), "{shown}");
+    assert!(shown.contains("expected 1000‥2000"), "{shown}");
+    // nothing after the failure ran
+    assert!(!dir.path().join("out/never.csv").exists());
+}
+
+#[test]
+fn a_failing_command_and_a_syntax_error_carry_their_lines() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = write(dir.path(), "a.session", "load demo:walk\nselect Tail\n");
+    let err = run_session(&s, &dir.path().join("out")).unwrap_err();
+    assert_eq!(err.line(), Some(2));
+    assert!(!err.is_expect());
+    assert!(err.to_string().contains("no joint called 'Tail'"), "{err}");
+
+    // a syntax error anywhere stops the replay before anything runs
+    let s = write(dir.path(), "b.session", "load demo:walk\nexport csv x.csv\nfrobnicate\n");
+    let err = run_session(&s, &dir.path().join("out2")).unwrap_err();
+    assert_eq!(err.line(), Some(3));
+    assert!(err.to_string().starts_with(&format!("{}:3: ", s.display())), "{err}");
+    assert!(!dir.path().join("out2/x.csv").exists());
+}
