@@ -15,52 +15,170 @@ fn one(line: &str) -> Command {
 fn every_command_parses() {
     let p = PathBuf::from;
     let cases: Vec<(&str, Command)> = vec![
-        ("load walk.bvh", Command::Load { path: p("walk.bvh"), name: None }),
+        (
+            "load walk.bvh",
+            Command::Load {
+                path: p("walk.bvh"),
+                name: None,
+            },
+        ),
         (
             "load \"my take.bvh\" as a",
-            Command::Load { path: p("my take.bvh"), name: Some("a".into()) },
+            Command::Load {
+                path: p("my take.bvh"),
+                name: Some("a".into()),
+            },
         ),
-        ("scene study.toml", Command::Scene { path: p("study.toml") }),
-        ("set body.mass 80", Command::Set { key: "body.mass".into(), value: "80".into() }),
-        ("set body.sex female", Command::Set { key: "body.sex".into(), value: "female".into() }),
-        ("set unit cm", Command::Set { key: "unit".into(), value: "cm".into() }),
-        ("set joints ball", Command::Set { key: "joints".into(), value: "ball".into() }),
+        (
+            "scene study.toml",
+            Command::Scene {
+                path: p("study.toml"),
+            },
+        ),
+        (
+            "set body.mass 80",
+            Command::Set {
+                key: "body.mass".into(),
+                value: "80".into(),
+            },
+        ),
+        (
+            "set body.sex female",
+            Command::Set {
+                key: "body.sex".into(),
+                value: "female".into(),
+            },
+        ),
+        (
+            "set unit cm",
+            Command::Set {
+                key: "unit".into(),
+                value: "cm".into(),
+            },
+        ),
+        (
+            "set joints ball",
+            Command::Set {
+                key: "joints".into(),
+                value: "ball".into(),
+            },
+        ),
         (
             "set smooth butterworth:6hz",
-            Command::Set { key: "smooth".into(), value: "butterworth:6hz".into() },
+            Command::Set {
+                key: "smooth".into(),
+                value: "butterworth:6hz".into(),
+            },
         ),
-        ("set contact feet", Command::Set { key: "contact".into(), value: "feet".into() }),
-        ("set kp 400", Command::Set { key: "kp".into(), value: "400".into() }),
-        ("set kv 40", Command::Set { key: "kv".into(), value: "40".into() }),
-        ("set integrator rk4", Command::Set { key: "integrator".into(), value: "rk4".into() }),
-        ("set dt 0.001", Command::Set { key: "dt".into(), value: "0.001".into() }),
+        (
+            "set contact feet",
+            Command::Set {
+                key: "contact".into(),
+                value: "feet".into(),
+            },
+        ),
+        (
+            "set kp 400",
+            Command::Set {
+                key: "kp".into(),
+                value: "400".into(),
+            },
+        ),
+        (
+            "set kv 40",
+            Command::Set {
+                key: "kv".into(),
+                value: "40".into(),
+            },
+        ),
+        (
+            "set integrator rk4",
+            Command::Set {
+                key: "integrator".into(),
+                value: "rk4".into(),
+            },
+        ),
+        (
+            "set dt 0.001",
+            Command::Set {
+                key: "dt".into(),
+                value: "0.001".into(),
+            },
+        ),
         (
             "set link.LeftLeg.mass 3.5",
-            Command::Set { key: "link.LeftLeg.mass".into(), value: "3.5".into() },
+            Command::Set {
+                key: "link.LeftLeg.mass".into(),
+                value: "3.5".into(),
+            },
         ),
         (
             "set lock LeftHand, RightHand",
-            Command::Set { key: "lock".into(), value: "LeftHand, RightHand".into() },
+            Command::Set {
+                key: "lock".into(),
+                value: "LeftHand, RightHand".into(),
+            },
         ),
-        ("set blend.window 0.4", Command::Set { key: "blend.window".into(), value: "0.4".into() }),
+        (
+            "set blend.window 0.4",
+            Command::Set {
+                key: "blend.window".into(),
+                value: "0.4".into(),
+            },
+        ),
         ("run id", Command::Run(RunKind::Id)),
         ("run sim", Command::Run(RunKind::Sim)),
         (
             "blend a b 2.0:2.6",
-            Command::Blend { a: "a".into(), b: "b".into(), window: (2.0, 2.6) },
+            Command::Blend {
+                a: "a".into(),
+                b: "b".into(),
+                window: (2.0, 2.6),
+            },
         ),
-        ("select LeftLeg.Xrotation", Command::Select("LeftLeg.Xrotation".into())),
+        (
+            "select LeftLeg.Xrotation",
+            Command::Select("LeftLeg.Xrotation".into()),
+        ),
         ("frame 12", Command::Frame(12)),
         ("play", Command::Play),
         ("pause", Command::Pause),
         ("quit", Command::Quit),
-        ("export csv out.csv", Command::Export { kind: ExportKind::Csv, path: p("out.csv") }),
-        ("export svg k.svg", Command::Export { kind: ExportKind::Svg, path: p("k.svg") }),
-        ("export bvh o.bvh", Command::Export { kind: ExportKind::Bvh, path: p("o.bvh") }),
-        ("export urdf o.urdf", Command::Export { kind: ExportKind::Urdf, path: p("o.urdf") }),
+        (
+            "export csv out.csv",
+            Command::Export {
+                kind: ExportKind::Csv,
+                path: p("out.csv"),
+            },
+        ),
+        (
+            "export svg k.svg",
+            Command::Export {
+                kind: ExportKind::Svg,
+                path: p("k.svg"),
+            },
+        ),
+        (
+            "export bvh o.bvh",
+            Command::Export {
+                kind: ExportKind::Bvh,
+                path: p("o.bvh"),
+            },
+        ),
+        (
+            "export urdf o.urdf",
+            Command::Export {
+                kind: ExportKind::Urdf,
+                path: p("o.urdf"),
+            },
+        ),
         (
             "compare weights 60,80,100 knee.csv",
-            Command::CompareWeights { masses: vec![60.0, 80.0, 100.0], joint: None, path: p("knee.csv") },
+            Command::CompareWeights {
+                masses: vec![60.0, 80.0, 100.0],
+                joint: None,
+                path: p("knee.csv"),
+            },
         ),
         (
             "compare weights 60,80 joint LeftLeg knee.svg",
@@ -70,13 +188,27 @@ fn every_command_parses() {
                 path: p("knee.svg"),
             },
         ),
-        ("report motor motors.svg", Command::ReportMotor { path: p("motors.svg") }),
+        (
+            "report motor motors.svg",
+            Command::ReportMotor {
+                path: p("motors.svg"),
+            },
+        ),
         ("expect nv 69", Command::Expect(Expectation::Nv(69))),
         ("expect nq 70", Command::Expect(Expectation::Nq(70))),
-        ("expect frames 480", Command::Expect(Expectation::Frames(480))),
+        (
+            "expect frames 480",
+            Command::Expect(Expectation::Frames(480)),
+        ),
         ("expect frame 3", Command::Expect(Expectation::Frame(3))),
-        ("expect selected Hips.Zrotation", Command::Expect(Expectation::Selected("Hips.Zrotation".into()))),
-        ("expect mass between 74 76", Command::Expect(Expectation::Mass { lo: 74.0, hi: 76.0 })),
+        (
+            "expect selected Hips.Zrotation",
+            Command::Expect(Expectation::Selected("Hips.Zrotation".into())),
+        ),
+        (
+            "expect mass between 74 76",
+            Command::Expect(Expectation::Mass { lo: 74.0, hi: 76.0 }),
+        ),
         (
             "expect peak LeftLeg.Xrotation torque between 20 150",
             Command::Expect(Expectation::Stat {
@@ -105,8 +237,16 @@ fn every_command_parses() {
             "expect message contains wrote",
             Command::Expect(Expectation::MessageContains("wrote".into())),
         ),
-        ("screen shot.txt", Command::Screen { path: p("shot.txt") }),
-        ("key jj:frame 3<Enter>", Command::Key("jj:frame 3<Enter>".into())),
+        (
+            "screen shot.txt",
+            Command::Screen {
+                path: p("shot.txt"),
+            },
+        ),
+        (
+            "key jj:frame 3<Enter>",
+            Command::Key("jj:frame 3<Enter>".into()),
+        ),
         ("  key  <Space>", Command::Key("<Space>".into())),
     ];
     for (line, expected) in cases {
@@ -139,16 +279,31 @@ fn malformed_lines_name_their_line_and_what_was_expected() {
         ("frame x", "expected a frame index"),
         ("play now", "usage: play"),
         ("export pdf a.pdf", "expected csv, svg, bvh or urdf"),
-        ("compare weights 60,x,100 k.csv", "expected a body mass in kg"),
+        (
+            "compare weights 60,x,100 k.csv",
+            "expected a body mass in kg",
+        ),
         ("compare weights 60,-5 k.csv", "must be positive"),
         ("compare heights 1,2 k.csv", "usage: compare weights"),
         ("report torque a.svg", "usage: report motor PATH"),
         ("expect", "usage: expect"),
         ("expect nv many", "expected nv"),
-        ("expect peak LeftLeg.Xrotation force between 1 2", "expected angle, velocity"),
-        ("expect peak LeftLeg.Xrotation torque between 2 1", "HI is below LO"),
-        ("expect peak LeftLeg.Xrotation torque within 1 2", "usage: expect"),
-        ("expect peak LeftLeg.Xrotation torque between 1 inf", "expected HI"),
+        (
+            "expect peak LeftLeg.Xrotation force between 1 2",
+            "expected angle, velocity",
+        ),
+        (
+            "expect peak LeftLeg.Xrotation torque between 2 1",
+            "HI is below LO",
+        ),
+        (
+            "expect peak LeftLeg.Xrotation torque within 1 2",
+            "usage: expect",
+        ),
+        (
+            "expect peak LeftLeg.Xrotation torque between 1 inf",
+            "expected HI",
+        ),
         ("screen", "usage: screen PATH"),
         ("key", "usage: key KEYS"),
         ("load \"unterminated", "unterminated"),
@@ -156,7 +311,11 @@ fn malformed_lines_name_their_line_and_what_was_expected() {
     for (i, (line, want)) in cases.iter().enumerate() {
         let lineno = i + 7;
         match parse_line(line, lineno) {
-            Err(SessionError::Syntax { line: l, message, file: None }) => {
+            Err(SessionError::Syntax {
+                line: l,
+                message,
+                file: None,
+            }) => {
                 assert_eq!(l, lineno);
                 assert!(message.contains(want), "{line}: {message} lacks {want}");
                 let shown = parse_line(line, lineno).unwrap_err().to_string();

@@ -42,6 +42,7 @@ fn a_study_replays_and_writes_its_outputs_deterministically() {
     let r1 = run_session(&session, &out1).unwrap_or_else(|e| panic!("{e}"));
     let r2 = run_session(&session, &out2).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(r1.expects, 9);
+    assert_eq!((r1.commands, r1.expects), (r2.commands, r2.expects));
     assert_eq!(r1.written.len(), 3);
     for name in ["torques.csv", "knee.csv", "screen.txt"] {
         let a = std::fs::read(out1.join(name)).unwrap();
@@ -61,7 +62,10 @@ fn a_study_replays_and_writes_its_outputs_deterministically() {
     assert!(knee.starts_with("time,LeftLeg.Xrotation@60kg,LeftLeg.Xrotation@100kg\n"));
     for row in knee.lines().skip(1).step_by(37) {
         let v: Vec<f64> = row.split(',').map(|x| x.parse().unwrap()).collect();
-        assert!((v[2] - v[1] * 100.0 / 60.0).abs() < 1e-9 * v[2].abs().max(1.0), "{row}");
+        assert!(
+            (v[2] - v[1] * 100.0 / 60.0).abs() < 1e-9 * v[2].abs().max(1.0),
+            "{row}"
+        );
     }
 }
 
@@ -93,9 +97,16 @@ fn a_failing_command_and_a_syntax_error_carry_their_lines() {
     assert!(err.to_string().contains("no joint called 'Tail'"), "{err}");
 
     // a syntax error anywhere stops the replay before anything runs
-    let s = write(dir.path(), "b.session", "load demo:walk\nexport csv x.csv\nfrobnicate\n");
+    let s = write(
+        dir.path(),
+        "b.session",
+        "load demo:walk\nexport csv x.csv\nfrobnicate\n",
+    );
     let err = run_session(&s, &dir.path().join("out2")).unwrap_err();
     assert_eq!(err.line(), Some(3));
-    assert!(err.to_string().starts_with(&format!("{}:3: ", s.display())), "{err}");
+    assert!(
+        err.to_string().starts_with(&format!("{}:3: ", s.display())),
+        "{err}"
+    );
     assert!(!dir.path().join("out2/x.csv").exists());
 }

@@ -91,7 +91,11 @@ fn fuzz(seed: u64, events: usize, width: u16, height: u16) {
             ui.quit = false;
         }
         term.draw(|f| draw::draw(&ui, &wb, f)).unwrap();
-        assert!(wb.frame < wb.frames().max(1), "event {i}: frame {}", wb.frame);
+        assert!(
+            wb.frame < wb.frames().max(1),
+            "event {i}: frame {}",
+            wb.frame
+        );
         if let (Some(sel), Some(r)) = (&wb.selection, wb.latest_results()) {
             assert!(r.model.v_index(sel).is_some(), "event {i}: selection {sel}");
         }

@@ -93,7 +93,11 @@ pub enum Command {
     /// `run id` / `run sim`.
     Run(RunKind),
     /// `blend A B WINDOW`: blend take B into take A over WINDOW (`t0:t1`, seconds).
-    Blend { a: String, b: String, window: (f64, f64) },
+    Blend {
+        a: String,
+        b: String,
+        window: (f64, f64),
+    },
     /// `select JOINT`: a coordinate (`LeftLeg.Xrotation`) or a BVH joint (its first coordinate).
     Select(String),
     /// `frame N` (0-based).
@@ -189,13 +193,20 @@ fn syntax(line: usize, message: impl Into<String>) -> SessionError {
 fn number(w: &str, line: usize, what: &str) -> Result<f64, SessionError> {
     match w.parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
-        _ => Err(syntax(line, format!("expected {what} (a number), found '{w}'"))),
+        _ => Err(syntax(
+            line,
+            format!("expected {what} (a number), found '{w}'"),
+        )),
     }
 }
 
 fn count(w: &str, line: usize, what: &str) -> Result<usize, SessionError> {
-    w.parse::<usize>()
-        .map_err(|_| syntax(line, format!("expected {what} (a whole number), found '{w}'")))
+    w.parse::<usize>().map_err(|_| {
+        syntax(
+            line,
+            format!("expected {what} (a whole number), found '{w}'"),
+        )
+    })
 }
 
 /// `t0:t1` in seconds, `t0 < t1`.
@@ -257,7 +268,10 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
             if !known {
                 return Err(syntax(
                     lineno,
-                    format!("unknown setting '{key}' (expected one of {})", SET_KEYS.join(", ")),
+                    format!(
+                        "unknown setting '{key}' (expected one of {})",
+                        SET_KEYS.join(", ")
+                    ),
                 ));
             }
             Command::Set {
@@ -270,7 +284,12 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
             match args[0].as_str() {
                 "id" => Command::Run(RunKind::Id),
                 "sim" => Command::Run(RunKind::Sim),
-                o => return Err(syntax(lineno, format!("run: expected id or sim, found '{o}'"))),
+                o => {
+                    return Err(syntax(
+                        lineno,
+                        format!("run: expected id or sim, found '{o}'"),
+                    ));
+                }
             }
         }
         "blend" => {
@@ -432,9 +451,7 @@ fn parse_expect(args: &[String], lineno: usize) -> Result<Expectation, SessionEr
                 o => {
                     return Err(syntax(
                         lineno,
-                        format!(
-                            "expected angle, velocity, acceleration or torque, found '{o}'"
-                        ),
+                        format!("expected angle, velocity, acceleration or torque, found '{o}'"),
                     ));
                 }
             };

@@ -83,9 +83,13 @@ pub enum Contact {
 pub enum Smooth {
     None,
     /// The paper's Gaussian kernel, standard deviation in seconds.
-    Gaussian { width_s: f64 },
+    Gaussian {
+        width_s: f64,
+    },
     /// Zero-lag Butterworth low-pass, cutoff in Hz.
-    Butterworth { cutoff_hz: f64 },
+    Butterworth {
+        cutoff_hz: f64,
+    },
 }
 
 impl std::str::FromStr for Smooth {
@@ -506,8 +510,7 @@ fn smooth_columns(q: &mut Table, smooth: Smooth, dt: f64) -> Result<(), Error> {
     match smooth {
         Smooth::None => Ok(()),
         Smooth::Butterworth { .. } => Err(Error::Invalid(
-            "smooth butterworth: the Butterworth filter is not on main yet; use gaussian:W"
-                .into(),
+            "smooth butterworth: the Butterworth filter is not on main yet; use gaussian:W".into(),
         )),
         Smooth::Gaussian { width_s } => {
             let sigma = width_s / dt;

@@ -1,7 +1,7 @@
 //! The workbench state and the one function that changes it, [`Workbench::apply`].
 
 use super::SessionError;
-use super::command::{Command, ExportKind, Expectation, Quantity, RunKind, Statistic};
+use super::command::{Command, Expectation, ExportKind, Quantity, RunKind, Statistic};
 use super::engine::{
     Analysis, Builtin, Contact, Control, Engine, JointModel, Params, Sex, Smooth, Take,
 };
@@ -227,7 +227,12 @@ impl Workbench {
             .as_ref()
             .is_none_or(|s| r.model.v_index(s).is_none())
         {
-            self.selection = r.model.v_names.iter().find(|n| !n.contains("position")).cloned();
+            self.selection = r
+                .model
+                .v_names
+                .iter()
+                .find(|n| !n.contains("position"))
+                .cloned();
         }
         match done.kind {
             RunKind::Id => self.results = Some((r, done.params)),
@@ -311,7 +316,10 @@ impl Workbench {
                 self.takes.push(t);
                 self.active = Some(self.takes.len() - 1);
                 self.results = None;
-                Ok(self.say(format!("blended {b} into {a} over {}:{} s", window.0, window.1)))
+                Ok(self.say(format!(
+                    "blended {b} into {a} over {}:{} s",
+                    window.0, window.1
+                )))
             }
             Command::Select(name) => {
                 let coord = self.resolve_coord(name)?;
@@ -324,7 +332,10 @@ impl Workbench {
                     return Err(err("no take loaded (load PATH first)"));
                 }
                 if *n >= frames {
-                    return Err(err(format!("frame {n}: the take has frames 0‥{}", frames - 1)));
+                    return Err(err(format!(
+                        "frame {n}: the take has frames 0‥{}",
+                        frames - 1
+                    )));
                 }
                 self.frame = *n;
                 Ok(Outcome::default())
@@ -472,15 +483,13 @@ impl Workbench {
             return Ok(name.to_string());
         }
         let (joint, channel) = name.split_once('.').unwrap_or((name, ""));
-        let j = take.bvh.joint_index(joint).ok_or_else(|| {
-            err(format!("no joint called '{joint}' in {}", take.name))
-        })?;
+        let j = take
+            .bvh
+            .joint_index(joint)
+            .ok_or_else(|| err(format!("no joint called '{joint}' in {}", take.name)))?;
         let chans = &take.bvh.joints[j].channels;
         let ch = if channel.is_empty() {
-            chans
-                .iter()
-                .find(|c| c.is_rotation())
-                .or(chans.first())
+            chans.iter().find(|c| c.is_rotation()).or(chans.first())
         } else {
             chans.iter().find(|c| c.name() == channel)
         };
@@ -488,7 +497,11 @@ impl Workbench {
             Some(c) => Ok(format!("{joint}.{}", c.name())),
             None => Err(err(format!(
                 "{joint} has no channel '{channel}' (it has {})",
-                chans.iter().map(|c| c.name()).collect::<Vec<_>>().join(", ")
+                chans
+                    .iter()
+                    .map(|c| c.name())
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ))),
         }
     }
@@ -637,7 +650,10 @@ impl Workbench {
                     Quantity::Torque => (&r.tau, "N·m|N"),
                 };
                 let j = table.col_index(coord).ok_or_else(|| {
-                    err(format!("no coordinate '{coord}' (expected e.g. {})", table.names[0]))
+                    err(format!(
+                        "no coordinate '{coord}' (expected e.g. {})",
+                        table.names[0]
+                    ))
                 })?;
                 let x = table.column(j);
                 let value = statistic(*stat, &x);
@@ -655,7 +671,9 @@ impl Workbench {
                     .find(|m| !m.starts_with("ok: "))
                     .map_or("", String::as_str);
                 if !last.contains(text.as_str()) {
-                    return fail(format!("the last message is '{last}', expected it to contain '{text}'"));
+                    return fail(format!(
+                        "the last message is '{last}', expected it to contain '{text}'"
+                    ));
                 }
                 format!("message contains '{text}'")
             }

@@ -175,7 +175,9 @@ fn draw_view(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     }
     // follow the root horizontally; project orthographically after yaw then pitch
     let up = -r.model.gravity.normalize();
-    let up_axis = (0..3).max_by(|&a, &b| up[a].abs().total_cmp(&up[b].abs())).unwrap_or(1);
+    let up_axis = (0..3)
+        .max_by(|&a, &b| up[a].abs().total_cmp(&up[b].abs()))
+        .unwrap_or(1);
     let (h1, h2) = ((up_axis + 1) % 3, (up_axis + 2) % 3);
     let root = pos.get(1).copied().unwrap_or_default();
     let (sy, cy) = ui.yaw.sin_cos();
@@ -200,8 +202,16 @@ fn draw_view(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         .and_then(|s| r.model.body_index(s))
         .map(|b| project(&pos[b]));
     let color = if ui.color { Color::White } else { Color::Reset };
-    let accent = if ui.color { Color::Yellow } else { Color::Reset };
-    let ground = if ui.color { Color::DarkGray } else { Color::Reset };
+    let accent = if ui.color {
+        Color::Yellow
+    } else {
+        Color::Reset
+    };
+    let ground = if ui.color {
+        Color::DarkGray
+    } else {
+        Color::Reset
+    };
     let canvas = Canvas::default()
         .block(block)
         .marker(Marker::Braille)
@@ -239,7 +249,9 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
             _ => "",
         };
         let v = format!("{value}{unit}");
-        let pad = w.saturating_sub(label.chars().count() + v.chars().count()).max(1);
+        let pad = w
+            .saturating_sub(label.chars().count() + v.chars().count())
+            .max(1);
         let text = format!("{label}{}{v}", " ".repeat(pad));
         let style = if ui.focus == Focus::Params && ui.param_cursor == i {
             ui.fg(Color::Yellow).add_modifier(Modifier::REVERSED)
@@ -249,16 +261,19 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         lines.push(Line::from(Span::styled(text, style)));
     }
     let p = &wb.params;
-    lines.push(Line::from(format!(
-        "joints {:?} contact {:?}",
-        p.joints, p.contact
-    ).to_lowercase()));
+    lines.push(Line::from(
+        format!("joints {:?} contact {:?}", p.joints, p.contact).to_lowercase(),
+    ));
     if let Some(r) = wb.latest_results() {
         lines.push(Line::from(format!(
             "nv {}  {:.1} kg{}",
             r.model.nv,
             r.model.total_mass(),
-            if wb.fresh_results().is_none() { " (stale)" } else { "" }
+            if wb.fresh_results().is_none() {
+                " (stale)"
+            } else {
+                ""
+            }
         )));
     }
     f.render_widget(Paragraph::new(lines).block(block), area);
@@ -311,7 +326,11 @@ fn draw_sparks(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         (
             if is_angle { "angle" } else { "position" },
             series(|r| &r.q),
-            if is_angle { 180.0 / std::f64::consts::PI } else { 1.0 },
+            if is_angle {
+                180.0 / std::f64::consts::PI
+            } else {
+                1.0
+            },
             if is_angle { "deg" } else { "m" },
             Color::Cyan,
         ),
@@ -332,9 +351,9 @@ fn draw_sparks(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         };
         let x: Vec<f64> = x.iter().map(|v| v * factor).collect();
         let label = match running_stats(&x, wb.frame) {
-            Some((min, max, now)) => format!(
-                "{name} {what} [{unit}]  min {min:.1}  max {max:.1}  now {now:.1}"
-            ),
+            Some((min, max, now)) => {
+                format!("{name} {what} [{unit}]  min {min:.1}  max {max:.1}  now {now:.1}")
+            }
             None => format!("{name} {what}"),
         };
         let [l, s] = Layout::vertical([Constraint::Length(1), Constraint::Length(2)]).areas(rect);
@@ -388,7 +407,10 @@ fn draw_status(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         } else {
             format!("   [{}]", ui.completions.join(" "))
         };
-        Line::from(vec![Span::raw(format!(":{cmd}█")), Span::styled(hint, ui.fg(Color::DarkGray))])
+        Line::from(vec![
+            Span::raw(format!(":{cmd}█")),
+            Span::styled(hint, ui.fg(Color::DarkGray)),
+        ])
     } else if let Some(e) = &ui.error {
         Line::from(Span::styled(
             format!("error: {e}"),
@@ -436,8 +458,11 @@ fn draw_help(ui: &Ui, f: &mut Frame, area: Rect) {
         height: h,
     };
     f.render_widget(Clear, rect);
-    let p = Paragraph::new(HELP)
-        .wrap(Wrap { trim: false })
-        .block(Block::default().borders(Borders::ALL).title(" Help ").border_style(ui.fg(Color::Yellow)));
+    let p = Paragraph::new(HELP).wrap(Wrap { trim: false }).block(
+        Block::default()
+            .borders(Borders::ALL)
+            .title(" Help ")
+            .border_style(ui.fg(Color::Yellow)),
+    );
     f.render_widget(p, rect);
 }

@@ -168,8 +168,10 @@ impl Ui {
             }
         };
         // keep results in step with the parameters and the take
-        if matches!(cmd, Command::Set { .. } | Command::Load { .. } | Command::Blend { .. })
-            && wb.take().is_some()
+        if matches!(
+            cmd,
+            Command::Set { .. } | Command::Load { .. } | Command::Blend { .. }
+        ) && wb.take().is_some()
             && wb.fresh_results().is_none()
         {
             self.try_exec(wb, &Command::Run(RunKind::Id))?;
@@ -283,7 +285,11 @@ impl Ui {
             KeyCode::Tab => self.focus = self.focus.next(false),
             KeyCode::BackTab => self.focus = self.focus.next(true),
             KeyCode::Char(' ') => {
-                let c = if wb.playing { Command::Pause } else { Command::Play };
+                let c = if wb.playing {
+                    Command::Pause
+                } else {
+                    Command::Play
+                };
                 self.exec(wb, &c);
             }
             KeyCode::Char('[') => frame_to(self, wb, cur - 1),
@@ -456,7 +462,9 @@ impl Ui {
                     format!("butterworth:{}hz", (cutoff_hz - dir).max(1.0))
                 }
             },
-            ("blend.window", Some(w)) => format!("{}", ((w + 0.1 * dir).max(0.1) * 10.0).round() / 10.0),
+            ("blend.window", Some(w)) => {
+                format!("{}", ((w + 0.1 * dir).max(0.1) * 10.0).round() / 10.0)
+            }
             ("kp", Some(k)) => format!("{}", (k + 50.0 * dir).max(0.0)),
             ("kv", Some(k)) => format!("{}", (k + 5.0 * dir).max(0.0)),
             ("dt", Some(d)) => format!("{}", if dir > 0.0 { d * 2.0 } else { d / 2.0 }),
@@ -622,9 +630,12 @@ pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
         ["export"] => ["csv", "svg", "bvh", "urdf"].map(String::from).to_vec(),
         ["report"] => vec!["motor".into()],
         ["compare"] => vec!["weights".into()],
-        ["expect"] => ["nv", "nq", "frames", "frame", "selected", "mass", "peak", "min", "max", "mean", "rms", "screen", "message"]
-            .map(String::from)
-            .to_vec(),
+        ["expect"] => [
+            "nv", "nq", "frames", "frame", "selected", "mass", "peak", "min", "max", "mean", "rms",
+            "screen", "message",
+        ]
+        .map(String::from)
+        .to_vec(),
         ["expect", _, _] => ["angle", "velocity", "acceleration", "torque"]
             .map(String::from)
             .to_vec(),
