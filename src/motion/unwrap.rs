@@ -5,6 +5,11 @@
 //! rotation into a triple flips between the two equivalent triples `(a, b, c)` and
 //! `(a ± 180°, 180° − b, c ± 180°)`. Both jumps are artefacts: the rotation itself moves
 //! smoothly. Differentiating them gives spikes of thousands of degrees per second.
+//!
+//! [`unwrap_angles`] removes full turns from one angle; [`make_euler_continuous`] re-picks
+//! whole triples, which also handles the branch flips.
+
+use crate::rotation::{EulerOrder, euler_to_matrix, matrix_to_euler_near};
 
 /// The unit of an angle trajectory: the period of a full turn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -33,6 +38,19 @@ pub fn unwrap_angles(unit: AngleUnit, x: &mut [f64]) {
     for k in 1..x.len() {
         let d = x[k] - x[k - 1];
         x[k] -= turn * (d / turn).round();
+    }
+}
+
+/// Makes a trajectory of Euler triples (radians, `R = R_c1(a1) R_c2(a2) R_c3(a3)` for
+/// `order = c1 c2 c3`) continuous in place: every frame after the first is replaced by the
+/// triple of the same rotation nearest to the previous (already continuous) frame
+/// (`rotation::matrix_to_euler_near`: both Tait–Bryan branches, whole-turn shifts, and at
+/// gimbal lock the first angle held). This removes both full-turn jumps and branch flips near
+/// the singularity; the rotations themselves are unchanged. Allocates nothing.
+pub fn make_euler_continuous(order: EulerOrder, frames: &mut [[f64; 3]]) {
+    for k in 1..frames.len() {
+        let r = euler_to_matrix(order, frames[k]);
+        frames[k] = matrix_to_euler_near(order, &r, frames[k - 1]);
     }
 }
 
