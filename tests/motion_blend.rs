@@ -7,6 +7,8 @@
 //! velocity jump) while the quintic's converges; different skeletons are refused by naming the
 //! first joint that differs.
 
+mod common;
+
 use articula::io::bvh::{Bvh, BvhJoint, Channel};
 use articula::io::generate::{WalkParams, walk};
 use articula::motion::blend::{
@@ -406,4 +408,116 @@ fn chained_windows_visit_each_take() {
         .collect();
     assert!(blend_chain(&[&a, &b, &a], &overlapping, &[], &opts).is_err());
     assert!(blend_chain(&[&a, &b, &a], &windows[..1], &[], &opts).is_err());
+}
+
+/// Largest difference between the joint rotations (Frobenius norm of `Ra − Rb`) and positions of
+/// two takes of one skeleton, frame by frame.
+fn same_rotations(a: &Bvh, b: &Bvh) -> f64 {
+    assert_eq!(a.frames, b.frames);
+    let mut worst: f64 = 0.0;
+    for k in 0..a.frames {
+        let (fa, fb) = (a.frame(k), b.frame(k));
+        for j in &a.joints {
+            let cols: Vec<usize> = (0..j.channels.len()).map(|i| j.first_channel + i).collect();
+            let rot = |f: &[f64]| {
+                j.channels
+                    .iter()
+                    .zip(&cols)
+                    .filter(|(c, _)| c.is_rotation())
+                    .fold(Matrix3::<f64>::identity(), |r, (c, &col)| {
+                        r * articula::rotation::axis_rotation(c.axis(), f[col].to_radians())
+                    })
+            };
+            worst = worst.max((rot(fa) - rot(fb)).norm());
+            for (c, &col) in j.channels.iter().zip(&cols) {
+                if !c.is_rotation() {
+                    worst = worst.max((fa[col] - fb[col]).abs());
+                }
+            }
+        }
+    }
+    worst
+}
+
+#[test]
+fn real_takes_of_one_skeleton_blend_and_others_are_refused() {
+    let Some(_) = common::real_takes() else {
+        return;
+    };
+    let read = |name: &str| articula::io::bvh::read(&common::real_take(name).unwrap()).unwrap();
+    // Bandai walk into kick: same skeleton, position channels on every joint, 30 fps
+    let (walk, kick) = (
+        read("dataset-1_walk_normal_001.bvh"),
+        read("dataset-1_kick_normal_001.bvh"),
+    );
+    let window: WarpWindow = "3.0:3.5".parse().unwrap();
+    let opts = BlendOptions {
+        align: Align::ALL,
+        ..Default::default()
+    };
+    let out = blend(
+        &walk,
+        &kick,
+        window,
+        TimeMap {
+            offset: 2.0,
+            scale: 1.0,
+        },
+        &opts,
+    )
+    .unwrap();
+    // largest frame-to-frame change of any channel, around the window edges and in the inputs
+    let step = |t: &Bvh, frames: std::ops::Range<usize>| {
+        frames
+            .map(|k| {
+                t.frame(k)
+                    .iter()
+                    .zip(t.frame(k - 1))
+                    .map(|(x, y)| (x - y).abs())
+                    .fold(0.0, f64::max)
+            })
+            .fold(0.0, f64::max)
+    };
+    let edges = step(&out, 85..96).max(step(&out, 100..111));
+    let inputs = step(&walk, 1..walk.frames).max(step(&kick, 1..kick.frames));
+    assert!(
+        edges <= inputs,
+        "step at the edges {edges}, inputs {inputs}"
+    );
+    // the root heading and ground position of the kick start where the walk is at 3.0 s
+    let (a90, o90) = (walk.frame(90), out.frame(90));
+    for c in [0, 2] {
+        assert!((a90[c] - o90[c]).abs() < 1e-9);
+    }
+    // self blend on real takes: the same rotations (channels kept continuous: pirouette's
+    // captured channels flip branch, the blend's do not)
+    for name in [
+        "cmu_01_01.bvh",
+        "pirouette.bvh",
+        "AV_8Walk_Meredith_HVHA_Rep1.bvh",
+    ] {
+        let take = read(name);
+        let again = blend(
+            &take,
+            &take,
+            "1.0:2.0".parse().unwrap(),
+            TimeMap::IDENTITY,
+            &opts,
+        )
+        .unwrap();
+        assert!(same_rotations(&again, &take) < 1e-9, "{name}");
+    }
+    // other skeletons are refused, naming the joint
+    let (jump, dance, daz) = (
+        read("cmu_01_01.bvh"),
+        read("cmu_05_20-mb.bvh"),
+        read("cmu_05_20-daz.bvh"),
+    );
+    let e = check_same_skeleton(&jump, &dance).unwrap_err().to_string();
+    assert!(
+        e.contains("`LFingers`") && e.contains("`LeftHandIndex1`"),
+        "{e}"
+    );
+    let e = check_same_skeleton(&dance, &daz).unwrap_err().to_string();
+    assert!(e.contains("`Hips`") && e.contains("`hip`"), "{e}");
 }
