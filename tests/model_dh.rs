@@ -41,11 +41,8 @@ fn check(name: &str) {
     let mut ws = Workspace::new(&model);
     let (mut worst_fk, mut worst_tau): (f64, f64) = (0.0, 0.0);
     for ((s, tau_ref), fk) in states.iter().zip(&taus).zip(&fks) {
-        let pick = |p: &str| -> Vec<f64> {
-            (1..=n)
-                .map(|j| s[col(&sh, &format!("{p}:j{j}"))])
-                .collect()
-        };
+        let pick =
+            |p: &str| -> Vec<f64> { (1..=n).map(|j| s[col(&sh, &format!("{p}:j{j}"))]).collect() };
         let (q, v, a) = (pick("q"), pick("v"), pick("a"));
         forward_kinematics(&model, &mut ws, &q);
         // DH link frame origins
@@ -102,5 +99,8 @@ fn the_documented_example_builds() {
     let mut ws = Workspace::new(&model);
     forward_kinematics(&model, &mut ws, &[0.0; 4]);
     let ee = ws.o_x_i[4].compose(&link_frame(&table, 3)).trans;
-    assert!((ee - nalgebra::Vector3::new(0.6, 0.0, 0.27)).norm() < 1e-12, "{ee}");
+    assert!(
+        (ee - nalgebra::Vector3::new(0.6, 0.0, 0.27)).norm() < 1e-12,
+        "{ee}"
+    );
 }

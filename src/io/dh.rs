@@ -162,7 +162,12 @@ pub fn parse_str(text: &str, path: &Path) -> Result<DhTable, Error> {
     }
     let g = Vector3::from(raw.gravity);
     if !g.iter().all(|x| x.is_finite()) {
-        return Err(Error::parse(path, 1, 1, "gravity must be three finite numbers"));
+        return Err(Error::parse(
+            path,
+            1,
+            1,
+            "gravity must be three finite numbers",
+        ));
     }
     let mut links = Vec::with_capacity(raw.link.len());
     for spanned in &raw.link {
@@ -251,9 +256,18 @@ mod tests {
         let cases = [
             ("convention = \"weird\"\n[[link]]\ntype = \"R\"\n", 1),
             ("convention = \"standard\"\n[[link]]\ntype = \"Q\"\n", 3),
-            ("convention = \"standard\"\n[[link]]\ntype = \"R\"\nm = -1\n", 2),
-            ("convention = \"standard\"\n[[link]]\ntype = \"R\"\nqlim = [1, 0]\n", 2),
-            ("convention = \"standard\"\n[[link]]\ntype = \"R\"\nmass = 1\n", 4),
+            (
+                "convention = \"standard\"\n[[link]]\ntype = \"R\"\nm = -1\n",
+                2,
+            ),
+            (
+                "convention = \"standard\"\n[[link]]\ntype = \"R\"\nqlim = [1, 0]\n",
+                2,
+            ),
+            (
+                "convention = \"standard\"\n[[link]]\ntype = \"R\"\nmass = 1\n",
+                4,
+            ),
             (
                 "convention = \"standard\"\n[[link]]\ntype = \"R\"\n[[link]]\ntype = \"R\"\nI = [[1, 0, 0], [0.5, 1, 0], [0, 0, 1]]\n",
                 4,
