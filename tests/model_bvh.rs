@@ -158,3 +158,19 @@ fn locked_joints_keep_the_other_joints_in_place_at_rest() {
     opts.lock = vec!["LeftArm".into()];
     assert!(check_fk(&take, &opts, 13) < 1e-9);
 }
+
+#[test]
+fn ball_configurations_convert_back_to_the_same_frames() {
+    let take = walk(&WalkParams::default());
+    let (model, map) = build_bvh_model(&take, &walk_options(&take, JointModel::Ball)).unwrap();
+    let traj = Trajectory::from_bvh(&take, &model, &map);
+    let mut row = vec![0.0; take.channel_count];
+    for (k, q) in traj.q.iter().enumerate().step_by(17) {
+        // near the previous frame's angles, as a BVH export does
+        row.copy_from_slice(take.frame(k.saturating_sub(1)));
+        q_to_frame(&take, &map, &model, q, &mut row).unwrap();
+        for (a, b) in row.iter().zip(take.frame(k)) {
+            assert!((a - b).abs() < 1e-9 * (1.0 + b.abs()), "frame {k}: {a} vs {b}");
+        }
+    }
+}

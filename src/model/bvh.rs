@@ -29,24 +29,7 @@ use crate::spatial::{SpatialInertia, SpatialTransform};
 use nalgebra::Vector3;
 use std::str::FromStr;
 
-// TEMPORARY: until the BVH semantics land in io::bvh
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ResolvedPosition {
-    None,
-    Add,
-    Replace,
-}
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum UpAxis {
-    X,
-    Y,
-    Z,
-}
-impl UpAxis {
-    pub fn index(self) -> usize {
-        self as usize
-    }
-}
+pub use crate::io::bvh::{ResolvedPosition, UpAxis};
 
 /// Standard gravity (m/s²).
 pub const STANDARD_GRAVITY: f64 = 9.81;

@@ -11,9 +11,10 @@ use crate::error::Error;
 use crate::io::bvh::Bvh;
 use crate::model::Model;
 use crate::model::bvh::BvhMap;
-use crate::model::joint::axis_angle;
-use crate::spatial::quat_to_xyzw;
-use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+use crate::io::bvh::joint_rotation;
+use crate::rotation::matrix_to_euler_near;
+use crate::spatial::{quat_from_xyzw, quat_to_xyzw};
+use nalgebra::{Rotation3, UnitQuaternion};
 
 /// A joint-space trajectory sampled at `time`.
 #[derive(Debug, Clone, PartialEq)]
@@ -51,20 +52,6 @@ impl Trajectory {
     }
 }
 
-/// The rotation of a joint's rotation channels `c1 c2 c3` at the angles of `frame` (degrees):
-/// `R_c1(a1)·R_c2(a2)·R_c3(a3)`.
-fn channel_rotation(j: &crate::model::bvh::JointMap, frame: &[f64]) -> Matrix3<f64> {
-    j.channels
-        .iter()
-        .filter(|c| c.channel.is_rotation())
-        .fold(Matrix3::identity(), |r, c| {
-            r * axis_angle(
-                &Vector3::ith(c.channel.axis(), 1.0),
-                frame[c.column].to_radians(),
-            )
-        })
-}
-
 /// The configuration of `model` at one BVH frame row (`bvh.channel_count` raw values) into
 /// `q` (`model.nq`). Allocates nothing.
 pub fn frame_to_q(bvh: &Bvh, map: &BvhMap, model: &Model, frame: &[f64], q: &mut [f64]) {
@@ -76,7 +63,7 @@ pub fn frame_to_q(bvh: &Bvh, map: &BvhMap, model: &Model, frame: &[f64], q: &mut
         let iq = model.idx_q[i];
         joint.neutral(&mut q[iq..iq + joint.nq()]);
     }
-    for j in &map.joints {
+    for (j, bj) in map.joints.iter().zip(&bvh.joints) {
         for c in &j.channels {
             if let Some(k) = c.q {
                 q[k] = if c.channel.is_rotation() {
@@ -88,7 +75,7 @@ pub fn frame_to_q(bvh: &Bvh, map: &BvhMap, model: &Model, frame: &[f64], q: &mut
         }
         if let Some(k) = j.quat_q {
             let r = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
-                channel_rotation(j, frame),
+                joint_rotation(bj, frame),
             ));
             quat_to_xyzw(&r, &mut q[k..k + 4]);
         }
@@ -96,10 +83,12 @@ pub fn frame_to_q(bvh: &Bvh, map: &BvhMap, model: &Model, frame: &[f64], q: &mut
 }
 
 /// The inverse of [`frame_to_q`]: a BVH frame row (file units, degrees) from a configuration.
-/// Locked channels get their rest value.
+/// Locked channels get their rest value. Ball joints go back to the joint's Euler order with
+/// [`matrix_to_euler_near`], nearest to the angles already in `frame` (pass the previous
+/// frame's row for continuous, unwrapped angles; zeros otherwise).
 ///
-/// Errors: a ball-model configuration (quaternions back to Euler angles) — not yet supported
-/// for export; export the euler model.
+/// Errors: a ball joint whose rotation channels are not three distinct axes (its quaternion has
+/// no unique Euler angles in that layout).
 pub fn q_to_frame(
     bvh: &Bvh,
     map: &BvhMap,
@@ -109,20 +98,32 @@ pub fn q_to_frame(
 ) -> Result<(), Error> {
     debug_assert_eq!(frame.len(), bvh.channel_count);
     debug_assert_eq!(q.len(), model.nq);
-    for j in &map.joints {
-        if j.quat_q.is_some() {
-            return Err(Error::Invalid(
-                "writing BVH frames from a ball-model configuration is not supported yet: \
-                 use the euler joint model"
-                    .into(),
-            ));
-        }
+    for (j, bj) in map.joints.iter().zip(&bvh.joints) {
         for c in &j.channels {
             frame[c.column] = match (c.q, c.channel.is_rotation()) {
                 (Some(k), true) => q[k].to_degrees(),
                 (Some(k), false) => q[k] / map.scale_to_m + c.rest,
                 (None, _) => c.rest,
             };
+        }
+        if let Some(k) = j.quat_q {
+            let order = bj.euler_order().ok_or_else(|| {
+                Error::Invalid(format!(
+                    "joint {:?} (line {}): a ball joint converts back to BVH only with three \
+                     rotation channels on distinct axes; export the euler joint model",
+                    bj.name, bj.line
+                ))
+            })?;
+            let mut cols = [0usize; 3];
+            for (n, c) in j.channels.iter().filter(|c| c.channel.is_rotation()).enumerate() {
+                cols[n] = c.column;
+            }
+            let previous = [0, 1, 2].map(|n| frame[cols[n]].to_radians());
+            let r = quat_from_xyzw(&q[k..k + 4]).to_rotation_matrix().into_inner();
+            let angles = matrix_to_euler_near(order, &r, previous);
+            for n in 0..3 {
+                frame[cols[n]] = angles[n].to_degrees();
+            }
         }
     }
     Ok(())
