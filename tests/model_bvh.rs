@@ -170,7 +170,10 @@ fn ball_configurations_convert_back_to_the_same_frames() {
         row.copy_from_slice(take.frame(k.saturating_sub(1)));
         q_to_frame(&take, &map, &model, q, &mut row).unwrap();
         for (a, b) in row.iter().zip(take.frame(k)) {
-            assert!((a - b).abs() < 1e-9 * (1.0 + b.abs()), "frame {k}: {a} vs {b}");
+            assert!(
+                (a - b).abs() < 1e-9 * (1.0 + b.abs()),
+                "frame {k}: {a} vs {b}"
+            );
         }
     }
 }

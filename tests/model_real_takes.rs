@@ -53,7 +53,11 @@ fn every_real_take_builds_and_its_fk_matches_the_bvh_definition() {
                     all.push(got);
                 }
             }
-            assert!(worst < 1e-9, "{}: {jm}: FK off by {worst} m", path.display());
+            assert!(
+                worst < 1e-9,
+                "{}: {jm}: FK off by {worst} m",
+                path.display()
+            );
             positions_by_model.push(all);
         }
         let worst = positions_by_model[0]

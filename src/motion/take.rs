@@ -9,9 +9,9 @@
 
 use crate::error::Error;
 use crate::io::bvh::Bvh;
+use crate::io::bvh::joint_rotation;
 use crate::model::Model;
 use crate::model::bvh::BvhMap;
-use crate::io::bvh::joint_rotation;
 use crate::rotation::matrix_to_euler_near;
 use crate::spatial::{quat_from_xyzw, quat_to_xyzw};
 use nalgebra::{Rotation3, UnitQuaternion};
@@ -115,11 +115,18 @@ pub fn q_to_frame(
                 ))
             })?;
             let mut cols = [0usize; 3];
-            for (n, c) in j.channels.iter().filter(|c| c.channel.is_rotation()).enumerate() {
+            for (n, c) in j
+                .channels
+                .iter()
+                .filter(|c| c.channel.is_rotation())
+                .enumerate()
+            {
                 cols[n] = c.column;
             }
             let previous = [0, 1, 2].map(|n| frame[cols[n]].to_radians());
-            let r = quat_from_xyzw(&q[k..k + 4]).to_rotation_matrix().into_inner();
+            let r = quat_from_xyzw(&q[k..k + 4])
+                .to_rotation_matrix()
+                .into_inner();
             let angles = matrix_to_euler_near(order, &r, previous);
             for n in 0..3 {
                 frame[cols[n]] = angles[n].to_degrees();
