@@ -335,3 +335,89 @@ fn a_rest_pose_on_its_side_uses_the_frames() {
     assert!((bvh::stature(&b, UpAxis::Y) - 170.0).abs() < 1e-9);
     assert_eq!(bvh::detect_unit(&b, UpAxis::Y).0, LengthUnit::Cm);
 }
+
+mod homogeneous {
+    //! `bvh_world_positions` against a second, independent reading of the definition: each
+    //! joint's local transform as a 4×4 homogeneous matrix `T(offset) · T(p) · R` (with `p`
+    //! added to or replacing the offset), chained root to leaf. Random trees, channel
+    //! layouts, modes and values.
+    use super::*;
+    use nalgebra::Matrix4;
+    use proptest::prelude::*;
+
+    fn local(j: &BvhJoint, mode: ResolvedPosition, row: &[f64]) -> Matrix4<f64> {
+        let mut offset = Matrix4::new_translation(&j.offset);
+        let mut p = Vector3::zeros();
+        let mut rot = Matrix4::identity();
+        for (n, c) in j.channels.iter().enumerate() {
+            let v = row[j.first_channel + n];
+            if c.is_rotation() {
+                let axis = [Vector3::x_axis(), Vector3::y_axis(), Vector3::z_axis()][c.axis()];
+                rot *= Matrix4::from_axis_angle(&axis, v.to_radians());
+            } else {
+                p[c.axis()] = v;
+                if mode == ResolvedPosition::Replace {
+                    offset[(c.axis(), 3)] = 0.0;
+                }
+            }
+        }
+        if mode == ResolvedPosition::None {
+            p = Vector3::zeros();
+        }
+        offset * Matrix4::new_translation(&p) * rot
+    }
+
+    const ALL: [Channel; 6] = [
+        Channel::Xposition,
+        Channel::Yposition,
+        Channel::Zposition,
+        Channel::Xrotation,
+        Channel::Yrotation,
+        Channel::Zrotation,
+    ];
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+
+        #[test]
+        fn world_positions_equal_the_homogeneous_chain(
+            n in 1usize..10,
+            parents in proptest::collection::vec(any::<proptest::sample::Index>(), 10),
+            layouts in proptest::collection::vec(proptest::sample::subsequence(ALL.to_vec(), 0..=6).prop_shuffle(), 10),
+            offsets in proptest::collection::vec(proptest::array::uniform3(-50.0..50.0f64), 10),
+            values in proptest::collection::vec(-400.0..400.0f64, 60),
+            mode in prop_oneof![Just(PositionMode::Add), Just(PositionMode::Replace), Just(PositionMode::Auto)],
+        ) {
+            let mut joints = Vec::new();
+            let mut first = 0;
+            for i in 0..n {
+                // parent before child: any earlier joint (the parser's order is depth-first,
+                // but FK needs only parent < child)
+                joints.push(BvhJoint {
+                    name: format!("j{i}"),
+                    parent: if i == 0 { None } else { Some(parents[i].index(i)) },
+                    offset: Vector3::from(offsets[i]),
+                    channels: layouts[i].clone(),
+                    first_channel: first,
+                    end_sites: vec![Vector3::new(1.0, 2.0, 3.0)],
+                    line: 0,
+                });
+                first += layouts[i].len();
+            }
+            let b = Bvh { joints, frame_time: 0.1, frames: 1, channel_count: first, motion: values[..first].to_vec() };
+            let modes = bvh::resolve_position_modes(&b, mode);
+            let p = bvh::bvh_world_positions(&b, &modes, 0);
+            let s = bvh::bvh_end_site_positions(&b, &modes, 0);
+            let mut world: Vec<Matrix4<f64>> = Vec::new();
+            for (j, joint) in b.joints.iter().enumerate() {
+                let l = local(joint, modes[j], b.frame(0));
+                let w = match joint.parent { Some(q) => world[q] * l, None => l };
+                world.push(w);
+                let expect = w.fixed_view::<3, 1>(0, 3).into_owned();
+                prop_assert!((p[j] - expect).norm() < 1e-9, "joint {}: {} vs {}", j, p[j], expect);
+                let site = w * nalgebra::Vector4::new(1.0, 2.0, 3.0, 1.0);
+                prop_assert!((s[j] - site.xyz()).norm() < 1e-9);
+            }
+        }
+    }
+}

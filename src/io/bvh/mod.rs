@@ -1,10 +1,10 @@
 //! Biovision BVH: the plain description of a take (skeleton + raw channel values).
 //!
-//! Written by hand: the BVH crates on crates.io (`bvh_anim`, `bvh`, ...) are unmaintained and
-//! lossy: they drop per-joint rotation orders, position channels on non-root joints, multiple
-//! End Sites or exact values, and panic on malformed input. This reader keeps everything as
-//! written and reports malformed input as [`Error::Parse`] with file, line, column and what was
-//! expected; it never panics.
+//! Written by hand: the BVH crates on crates.io are unmaintained and lossy (they drop
+//! per-joint rotation orders, position channels on non-root joints, or exact values). This
+//! reader keeps everything as written and reports malformed input as
+//! [`Error::Parse`](crate::error::Error::Parse) with file, line, column and what was expected;
+//! it never panics.
 //!
 //! - [`parse_str`] / [`parse_bytes`] / [`read`]: text → [`Bvh`] (`parse` module);
 //! - [`write_string`] / [`write`]: [`Bvh`] → text that Blender and three.js read, values printed
@@ -31,8 +31,15 @@
 //!   `replace`, or `auto` (per joint from the data, see
 //!   [`semantics::resolve_position_modes`]).
 //! - **End Sites** carry only an OFFSET (zero in some files); a joint may have several.
-//! - **Units and axes** are not in the file: [`semantics::detect_unit`] and
-//!   [`semantics::detect_up`] infer them from the rest pose; users override both.
+//! - **Units and axes** are not in the file: [`semantics::detect_up`] takes the axis of
+//!   largest body extent over the take (the rest pose breaks T-pose ties), and
+//!   [`semantics::detect_unit`] the unit that makes the stature plausible (1.0–2.3 m, nearest
+//!   1.7 m): m, dm, cm, mm, inches, or the CMU conversion's unit of 1/0.45 in ≈ 0.0564 m.
+//!   MakeHuman files are Z-up in decimetres, the rest Y-up. Users override both (`--up`,
+//!   `--unit`, `--stature`).
+//! - **Rest poses that are not standing:** the Bandai files' bones lie along local X, so the
+//!   OFFSET-only pose lies on its side; the stature then comes from the frames
+//!   ([`semantics::stature`]).
 //! - **Lexical variants accepted:** CRLF, LF, lone CR and mixtures in one file; a missing final
 //!   newline; a UTF-8 byte-order mark; tabs or spaces; trailing whitespace; blank lines;
 //!   keywords in any letter case; `Frames:\t592` or `Frames : 592`; `Frame Time: .0083333`;
@@ -56,8 +63,6 @@ pub use semantics::{
 };
 pub use write::{write, write_string};
 
-#[allow(unused_imports)]
-use crate::error::Error;
 use crate::rotation::EulerOrder;
 use nalgebra::Vector3;
 

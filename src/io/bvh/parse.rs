@@ -603,8 +603,7 @@ fn motion_header(lx: &mut Lexer, channel_count: usize) -> Result<(usize, f64), E
             ));
         }
     };
-    let frame_kw = lx.expect_keyword("Frame", "(of 'Frame Time:') after the Frames line")?;
-    let _ = frame_kw;
+    lx.expect_keyword("Frame", "(of 'Frame Time:') after the Frames line")?;
     lx.expect_label("Time", "after 'Frame'")?;
     let t_tok = lx.expect_any("the frame time in seconds after 'Frame Time:'")?;
     let t = lx.number(&t_tok, "the frame time")?;
