@@ -7,8 +7,9 @@
 //! it never panics.
 //!
 //! - [`parse_str`] / [`parse_bytes`] / [`read`]: text → [`Bvh`] (`parse` module);
-//! - [`write_string`] / [`write`]: [`Bvh`] → text that Blender and three.js read, values printed
-//!   in their shortest exact form so parse → write → parse is lossless (`write` module);
+//! - [`write_string`] / [`write`](fn@write): [`Bvh`] → text that Blender and three.js read,
+//!   values printed in their shortest exact form so parse → write → parse is lossless
+//!   (`write` module);
 //! - [`semantics`]: what the numbers mean: position-channel modes, forward kinematics straight
 //!   from the definition, up axis, length unit and stature.
 //!

@@ -203,9 +203,10 @@ pub fn joint_rotation(joint: &BvhJoint, frame_row: &[f64]) -> Matrix3<f64> {
     r
 }
 
-/// World position (file units, the file's axes) of every joint at frame `frame`, from the
-/// definition: `p_j = p_parent + R_parent · t_j`, `R_j = R_parent · R(channels of j)`, with
-/// `t_j` from [`joint_translation`].
+/// World position (file units, the file's axes) of every joint at frame `frame`, given one
+/// mode per joint (from [`resolve_position_modes`]), from the definition:
+/// `p_j = p_parent + R_parent · t_j`, `R_j = R_parent · R(channels of j)`, with `t_j` from
+/// [`joint_translation`] and `R(channels of j)` from [`joint_rotation`].
 pub fn bvh_world_positions(
     bvh: &Bvh,
     modes: &[ResolvedPosition],

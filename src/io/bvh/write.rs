@@ -15,6 +15,13 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// The BVH text of `bvh`.
+///
+/// Joints are written depth-first (children in index order) and each frame line follows
+/// that order, so a description whose joints are in another parent-before-child order (as
+/// code may build one) is written correctly and reads back renumbered. A well-formed `Bvh`
+/// has one root; several roots would be written as several ROOT blocks, which the reader
+/// rejects. Motion rows are `bvh.channel_count` wide; each joint's values are taken from
+/// its `first_channel` columns.
 pub fn write_string(bvh: &Bvh) -> String {
     let mut out = String::with_capacity(64 * bvh.joints.len() + 10 * bvh.motion.len() + 64);
     let mut children: Vec<Vec<usize>> = vec![Vec::new(); bvh.joints.len()];
@@ -24,6 +31,8 @@ pub fn write_string(bvh: &Bvh) -> String {
         }
     }
     let mut ryu = ryu::Buffer::new();
+    // joints in the order they are written (depth-first), for the motion columns
+    let mut written: Vec<usize> = Vec::with_capacity(bvh.joints.len());
     out.push_str("HIERARCHY\n");
     // depth-first over the roots (one in a parsed file); `Close(j)` ends joint j's body
     enum Step {
@@ -41,6 +50,7 @@ pub fn write_string(bvh: &Bvh) -> String {
     while let Some(step) = stack.pop() {
         match step {
             Step::Open(j, depth) => {
+                written.push(j);
                 let joint = &bvh.joints[j];
                 indent(&mut out, depth);
                 out.push_str(if joint.parent.is_none() {
@@ -99,11 +109,17 @@ pub fn write_string(bvh: &Bvh) -> String {
     out.push('\n');
     if bvh.channel_count > 0 {
         for row in bvh.motion.chunks(bvh.channel_count) {
-            for (n, v) in row.iter().enumerate() {
-                if n > 0 {
-                    out.push(' ');
+            let mut first = true;
+            for &j in &written {
+                let joint = &bvh.joints[j];
+                let columns = joint.first_channel..joint.first_channel + joint.channels.len();
+                for v in &row[columns] {
+                    if !first {
+                        out.push(' ');
+                    }
+                    first = false;
+                    out.push_str(number(&mut ryu, *v));
                 }
-                out.push_str(number(&mut ryu, *v));
             }
             out.push('\n');
         }
