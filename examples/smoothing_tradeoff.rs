@@ -79,8 +79,8 @@ impl Stat {
 /// RMS of the Euler second differences of `frames` (rad/s²).
 fn euler_accel(frames: &[[f64; 3]], dt: f64, s: &mut Stat) {
     for w in frames.windows(3) {
-        for i in 0..3 {
-            s.add((w[2][i] - 2.0 * w[1][i] + w[0][i]) / (dt * dt));
+        for ((x0, x1), x2) in w[0].iter().zip(&w[1]).zip(&w[2]) {
+            s.add((x2 - 2.0 * x1 + x0) / (dt * dt));
         }
     }
 }
