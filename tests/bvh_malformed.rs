@@ -573,3 +573,36 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn root_inside_a_joint() {
+    fails(
+        &GOOD.replace("JOINT Spine", "ROOT Spine"),
+        6,
+        &["ROOT inside joint 'Hips'"],
+    );
+}
+
+#[test]
+fn frame_time_without_colon() {
+    fails(
+        &GOOD.replace("Frame Time: 0.0333333", "Frame Time 0.0333333"),
+        18,
+        &["expected ':' after Time"],
+    );
+}
+
+#[test]
+fn file_ends_after_end() {
+    let cut = &GOOD[..GOOD.find("End Site").unwrap() + 3];
+    fails(cut, 10, &["unexpected end of file", "Site"]);
+}
+
+#[test]
+fn end_site_missing_its_brace() {
+    fails(
+        &GOOD.replace("End Site\n\t\t{", "End Site\n"),
+        12,
+        &["expected '{' after End Site", "'OFFSET'"],
+    );
+}

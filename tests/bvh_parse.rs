@@ -284,3 +284,34 @@ fn read_reports_missing_files_as_io_errors() {
     let e = bvh::read(Path::new("/nonexistent/take.bvh")).unwrap_err();
     assert!(matches!(e, articula::error::Error::Io { .. }), "{e}");
 }
+
+#[test]
+fn channel_names_and_euler_orders() {
+    assert_eq!(Channel::from_name("Xrotation"), Some(Channel::Xrotation));
+    assert_eq!(Channel::from_name("ZPOSITION"), Some(Channel::Zposition));
+    assert_eq!(Channel::from_name("Xrot"), None);
+    // fewer than three rotation channels: no Euler order, but a valid joint
+    let b = parse(
+        &SMALL
+            .replace(
+                "CHANNELS 3 Zrotation Xrotation Yrotation\n\t\tEnd",
+                "CHANNELS 2 Zrotation Xposition\n\t\tEnd",
+            )
+            .replace("7 8 9", "7 8")
+            .replace("16 17 18", "16 17"),
+    );
+    assert_eq!(b.joints[1].euler_order(), None);
+    assert_eq!(b.joints[1].position_columns(), [Some(1), None, None]);
+    // no channels at all on a joint
+    let b = parse(
+        &SMALL
+            .replace(
+                "CHANNELS 3 Zrotation Xrotation Yrotation\n\t\tEnd",
+                "CHANNELS 0\n\t\tEnd",
+            )
+            .replace(" 7 8 9", "")
+            .replace(" 16 17 18", ""),
+    );
+    assert!(b.joints[1].channels.is_empty());
+    assert_eq!(b.channel_count, 6);
+}
