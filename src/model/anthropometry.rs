@@ -563,10 +563,14 @@ pub fn distribute(bones: &[Bone], body: &BodyParams) -> Result<Vec<LinkMass>, Er
             mass[j] *= k;
         }
     }
-    // put the rounding residual on the heaviest link so that the sum is exact
+    // put the rounding residual on the heaviest rescaled link so that the sum is exact and
+    // the overrides stay as given
     let residual = total - mass.iter().sum::<f64>();
-    if let Some(heaviest) = (0..n).max_by(|&a, &b| mass[a].total_cmp(&mass[b])) {
-        mass[heaviest] += residual;
+    let heaviest = (0..n)
+        .filter(|&j| !fixed[j] || free_sum <= 0.0)
+        .max_by(|&a, &b| mass[a].total_cmp(&mass[b]));
+    if let Some(h) = heaviest {
+        mass[h] += residual;
     }
 
     Ok((0..n)

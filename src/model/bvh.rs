@@ -111,6 +111,23 @@ impl BvhModelOptions {
     }
 }
 
+impl BvhModelOptions {
+    /// These options with the model choices of a scene: joint model, body mass and sex, link
+    /// mass overrides, locked joints and subtree. (Units, axes and position modes are resolved
+    /// from the take by the caller, since they need it.)
+    pub fn with_scene(mut self, scene: &crate::io::scene::Scene) -> Result<Self, Error> {
+        self.joints = scene.joints.parse()?;
+        self.body = BodyParams {
+            mass_kg: scene.mass,
+            sex: scene.sex.parse()?,
+            link_mass: scene.link_mass.clone(),
+        };
+        self.lock = scene.lock.clone();
+        self.subtree = scene.subtree.clone();
+        Ok(self)
+    }
+}
+
 /// How one BVH channel reaches q.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ChannelMap {

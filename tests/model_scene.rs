@@ -1,0 +1,34 @@
+//! The documented scene example reads, and its model choices reach the model: the locked
+//! joints leave (fewer DOFs), the overridden link masses are kept, and the total is the
+//! scene's body mass.
+
+mod common;
+
+use articula::io::bvh::{LengthUnit, PositionMode, UpAxis, resolve_position_modes};
+use articula::io::generate::{WalkParams, walk};
+use articula::io::scene;
+use articula::model::bvh::{BvhModelOptions, build_bvh_model};
+
+#[test]
+fn the_scene_example_builds_the_model_it_describes() {
+    let path = common::repo("data/scene_example.toml");
+    let s = scene::read(&path).unwrap();
+    assert_eq!(s.takes, vec![common::repo("data/walk.bvh")]);
+    assert_eq!(s.unit, Some(LengthUnit::Cm));
+    assert_eq!(s.up, None);
+    assert_eq!(s.position, PositionMode::Auto);
+    assert_eq!(s.gains.unwrap().kp, 400.0);
+
+    let take = walk(&WalkParams::default());
+    let modes = resolve_position_modes(&take, s.position);
+    let scale = s.unit.unwrap().scale_to_m();
+    let opts = BvhModelOptions::new("walk", scale, UpAxis::Y, modes)
+        .with_scene(&s)
+        .unwrap();
+    let (model, _) = build_bvh_model(&take, &opts).unwrap();
+    // four 3-channel joints locked
+    assert_eq!(model.nv, take.channel_count - 12);
+    assert!((model.total_mass() - 72.0).abs() < 1e-9);
+    let thigh = model.body_index("LeftUpLeg.Yrotation").unwrap();
+    assert_eq!(model.inertia[thigh].mass, 10.0);
+}
