@@ -276,3 +276,148 @@ fn in_a_squat_the_feet_explain_the_whole_wrench() {
     // bent knees under body weight: tens of N·m
     assert!(max_knee_change > 20.0, "{max_knee_change}");
 }
+
+/// The biped rebuilt from the left foot up: the world is the left foot (ankle at
+/// `(HIP_X, ANKLE_Y, 0)`), then ankle, shank, knee, thigh, hip, pelvis, and the right leg as
+/// before. Coordinates: left ankle, knee, hip (each the negative of the top-down angle), then
+/// the right hip, knee, ankle. Returns the model and the index of the pelvis body.
+fn biped_from_left_foot() -> (Model, usize) {
+    let mut mb = ModelBuilder::new("biped-bottom-up", Vector3::new(0.0, -G, 0.0));
+    let x = JointKind::Revolute { axis: Vector3::x() };
+    let at = |x: f64, y: f64, z: f64| SpatialTransform::from_translation(Vector3::new(x, y, z));
+    let shank = mb.add_body(
+        0,
+        "shank",
+        "ankle",
+        x,
+        at(HIP_X, ANKLE_Y, 0.0),
+        inertia(3.5, [0.0, SHANK - 0.19, 0.0], 0.04),
+    );
+    let thigh = mb.add_body(
+        shank,
+        "thigh",
+        "knee",
+        x,
+        at(0.0, SHANK, 0.0),
+        inertia(8.0, [0.0, THIGH - 0.19, 0.0], 0.06),
+    );
+    let pelvis = mb.add_body(
+        thigh,
+        "pelvis",
+        "hip",
+        x,
+        at(0.0, THIGH, 0.0),
+        inertia(40.0, [-HIP_X, 0.1 + HIP_DROP, 0.0], 0.15),
+    );
+    let rthigh = mb.add_body(
+        pelvis,
+        "RightUpLeg",
+        "RightUpLeg",
+        x,
+        at(-2.0 * HIP_X, 0.0, 0.0),
+        inertia(8.0, [0.0, -0.19, 0.0], 0.06),
+    );
+    let rshank = mb.add_body(
+        rthigh,
+        "RightLeg",
+        "RightLeg",
+        x,
+        at(0.0, -THIGH, 0.0),
+        inertia(3.5, [0.0, -0.19, 0.0], 0.04),
+    );
+    mb.add_body(
+        rshank,
+        "RightFoot",
+        "RightFoot",
+        x,
+        at(0.0, -SHANK, 0.0),
+        inertia(1.0, [0.0, -0.04, 0.0], 0.03),
+    );
+    (mb.build(), pelvis)
+}
+
+#[test]
+fn in_single_stance_the_knee_and_hip_torques_equal_those_of_the_leg_rooted_at_the_foot() {
+    //! With the left foot planted and the right one in the air, the ground reaction is the
+    //! whole-body wrench, and inverse dynamics with it must give the same stance-knee and hip
+    //! torques as inverse dynamics of the same motion computed from the foot up (where the
+    //! foot is the fixed world and no ground force is needed): the physics the top-down
+    //! hanging-from-the-pelvis model gets wrong. (A wide support region keeps the centre of
+    //! pressure unclamped: this biped has no hip roll to shift its weight over the foot.)
+    let (bottom_up, pelvis) = biped_from_left_foot();
+    let mut kinematic = bottom_up.clone();
+    kinematic.gravity = Vector3::zeros();
+    let top_down = biped();
+    let w = 2.0 * std::f64::consts::PI * 0.7;
+    // bottom-up coordinates: (value, rate, acceleration) of c0 + c1·sin(w t + c2)
+    let curves = [
+        (0.05, 0.1, 0.0),
+        (-0.5, 0.2, 1.0),
+        (0.1, 0.2, 2.0),
+        (-0.6, 0.2, 0.5),
+        (1.3, 0.1, 0.0),
+        (0.0, 0.1, 1.5),
+    ];
+    let (n, dt) = (120, 0.01);
+    let mut ws = Workspace::new(&bottom_up);
+    let mut tau_bu = vec![];
+    let (mut time, mut q, mut v, mut a) = (vec![], vec![], vec![], vec![]);
+    for k in 0..n {
+        let t = k as f64 * dt;
+        let qb: Vec<f64> = curves.iter().map(|c| c.0 + c.1 * (w * t + c.2).sin()).collect();
+        let vb: Vec<f64> = curves.iter().map(|c| c.1 * w * (w * t + c.2).cos()).collect();
+        let ab: Vec<f64> = curves.iter().map(|c| -c.1 * w * w * (w * t + c.2).sin()).collect();
+        tau_bu.push(rnea(&bottom_up, &mut ws, &qb, &vb, &ab, None).clone());
+        // the pelvis motion, without gravity in the accelerations: body frame at the left hip
+        rnea(&kinematic, &mut ws, &qb, &vb, &ab, None);
+        articula::dynamics::forward_kinematics(&kinematic, &mut ws, &qb);
+        let c_x_p = SpatialTransform::from_translation(Vector3::new(-HIP_X, HIP_DROP, 0.0));
+        let o_x_p = ws.o_x_i[pelvis].compose(&c_x_p);
+        let vp = c_x_p.act_inv_motion(&ws.v[pelvis]);
+        let ap = c_x_p.act_inv_motion(&ws.a[pelvis]);
+        let rot = nalgebra::UnitQuaternion::from_matrix(&o_x_p.rot);
+        let mut qt = vec![o_x_p.trans.x, o_x_p.trans.y, o_x_p.trans.z, rot.i, rot.j, rot.k, rot.w];
+        let mut vt = [vp.lin.as_slice(), vp.ang.as_slice()].concat();
+        let mut at = [ap.lin.as_slice(), ap.ang.as_slice()].concat();
+        // top-down legs: left hip, knee, ankle are minus the bottom-up hip, knee, ankle
+        for j in [2, 1, 0] {
+            qt.push(-qb[j]);
+            vt.push(-vb[j]);
+            at.push(-ab[j]);
+        }
+        qt.extend_from_slice(&qb[3..]);
+        vt.extend_from_slice(&vb[3..]);
+        at.extend_from_slice(&ab[3..]);
+        time.push(t);
+        q.push(qt);
+        v.push(vt);
+        a.push(at);
+    }
+    let params = ContactParams {
+        cop_margin: 1.0,
+        friction: 10.0,
+        ..ContactParams::default()
+    };
+    let gr = estimate_ground_reactions(&top_down, &time, &q, &v, &a, 1, &params).unwrap();
+    let (lhip, lknee) = (
+        top_down.v_index("LeftUpLeg").unwrap(),
+        top_down.v_index("LeftLeg").unwrap(),
+    );
+    let rhip = top_down.v_index("RightUpLeg").unwrap();
+    let mut ws_td = Workspace::new(&top_down);
+    let mut max_change: f64 = 0.0;
+    for k in 0..n {
+        assert_eq!(gr.contact[k], [true, false], "frame {k}");
+        assert!(gr.residual[k].iter().all(|r| r.abs() < 1e-7), "{:?}", gr.residual[k]);
+        let tau = &gr.tau[k];
+        assert!((tau[lknee] + tau_bu[k][1]).abs() < 1e-7, "knee {} vs {}", tau[lknee], -tau_bu[k][1]);
+        assert!((tau[lhip] + tau_bu[k][2]).abs() < 1e-7, "hip {} vs {}", tau[lhip], -tau_bu[k][2]);
+        for j in 0..3 {
+            assert!((tau[rhip + j] - tau_bu[k][3 + j]).abs() < 1e-7);
+        }
+        // and the top-down value, hanging from the pelvis, is far from it
+        let hanging = rnea(&top_down, &mut ws_td, &q[k], &v[k], &a[k], None)[lknee];
+        max_change = max_change.max((hanging - tau[lknee]).abs());
+    }
+    assert!(max_change > 20.0, "{max_change}");
+}

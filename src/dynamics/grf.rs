@@ -92,13 +92,41 @@ impl GroundReactions {
 
 /// Estimates ground reaction forces and the joint torques with them for a take given as
 /// samples `time` (s) of `q`, `v`, `a` (nq, nv, nv per sample), `up` being the index of the
-/// vertical axis (0, 1, 2). See the module documentation for the method.
+/// vertical axis (0, 1, 2), with the feet found by body names ([`foot_bodies`]). For a BVH
+/// take prefer [`estimate_ground_reactions_with_feet`] with [`feet_of_bvh`], which also knows
+/// End Sites and welded joints:
+///
+/// ```ignore
+/// let feet = feet_of_bvh(&take.bvh, &take.map, &take.model);
+/// let s = &take.states;
+/// let gr = estimate_ground_reactions_with_feet(&take.model, &feet, &s.time, &s.q, &s.v, &s.a,
+///     take.up.index(), &ContactParams::default())?;
+/// ```
+///
+/// [`feet_of_bvh`]: crate::motion::contact::feet_of_bvh
+pub fn estimate_ground_reactions(
+    model: &Model,
+    time: &[f64],
+    q: &[Vec<f64>],
+    v: &[Vec<f64>],
+    a: &[Vec<f64>],
+    up: usize,
+    params: &ContactParams,
+) -> Result<GroundReactions, Error> {
+    let feet = foot_bodies(model);
+    estimate_ground_reactions_with_feet(model, &feet, time, q, v, a, up, params)
+}
+
+/// [`estimate_ground_reactions`] with the feet given. See the module documentation for the
+/// method.
 ///
 /// Errors: sizes that disagree, fewer than two samples, a model whose gravity does not point
 /// down the up axis, without a floating root (three translations and three rotations from the
-/// world), or without recognisable feet.
-pub fn estimate_ground_reactions(
+/// world), or no feet.
+#[allow(clippy::too_many_arguments)]
+pub fn estimate_ground_reactions_with_feet(
     model: &Model,
+    feet: &[Foot],
     time: &[f64],
     q: &[Vec<f64>],
     v: &[Vec<f64>],
@@ -115,7 +143,6 @@ pub fn estimate_ground_reactions(
             model.name
         ))
     })?;
-    let feet = foot_bodies(model);
     if feet.is_empty() {
         return Err(Error::Invalid(format!(
             "model {}: no feet found (joints named like LeftFoot/RightFoot, lFoot, Foot_L, \
@@ -127,7 +154,7 @@ pub fn estimate_ground_reactions(
     let mut ws = Workspace::new(model);
 
     // contact phases from the heel and toe paths
-    let points = foot_paths(model, &mut ws, &feet, q);
+    let points = foot_paths(model, &mut ws, feet, q);
     let by_foot = contact_phases(&points, up, dt, params);
     let floor = floor_height(&points, up);
     let contact: Vec<Vec<bool>> = (0..n)
@@ -161,7 +188,7 @@ pub fn estimate_ground_reactions(
         out.wrench[k] = about(&w, &pelvis);
 
         // the feet's shares and their wrenches
-        for (s, f) in support.iter_mut().zip(&feet) {
+        for (s, f) in support.iter_mut().zip(feet) {
             *s = Support::new(f, &ws.o_x_i, up, floor);
         }
         let c = &out.contact[k];

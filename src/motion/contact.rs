@@ -17,7 +17,9 @@
 //! point is measured against its own floor level ([`detect_floor`] over both feet), and a foot
 //! that never comes down stays above that level.
 
+use crate::io::bvh::Bvh;
 use crate::model::Model;
+use crate::model::bvh::BvhMap;
 use nalgebra::Vector3;
 
 /// Thresholds of contact detection and of the ground reaction estimate
@@ -211,20 +213,24 @@ pub struct Foot {
     pub side: Side,
     /// The skeleton's name of the ankle joint (`LeftFoot`, `lFoot`, `Foot_L`, `foot.L`, …).
     pub joint: String,
-    /// The body whose frame is the ankle joint's: its origin is the heel point, and ground
-    /// reactions act on it. In the euler model, the body of the joint's last rotation channel.
+    /// The body that carries the ankle joint's frame: ground reactions act on it. In the euler
+    /// model, the body of the joint's last rotation channel.
     pub ankle_body: usize,
+    /// The ankle joint's origin, the heel point, in the frame of `ankle_body` (m); zero unless
+    /// the joint was welded into its parent.
+    pub ankle_point: Vector3<f64>,
     /// The body that carries the toe point.
     pub toe_body: usize,
-    /// The toe point in the frame of `toe_body` (m): the toe joint's origin (zero), or without a
-    /// toe joint the far end of the foot's drawing shape, or the ankle itself.
+    /// The toe point in the frame of `toe_body` (m): the toe joint's origin (the ball of the
+    /// foot), or without a toe joint the foot's End Site, the far end of the foot's drawing
+    /// shape, or the ankle itself.
     pub toe_point: Vector3<f64>,
 }
 
 impl Foot {
     /// World position of the heel point (m), from world body poses (`ws.o_x_i`).
     pub fn heel(&self, o_x_i: &[crate::spatial::SpatialTransform]) -> Vector3<f64> {
-        o_x_i[self.ankle_body].trans
+        o_x_i[self.ankle_body].transform_point(&self.ankle_point)
     }
     /// World position of the toe point (m), from world body poses (`ws.o_x_i`).
     pub fn toe(&self, o_x_i: &[crate::spatial::SpatialTransform]) -> Vector3<f64> {
@@ -354,6 +360,56 @@ pub fn foot_bodies(model: &Model) -> Vec<Foot> {
             side,
             joint: ankle.0.clone(),
             ankle_body: ankle.1,
+            ankle_point: Vector3::zeros(),
+            toe_body,
+            toe_point,
+        });
+    }
+    feet
+}
+
+/// The feet of a model built from a BVH skeleton ([`build_bvh_model`]), found by the BVH joint
+/// names (see [`classify`]) and placed through the channel map, so that welded joints and End
+/// Sites are handled: the heel point is the ankle joint's origin, the toe point the first toe
+/// joint below it, else the ankle joint's End Site, else the far end of its drawing shape.
+///
+/// [`build_bvh_model`]: crate::model::bvh::build_bvh_model
+pub fn feet_of_bvh(bvh: &Bvh, map: &BvhMap, model: &Model) -> Vec<Foot> {
+    let roles: Vec<Option<(Side, Role)>> = bvh.joints.iter().map(|j| classify(&j.name)).collect();
+    let descends = |mut j: usize, ancestor: usize| loop {
+        if j == ancestor {
+            return true;
+        }
+        match bvh.joints[j].parent {
+            Some(p) => j = p,
+            None => return false,
+        }
+    };
+    let mut feet = vec![];
+    for side in [Side::Left, Side::Right] {
+        let of = |role: Role| roles.iter().position(|r| *r == Some((side, role)));
+        let has_ankle = of(Role::Ankle).is_some();
+        let Some(ankle) = of(Role::Ankle).or_else(|| of(Role::Foot)) else {
+            continue;
+        };
+        let a = &map.joints[ankle];
+        let toe = (0..bvh.joints.len()).find(|&j| {
+            j != ankle
+                && matches!(roles[j], Some((s, r)) if s == side
+                    && (r == Role::Toe || (has_ankle && r == Role::Foot)))
+                && descends(j, ankle)
+        });
+        let (toe_body, toe_point) = match (toe, bvh.joints[ankle].end_sites.first()) {
+            (Some(t), _) => (map.joints[t].body, map.joints[t].frame.trans),
+            (None, Some(end)) => (a.body, a.frame.transform_point(&(end * map.scale_to_m))),
+            (None, None) => (a.body, shape_tip(model, a.body)),
+        };
+        feet.push(Foot {
+            name: side.name().to_string(),
+            side,
+            joint: bvh.joints[ankle].name.clone(),
+            ankle_body: a.body,
+            ankle_point: a.frame.trans,
             toe_body,
             toe_point,
         });
