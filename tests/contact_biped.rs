@@ -364,9 +364,18 @@ fn in_single_stance_the_knee_and_hip_torques_equal_those_of_the_leg_rooted_at_th
     let (mut time, mut q, mut v, mut a) = (vec![], vec![], vec![], vec![]);
     for k in 0..n {
         let t = k as f64 * dt;
-        let qb: Vec<f64> = curves.iter().map(|c| c.0 + c.1 * (w * t + c.2).sin()).collect();
-        let vb: Vec<f64> = curves.iter().map(|c| c.1 * w * (w * t + c.2).cos()).collect();
-        let ab: Vec<f64> = curves.iter().map(|c| -c.1 * w * w * (w * t + c.2).sin()).collect();
+        let qb: Vec<f64> = curves
+            .iter()
+            .map(|c| c.0 + c.1 * (w * t + c.2).sin())
+            .collect();
+        let vb: Vec<f64> = curves
+            .iter()
+            .map(|c| c.1 * w * (w * t + c.2).cos())
+            .collect();
+        let ab: Vec<f64> = curves
+            .iter()
+            .map(|c| -c.1 * w * w * (w * t + c.2).sin())
+            .collect();
         tau_bu.push(rnea(&bottom_up, &mut ws, &qb, &vb, &ab, None).clone());
         // the pelvis motion, without gravity in the accelerations: body frame at the left hip
         rnea(&kinematic, &mut ws, &qb, &vb, &ab, None);
@@ -376,7 +385,15 @@ fn in_single_stance_the_knee_and_hip_torques_equal_those_of_the_leg_rooted_at_th
         let vp = c_x_p.act_inv_motion(&ws.v[pelvis]);
         let ap = c_x_p.act_inv_motion(&ws.a[pelvis]);
         let rot = nalgebra::UnitQuaternion::from_matrix(&o_x_p.rot);
-        let mut qt = vec![o_x_p.trans.x, o_x_p.trans.y, o_x_p.trans.z, rot.i, rot.j, rot.k, rot.w];
+        let mut qt = vec![
+            o_x_p.trans.x,
+            o_x_p.trans.y,
+            o_x_p.trans.z,
+            rot.i,
+            rot.j,
+            rot.k,
+            rot.w,
+        ];
         let mut vt = [vp.lin.as_slice(), vp.ang.as_slice()].concat();
         let mut at = [ap.lin.as_slice(), ap.ang.as_slice()].concat();
         // top-down legs: left hip, knee, ankle are minus the bottom-up hip, knee, ankle
@@ -408,10 +425,24 @@ fn in_single_stance_the_knee_and_hip_torques_equal_those_of_the_leg_rooted_at_th
     let mut max_change: f64 = 0.0;
     for k in 0..n {
         assert_eq!(gr.contact[k], [true, false], "frame {k}");
-        assert!(gr.residual[k].iter().all(|r| r.abs() < 1e-7), "{:?}", gr.residual[k]);
+        assert!(
+            gr.residual[k].iter().all(|r| r.abs() < 1e-7),
+            "{:?}",
+            gr.residual[k]
+        );
         let tau = &gr.tau[k];
-        assert!((tau[lknee] + tau_bu[k][1]).abs() < 1e-7, "knee {} vs {}", tau[lknee], -tau_bu[k][1]);
-        assert!((tau[lhip] + tau_bu[k][2]).abs() < 1e-7, "hip {} vs {}", tau[lhip], -tau_bu[k][2]);
+        assert!(
+            (tau[lknee] + tau_bu[k][1]).abs() < 1e-7,
+            "knee {} vs {}",
+            tau[lknee],
+            -tau_bu[k][1]
+        );
+        assert!(
+            (tau[lhip] + tau_bu[k][2]).abs() < 1e-7,
+            "hip {} vs {}",
+            tau[lhip],
+            -tau_bu[k][2]
+        );
         for j in 0..3 {
             assert!((tau[rhip + j] - tau_bu[k][3 + j]).abs() < 1e-7);
         }

@@ -480,9 +480,7 @@ fn assign_to_feet(
             .for_each(|j| share[j] = 1.0 / count as f64),
     }
 
-    // each foot: the force share at p shifted by its offset from the load-weighted ankle
-    // centre, kept inside its support region, pushing, within the friction cone
-    let centre: Vector3<f64> = support.iter().zip(&*share).map(|(s, r)| s.heel * *r).sum();
+    // each foot: the force share, pushing, within the friction cone
     for j in (0..contact.len()).filter(|&j| contact[j]) {
         let mut force = w.lin * share[j];
         let horizontal = force - Vector3::ith(up, force[up]);
@@ -490,12 +488,30 @@ fn assign_to_feet(
         if horizontal.norm() > limit {
             force -= horizontal * (1.0 - limit / horizontal.norm());
         }
-        let cop = support[j].clamp(&(p + support[j].heel - centre), params.cop_margin);
+        // first guess: p shifted by the foot's offset from the load-weighted heel centre
+        // (the centres of pressure nearest the heels whose weighted mean is p)
+        let centre: Vector3<f64> = support.iter().zip(&*share).map(|(s, r)| s.heel * *r).sum();
         loads[j] = FootLoad {
             force,
-            cop,
+            cop: support[j].clamp(&(p + support[j].heel - centre), params.cop_margin),
             free_moment: free * share[j],
         };
+    }
+
+    // where a clamp broke Σ rₖ pₖ = p, let the other feet make up for it: block coordinate
+    // descent on |p − Σ rₖ pₖ|², each foot's centre moved by the error over its share and
+    // clamped again, the most loaded foot first
+    for _ in 0..3 {
+        let mut done = 0u64;
+        while let Some(j) = (0..contact.len())
+            .filter(|&j| contact[j] && done & (1 << j) == 0 && share[j] > 1e-6)
+            .max_by(|&a, &b| share[a].total_cmp(&share[b]))
+        {
+            done |= 1 << j;
+            let reached: Vector3<f64> = loads.iter().zip(&*share).map(|(l, r)| l.cop * *r).sum();
+            let moved = loads[j].cop + (p - reached) / share[j];
+            loads[j].cop = support[j].clamp(&moved, params.cop_margin);
+        }
     }
 }
 

@@ -216,9 +216,13 @@ pub struct Foot {
     /// The body that carries the ankle joint's frame: ground reactions act on it. In the euler
     /// model, the body of the joint's last rotation channel.
     pub ankle_body: usize,
-    /// The ankle joint's origin, the heel point, in the frame of `ankle_body` (m); zero unless
-    /// the joint was welded into its parent.
+    /// The ankle joint's origin in the frame of `ankle_body` (m); zero unless the joint was
+    /// welded into its parent.
     pub ankle_point: Vector3<f64>,
+    /// The heel point in the frame of `ankle_body` (m): the ankle moved down, in the rest pose,
+    /// to the height of the toe point — the back of the sole, which touches first at heel
+    /// strike while the ankle itself is still rising and falling with the foot's pitch.
+    pub heel_point: Vector3<f64>,
     /// The body that carries the toe point.
     pub toe_body: usize,
     /// The toe point in the frame of `toe_body` (m): the toe joint's origin (the ball of the
@@ -230,6 +234,10 @@ pub struct Foot {
 impl Foot {
     /// World position of the heel point (m), from world body poses (`ws.o_x_i`).
     pub fn heel(&self, o_x_i: &[crate::spatial::SpatialTransform]) -> Vector3<f64> {
+        o_x_i[self.ankle_body].transform_point(&self.heel_point)
+    }
+    /// World position of the ankle joint (m), from world body poses (`ws.o_x_i`).
+    pub fn ankle(&self, o_x_i: &[crate::spatial::SpatialTransform]) -> Vector3<f64> {
         o_x_i[self.ankle_body].transform_point(&self.ankle_point)
     }
     /// World position of the toe point (m), from world body poses (`ws.o_x_i`).
@@ -361,10 +369,12 @@ pub fn foot_bodies(model: &Model) -> Vec<Foot> {
             joint: ankle.0.clone(),
             ankle_body: ankle.1,
             ankle_point: Vector3::zeros(),
+            heel_point: Vector3::zeros(),
             toe_body,
             toe_point,
         });
     }
+    set_heel_points(model, &mut feet);
     feet
 }
 
@@ -410,11 +420,30 @@ pub fn feet_of_bvh(bvh: &Bvh, map: &BvhMap, model: &Model) -> Vec<Foot> {
             joint: bvh.joints[ankle].name.clone(),
             ankle_body: a.body,
             ankle_point: a.frame.trans,
+            heel_point: a.frame.trans,
             toe_body,
             toe_point,
         });
     }
+    set_heel_points(model, &mut feet);
     feet
+}
+
+/// Places each foot's heel point under its ankle: in the rest pose (q = neutral, every joint
+/// transform the identity), the ankle moved along gravity down to the height of the toe point.
+fn set_heel_points(model: &Model, feet: &mut [Foot]) {
+    let Some(down) = model.gravity.try_normalize(1e-12) else {
+        return;
+    };
+    let mut rest = vec![crate::spatial::SpatialTransform::IDENTITY; model.nbodies()];
+    for i in 1..model.nbodies() {
+        rest[i] = rest[model.parent[i]].compose(&model.placement[i]);
+    }
+    for f in feet {
+        let (ankle, toe) = (f.ankle(&rest), f.toe(&rest));
+        let drop = (toe - ankle).dot(&down).max(0.0);
+        f.heel_point = f.ankle_point + rest[f.ankle_body].rot.tr_mul(&(down * drop));
+    }
 }
 
 /// The far end of body `i`'s drawing shape along the shape's long (local z) axis, body frame;
