@@ -15,7 +15,8 @@
 //!    foot) gets its de Leva fraction of the body mass; a segment missing from the skeleton gives
 //!    its mass to the next segment towards the trunk (hand → forearm → upper arm → trunk);
 //! 3. a segment's mass is shared among its joints in proportion to their bone lengths (the bone
-//!    of a joint is the mean of its non-zero child offsets, End Sites included);
+//!    of a joint is the mean of its non-zero child offsets, End Sites included), shoulder-girdle
+//!    and breast bones counting a quarter of their length in the trunk ([`GIRDLE_WEIGHT`]);
 //! 4. fallback, when no trunk is recognised (an unknown naming scheme): the body mass is shared
 //!    by bone volume, each bone a solid cylinder of radius 0.1 × its length (volume ∝ L³);
 //! 5. per-link overrides ([`BodyParams::link_mass`]) are applied and every other link is
@@ -306,6 +307,22 @@ pub fn classify(name: &str) -> Option<(Segment, Side)> {
     Some((seg, if seg.is_limb() { side } else { Side::Center }))
 }
 
+/// The share weight, per metre of bone, of shoulder-girdle (clavicle, collar, scapula, the
+/// CMU/Mixamo `LeftShoulder`) and breast bones relative to the spine's within the trunk. A
+/// heuristic, not de Leva's: by length alone a CMU clavicle (as long as a spine segment) would
+/// take ~7 kg of a 75 kg body, while the clavicle, scapula and the muscles between them and the
+/// thorax weigh ~2 kg a side.
+pub const GIRDLE_WEIGHT: f64 = 0.25;
+
+/// Whether a trunk joint is a shoulder-girdle or breast bone (see [`GIRDLE_WEIGHT`]).
+fn is_appendage(name: &str) -> bool {
+    let (_, base) = split_side(name);
+    ["shoulder", "collar", "clavicle", "scapula", "breast"]
+        .iter()
+        .any(|w| base.contains(w))
+        && classify(name).is_some_and(|c| c.0 == Segment::Trunk)
+}
+
 /// What [`distribute`] needs to know about one BVH joint.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bone {
@@ -472,13 +489,21 @@ pub fn distribute(bones: &[Bone], body: &BodyParams) -> Result<Vec<LinkMass>, Er
                     de_leva(key.0, body.sex).mass_pct / 100.0 * total;
             }
         }
-        // 3. share each instance among its joints by bone length (equally if all are zero)
+        // 3. share each instance among its joints by bone length (equally if all are zero);
+        //    shoulder-girdle and breast bones count a quarter of their length in the trunk
+        let weight = |j: usize| {
+            if is_appendage(&bones[j].name) {
+                GIRDLE_WEIGHT * geom[j].1
+            } else {
+                geom[j].1
+            }
+        };
         for (key, m) in &instance_mass {
             let members: Vec<usize> = (0..n).filter(|&j| class[j] == Some(*key)).collect();
-            let sum_l: f64 = members.iter().map(|&j| geom[j].1).sum();
+            let sum_w: f64 = members.iter().map(|&j| weight(j)).sum();
             for &j in &members {
-                mass[j] += if sum_l > 0.0 {
-                    m * geom[j].1 / sum_l
+                mass[j] += if sum_w > 0.0 {
+                    m * weight(j) / sum_w
                 } else {
                     m / members.len() as f64
                 };
@@ -693,6 +718,23 @@ mod tests {
         // longitudinal inertia from the longitudinal radius of gyration
         let i_long = links[2].inertia_com[(1, 1)];
         assert!((i_long - links[2].mass * (0.162 * 0.4_f64).powi(2)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_clavicle_weighs_less_than_a_spine_segment_of_the_same_length() {
+        let v = Vector3::new;
+        let bone = |name: &str, parent, end| Bone {
+            name: name.into(),
+            parent,
+            ends: vec![end],
+        };
+        let bones = vec![
+            bone("Hips", None, v(0.0, 0.2, 0.0)),
+            bone("Spine", Some(0), v(0.0, 0.2, 0.0)),
+            bone("LeftShoulder", Some(1), v(0.2, 0.0, 0.0)),
+        ];
+        let links = distribute(&bones, &BodyParams::default()).unwrap();
+        assert!((links[2].mass / links[1].mass - GIRDLE_WEIGHT).abs() < 1e-12);
     }
 
     #[test]
