@@ -26,6 +26,11 @@ expect max LeftLeg.Xrotation angle between 0.5 1.5
 export csv torques.csv
 expect message contains torques.csv
 compare weights 60,100 joint LeftLeg.Xrotation knee.csv
+compare weights 60,80,100 joint LeftLeg.Xrotation knee.svg
+export svg knee_angle_torque.svg
+set motor.gear 30
+report motor motors.svg
+expect message contains LeftLeg.Xrotation BLDC
 frame 240
 key ]]
 expect frame 242
@@ -41,10 +46,17 @@ fn a_study_replays_and_writes_its_outputs_deterministically() {
     let out2 = dir.path().join("out2");
     let r1 = run_session(&session, &out1).unwrap_or_else(|e| panic!("{e}"));
     let r2 = run_session(&session, &out2).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(r1.expects, 9);
+    assert_eq!(r1.expects, 10);
     assert_eq!((r1.commands, r1.expects), (r2.commands, r2.expects));
-    assert_eq!(r1.written.len(), 3);
-    for name in ["torques.csv", "knee.csv", "screen.txt"] {
+    assert_eq!(r1.written.len(), 6);
+    for name in [
+        "torques.csv",
+        "knee.csv",
+        "knee.svg",
+        "knee_angle_torque.svg",
+        "motors.svg",
+        "screen.txt",
+    ] {
         let a = std::fs::read(out1.join(name)).unwrap();
         let b = std::fs::read(out2.join(name)).unwrap();
         assert!(!a.is_empty());
@@ -59,13 +71,34 @@ fn a_study_replays_and_writes_its_outputs_deterministically() {
     assert_eq!(header.split(',').count(), 1 + 4 * 66);
     // the knee torque scales with body mass (the masses scale every link alike)
     let knee = std::fs::read_to_string(out1.join("knee.csv")).unwrap();
-    assert!(knee.starts_with("time,LeftLeg.Xrotation@60kg,LeftLeg.Xrotation@100kg\n"));
+    assert!(knee.starts_with("t_s,tau_60kg_Nm,tau_100kg_Nm\n"), "{knee}");
     for row in knee.lines().skip(1).step_by(37) {
         let v: Vec<f64> = row.split(',').map(|x| x.parse().unwrap()).collect();
         assert!(
             (v[2] - v[1] * 100.0 / 60.0).abs() < 1e-9 * v[2].abs().max(1.0),
             "{row}"
         );
+    }
+    // the charts are valid SVG with the expected labels
+    for (name, labels) in [
+        (
+            "knee.svg",
+            &["60 kg", "80 kg", "100 kg", "LeftLeg.Xrotation"][..],
+        ),
+        (
+            "knee_angle_torque.svg",
+            &["angle (deg)", "torque (N·m)", "max"][..],
+        ),
+        (
+            "motors.svg",
+            &["LeftLeg.Xrotation", "LeftLeg.Zrotation"][..],
+        ),
+    ] {
+        let svg = std::fs::read_to_string(out1.join(name)).unwrap();
+        roxmltree::Document::parse(&svg).unwrap_or_else(|e| panic!("{name}: {e}"));
+        for l in labels {
+            assert!(svg.contains(l), "{name} lacks {l}");
+        }
     }
 }
 
@@ -109,4 +142,26 @@ fn a_failing_command_and_a_syntax_error_carry_their_lines() {
         "{err}"
     );
     assert!(!dir.path().join("out2/x.csv").exists());
+}
+
+#[test]
+fn a_bvh_file_next_to_the_session_loads_by_relative_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let walk = articula::io::generate::walk(&articula::io::generate::WalkParams {
+        duration_s: 1.0,
+        ..Default::default()
+    });
+    articula::io::bvh::write(&walk, &dir.path().join("short walk.bvh")).unwrap();
+    let s = write(
+        dir.path(),
+        "s.session",
+        "load \"short walk.bvh\" as w\nexpect frames 120\nselect RightLeg\nexpect selected RightLeg.Zrotation\nexpect rms RightLeg.Xrotation torque between 0.1 500\n",
+    );
+    let r = run_session(&s, &dir.path().join("out")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(r.expects, 3);
+    assert!(
+        r.messages[0].starts_with("loaded w (21 joints, 120 frames"),
+        "{:?}",
+        r.messages
+    );
 }

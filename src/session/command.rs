@@ -147,6 +147,9 @@ pub const SET_KEYS: &[&str] = &[
     "link.<name>.mass",
     "lock",
     "blend.window",
+    "motor.km",
+    "motor.gear",
+    "motor.efficiency",
 ];
 
 /// Splits a line into words: whitespace separated, `"…"` quotes a word with spaces.

@@ -148,6 +148,12 @@ pub struct Params {
     pub lock: Vec<String>,
     /// Default blend window length (s).
     pub blend_window: f64,
+    /// Motor torque constant Km (N·m/A) for `report motor`.
+    pub motor_km: f64,
+    /// Gear ratio N (motor turns per joint turn) for `report motor`.
+    pub motor_gear: f64,
+    /// Gearbox efficiency η in (0, 1] for `report motor`.
+    pub motor_efficiency: f64,
 }
 
 impl Default for Params {
@@ -166,6 +172,9 @@ impl Default for Params {
             link_mass: BTreeMap::new(),
             lock: vec![],
             blend_window: 0.5,
+            motor_km: 0.1,
+            motor_gear: 100.0,
+            motor_efficiency: 1.0,
         }
     }
 }
@@ -267,9 +276,7 @@ impl Engine for Builtin {
         let bvh = if source == DEMO_WALK {
             crate::io::generate::walk(&crate::io::generate::WalkParams::default())
         } else {
-            return Err(Error::Invalid(format!(
-                "{source}: reading BVH files is not on main yet; use {DEMO_WALK}"
-            )));
+            crate::io::bvh::read(path)?
         };
         let name = path
             .file_stem()

@@ -22,9 +22,9 @@
 //! | `select JOINT` | select a coordinate (`LeftLeg.Xrotation`) or a joint (its first rotation) |
 //! | `frame N` | go to frame N (0-based) |
 //! | `play`, `pause` | start / stop playback |
-//! | `export csv\|svg\|bvh\|urdf PATH` | write the results (CSV: `time`, `q:`, `v:`, `a:`, `tau:` per coordinate, SI), a chart, the motion or the model |
-//! | `compare weights 60,80,100 [joint J] PATH` | re-run inverse dynamics at each body mass; one torque column of J (default: the selection) per mass |
-//! | `report motor PATH` | motor sizing report of the current model and motion |
+//! | `export csv\|svg\|bvh\|urdf PATH` | write the results (CSV: `time`, `q:`, `v:`, `a:`, `tau:` per coordinate, SI), the angle and torque chart of the selection (the paper's figure 4), the motion or the model |
+//! | `compare weights 60,80,100 [joint J] PATH` | re-run inverse dynamics at each body mass; J's torque (default: the selection) per mass: a chart with the peak/RMS table (`.svg`) or the curves (`.csv`, `t_s`, `tau_<m>kg_Nm`) |
+//! | `report motor PATH` | motor sizing of the selected joint's coordinates (all revolute coordinates of a model with at most 12): torque, speed and power curves and the motor class each needs (SVG, or CSV table for `.csv`) |
 //! | `expect …` | an assertion (below); a failed expect fails the replay |
 //! | `screen PATH` | write the current screen of the TUI (as text) to PATH |
 //! | `key KEYS` | inject keystrokes into the TUI: characters as written, special keys as `<Enter>`, `<Esc>`, `<Tab>`, `<Space>`, `<Up>`, `<Down>`, `<Left>`, `<Right>`, `<BS>`, `<C-c>` |
@@ -33,7 +33,9 @@
 //! `set` keys: `body.mass KG`, `body.sex male|female`, `unit auto|m|dm|cm|mm|in|METRES`,
 //! `joints euler|ball`, `smooth none|gaussian:W|butterworth:F` (W in s, F in Hz),
 //! `contact none|feet`, `kp X`, `kv X`, `integrator euler|semi-implicit|rk4|dopri5`, `dt S`,
-//! `link.<joint>.mass KG`, `lock J1,J2,…` (or `none`), `blend.window S`.
+//! `link.<joint>.mass KG`, `lock J1,J2,…` (or `none`), `blend.window S`, and for
+//! `report motor` the drive of every joint: `motor.km` (N·m/A), `motor.gear` (N),
+//! `motor.efficiency` (η).
 //!
 //! `expect` forms (values SI: rad, rad/s, rad/s², N·m, kg):
 //! - `expect nv N`, `expect nq N`, `expect frames N`, `expect frame N`, `expect selected NAME`;

@@ -5,6 +5,9 @@ use super::command::{Command, Expectation, ExportKind, Quantity, RunKind, Statis
 use super::engine::{
     Analysis, Builtin, Contact, Control, Engine, JointModel, Params, Sex, Smooth, Take,
 };
+use crate::report::chart::{Panel, Series, stacked_svg};
+use crate::report::knee::{self, MassRun};
+use crate::report::motor::{self, JointMotion, MotorSpec};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -354,10 +357,7 @@ impl Workbench {
                 joint,
                 path,
             } => self.compare_weights(masses, joint.as_deref(), path),
-            Command::ReportMotor { path } => Err(err(format!(
-                "report motor {}: motor sizing (report::motor) is not on main yet",
-                path.display()
-            ))),
+            Command::ReportMotor { path } => self.report_motor(path),
             Command::Expect(e) => self.expect(e),
             Command::Screen { .. } | Command::Key(_) => {
                 Err(err("screen and key need a front end (the TUI)"))
@@ -455,6 +455,19 @@ impl Workbench {
                     .collect();
             }
             "blend.window" => p.blend_window = num("a window length in seconds")?,
+            "motor.km" | "motor.gear" | "motor.efficiency" => {
+                let x = num("a positive number")?;
+                if x <= 0.0 || (key == "motor.efficiency" && x > 1.0) {
+                    return Err(err(format!(
+                        "set {key}: {value} is out of range (Km, N > 0; 0 < η ≤ 1)"
+                    )));
+                }
+                match key {
+                    "motor.km" => p.motor_km = x,
+                    "motor.gear" => p.motor_gear = x,
+                    _ => p.motor_efficiency = x,
+                }
+            }
             _ => {
                 let link = key
                     .strip_prefix("link.")
@@ -514,13 +527,22 @@ impl Workbench {
                 let text = results_csv(&r);
                 crate::io::write_atomic(&out, text.as_bytes())?;
             }
-            ExportKind::Svg | ExportKind::Bvh | ExportKind::Urdf => {
+            ExportKind::Svg => {
+                let r = self.ensure_results()?;
+                let coord = self
+                    .selection
+                    .clone()
+                    .ok_or_else(|| err("export svg: select a joint first"))?;
+                let svg = selection_svg(&r, &coord)?;
+                crate::report::chart::write_svg(&out, &svg)?;
+            }
+            ExportKind::Bvh | ExportKind::Urdf => {
                 return Err(err(format!(
                     "export {}: this exporter is not on main yet",
-                    match kind {
-                        ExportKind::Svg => "svg",
-                        ExportKind::Bvh => "bvh",
-                        _ => "urdf",
+                    if kind == ExportKind::Bvh {
+                        "bvh"
+                    } else {
+                        "urdf"
                     }
                 )));
             }
@@ -564,19 +586,21 @@ impl Workbench {
             columns.push(r.tau.column(j));
             time = r.time.clone();
         }
+        let runs: Vec<MassRun> = masses
+            .iter()
+            .zip(columns)
+            .map(|(&mass_kg, tau)| MassRun {
+                mass_kg,
+                t: time.clone(),
+                tau,
+            })
+            .collect();
         let out = self.out_path(path);
-        let mut text = String::from("time");
-        for m in masses {
-            let _ = write!(text, ",{coord}@{m}kg");
-        }
-        text.push('\n');
-        for (k, t) in time.iter().enumerate() {
-            let _ = write!(text, "{t}");
-            for c in &columns {
-                let _ = write!(text, ",{}", c[k]);
-            }
-            text.push('\n');
-        }
+        let text = if is_csv(&out) {
+            knee::curves_csv(&runs)?
+        } else {
+            knee::knee_svg_with_table(&coord, &runs)?
+        };
         crate::io::write_atomic(&out, text.as_bytes())?;
         let mut o = self.say(format!(
             "compared {coord} torque at {} kg: wrote {}",
@@ -585,6 +609,67 @@ impl Workbench {
                 .map(|m| m.to_string())
                 .collect::<Vec<_>>()
                 .join(", "),
+            out.display()
+        ));
+        o.written.push(out);
+        Ok(o)
+    }
+
+    /// Motor sizing (report::motor) of the revolute coordinates of the selected joint, or of
+    /// every revolute coordinate when the model has at most 12 (an arm).
+    fn report_motor(&mut self, path: &Path) -> Result<Outcome, SessionError> {
+        let r = self.ensure_results()?;
+        let m = &r.model;
+        let revolute: Vec<usize> = (0..m.nv)
+            .filter(|&k| m.joints[m.body_of_v(k)].name() == "revolute")
+            .collect();
+        let chosen: Vec<usize> = if revolute.len() <= 12 {
+            revolute
+        } else {
+            let sel = self
+                .selection
+                .as_deref()
+                .ok_or_else(|| err("report motor: select a joint first"))?;
+            let joint = sel.rsplit_once('.').map_or(sel, |(j, _)| j);
+            revolute
+                .into_iter()
+                .filter(|&k| m.v_names[k].rsplit_once('.').map_or("", |(j, _)| j) == joint)
+                .collect()
+        };
+        if chosen.is_empty() {
+            return Err(err(
+                "report motor: the selection has no revolute coordinate",
+            ));
+        }
+        let joints: Vec<JointMotion> = chosen
+            .iter()
+            .map(|&k| JointMotion {
+                joint: m.v_names[k].clone(),
+                t: r.time.clone(),
+                tau: r.tau.column(k),
+                qd: r.v.column(k),
+            })
+            .collect();
+        let spec = MotorSpec {
+            km_nm_per_a: self.params.motor_km,
+            gear_ratio: self.params.motor_gear,
+            efficiency: Some(self.params.motor_efficiency),
+        };
+        let loads = motor::size_motors(&joints, &vec![spec; joints.len()])?;
+        let out = self.out_path(path);
+        let text = if is_csv(&out) {
+            motor::motor_table_csv(&loads)
+        } else {
+            motor::motor_svg(&joints, &loads)?
+        };
+        crate::io::write_atomic(&out, text.as_bytes())?;
+        let classes: Vec<String> = loads
+            .iter()
+            .map(|l| format!("{} {}", l.joint, motor::class_name(l)))
+            .collect();
+        let mut o = self.say(format!(
+            "motors: {}; wrote {}",
+            classes.join(", "),
             out.display()
         ));
         o.written.push(out);
@@ -683,6 +768,51 @@ impl Workbench {
         };
         Ok(self.say(format!("ok: {msg}")))
     }
+}
+
+/// True for a `.csv` path (anything else is written as SVG).
+fn is_csv(p: &Path) -> bool {
+    p.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv"))
+}
+
+/// The paper's figure 4 for one coordinate: its angle (deg) or position (m) and its torque
+/// over time, minimum and maximum marked.
+pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> {
+    let (jq, jv) = match (r.q.col_index(coord), r.tau.col_index(coord)) {
+        (Some(a), Some(b)) => (a, b),
+        _ => return Err(err(format!("no coordinate '{coord}' in the model"))),
+    };
+    let rotation = r.model.joints[r.model.body_of_v(jv)].name() == "revolute";
+    let (factor, angle_label, torque_label) = if rotation {
+        (180.0 / std::f64::consts::PI, "angle (deg)", "torque (N·m)")
+    } else {
+        (1.0, "position (m)", "force (N)")
+    };
+    let angle = [Series::new(
+        coord,
+        r.time.clone(),
+        r.q.column(jq).iter().map(|x| x * factor).collect(),
+    )];
+    let torque = [Series::new(coord, r.time.clone(), r.tau.column(jv))];
+    let title_a = format!("{coord} {}", angle_label.split(' ').next().unwrap_or(""));
+    let title_t = format!("{coord} {}", torque_label.split(' ').next().unwrap_or(""));
+    let panels = [
+        Panel {
+            title: &title_a,
+            x_label: "time (s)",
+            y_label: angle_label,
+            series: &angle,
+            mark_min_max: true,
+        },
+        Panel {
+            title: &title_t,
+            x_label: "time (s)",
+            y_label: torque_label,
+            series: &torque,
+            mark_min_max: true,
+        },
+    ];
+    Ok(stacked_svg(&panels, None)?)
 }
 
 /// A statistic over a series (0 for an empty one).

@@ -7,8 +7,10 @@
 
 use super::ui::{Focus, PARAMS, Ui};
 use crate::dynamics::{Workspace, forward_kinematics};
+use crate::report::superquadric::SuperquadricMesh;
 use crate::session::Workbench;
 use crate::session::engine::Analysis;
+use crate::spatial::SpatialTransform;
 use ratatui::Frame;
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Layout, Rect};
@@ -141,15 +143,14 @@ fn draw_tree(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     f.render_widget(body.block(block), area);
 }
 
-/// World positions (m) of every body at frame `k`.
-fn body_positions(r: &Analysis, k: usize) -> Vec<nalgebra::Vector3<f64>> {
-    let mut ws = Workspace::new(&r.model);
-    let k = k.min(r.q.rows().saturating_sub(1));
+/// World pose of every body at frame `k` (empty without frames).
+fn body_poses(r: &Analysis, k: usize) -> Vec<SpatialTransform> {
     if r.q.rows() == 0 {
         return vec![];
     }
-    forward_kinematics(&r.model, &mut ws, r.q.row(k));
-    ws.o_x_i.iter().map(|x| x.trans).collect()
+    let mut ws = Workspace::new(&r.model);
+    forward_kinematics(&r.model, &mut ws, r.q.row(k.min(r.q.rows() - 1)));
+    ws.o_x_i
 }
 
 fn draw_view(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
@@ -168,7 +169,8 @@ fn draw_view(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         f.render_widget(Paragraph::new(msg).block(block), area);
         return;
     };
-    let pos = body_positions(r, wb.frame);
+    let poses = body_poses(r, wb.frame);
+    let pos: Vec<nalgebra::Vector3<f64>> = poses.iter().map(|x| x.trans).collect();
     if pos.is_empty() {
         f.render_widget(block, area);
         return;
@@ -192,10 +194,23 @@ fn draw_view(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     let height_m = 2.3;
     let aspect = f64::from(inner.width.max(1)) / (2.0 * f64::from(inner.height.max(1)));
     let half_w = height_m * aspect / 2.0;
-    let segments: Vec<((f64, f64), (f64, f64))> = (1..pos.len())
-        .filter(|&i| r.model.parent[i] > 0 && (pos[i] - pos[r.model.parent[i]]).norm() > 1e-6)
-        .map(|i| (project(&pos[r.model.parent[i]]), project(&pos[i])))
-        .collect();
+    // links with a shape: superquadric wireframes (Barr 1981) of 6 parallels × 8 meridians;
+    // without shapes (robot models): segments from each body to its parent
+    let with_shapes = r.model.shapes.iter().any(Option::is_some);
+    let mut segments: Vec<((f64, f64), (f64, f64))> = vec![];
+    for i in 1..pos.len() {
+        if with_shapes {
+            if let Some(sq) = &r.model.shapes[i] {
+                let mesh = SuperquadricMesh::new(sq, 6, 8);
+                segments.extend(
+                    mesh.edges_in(&poses[i])
+                        .map(|(a, b)| (project(&a), project(&b))),
+                );
+            }
+        } else if r.model.parent[i] > 0 && (pos[i] - pos[r.model.parent[i]]).norm() > 1e-6 {
+            segments.push((project(&pos[r.model.parent[i]]), project(&pos[i])));
+        }
+    }
     let selected_body = wb
         .selection
         .as_deref()
