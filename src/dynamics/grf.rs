@@ -34,7 +34,7 @@ use super::{Workspace, forward_kinematics, rnea};
 use crate::error::Error;
 use crate::model::{JointKind, Model};
 use crate::motion::contact::{
-    ContactParams, Foot, FootPoints, contact_phases, floor_height, foot_bodies,
+    ContactParams, Foot, FootPoints, contact_phases, fit_heel_points, floor_height, foot_bodies,
 };
 use crate::spatial::{ForceVec, SpatialTransform};
 use nalgebra::Vector3;
@@ -154,7 +154,8 @@ pub fn estimate_ground_reactions_with_feet(
     let mut ws = Workspace::new(model);
 
     // contact phases from the heel and toe paths
-    let points = foot_paths(model, &mut ws, feet, q);
+    let mut feet = feet.to_vec();
+    let points = foot_paths(model, &mut ws, &mut feet, q, up);
     let by_foot = contact_phases(&points, up, dt, params);
     let floor = floor_height(&points, up);
     let contact: Vec<Vec<bool>> = (0..n)
@@ -188,7 +189,7 @@ pub fn estimate_ground_reactions_with_feet(
         out.wrench[k] = about(&w, &pelvis);
 
         // the feet's shares and their wrenches
-        for (s, f) in support.iter_mut().zip(feet) {
+        for (s, f) in support.iter_mut().zip(&feet) {
             *s = Support::new(f, &ws.o_x_i, up, floor);
         }
         let c = &out.contact[k];
@@ -286,15 +287,28 @@ fn floating_root(model: &Model) -> Option<usize> {
     (lin == 3 && ang == 3).then_some(r)
 }
 
-/// World path of each foot's heel and toe over the take.
-fn foot_paths(model: &Model, ws: &mut Workspace, feet: &[Foot], q: &[Vec<f64>]) -> Vec<FootPoints> {
+/// World path of each foot's heel and toe over the take, after fitting each heel point to the
+/// take ([`fit_heel_points`]: the rest pose of some skeletons is not standing).
+fn foot_paths(
+    model: &Model,
+    ws: &mut Workspace,
+    feet: &mut [Foot],
+    q: &[Vec<f64>],
+    up: usize,
+) -> Vec<FootPoints> {
+    let mut poses = vec![Vec::with_capacity(q.len()); feet.len()];
     let mut paths = vec![FootPoints::default(); feet.len()];
     for qk in q {
         forward_kinematics(model, ws, qk);
-        for (p, f) in paths.iter_mut().zip(feet) {
-            p.heel.push(f.heel(&ws.o_x_i));
+        for ((p, x), f) in paths.iter_mut().zip(&mut poses).zip(&*feet) {
             p.toe.push(f.toe(&ws.o_x_i));
+            x.push(ws.o_x_i[f.ankle_body]);
         }
+    }
+    let floor = floor_height(&paths, up);
+    fit_heel_points(feet, &poses, up, floor);
+    for ((p, x), f) in paths.iter_mut().zip(&poses).zip(&*feet) {
+        p.heel = x.iter().map(|x| x.transform_point(&f.heel_point)).collect();
     }
     paths
 }

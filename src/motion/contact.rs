@@ -26,19 +26,21 @@ use nalgebra::Vector3;
 /// ([`crate::dynamics::grf`]). Lengths in m, speeds in m/s, times in s.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactParams {
-    /// A point enters contact below this height above its floor level. Default 0.03 m: a
-    /// planted ankle or toe joint moves ~1–2 cm vertically (rolling over the heel, skin and
-    /// solver noise of optical capture), a swinging foot clears the floor by 1–2 cm at the toe
-    /// but then moves fast, which the speed test rejects.
+    /// A point enters contact below this height above its floor level. Default 0.04 m: a
+    /// planted heel or toe point moves 1–3 cm vertically in captured takes (heel roll, skin
+    /// and solver noise, the low-pass filter rounding the heel strike), while a swinging foot
+    /// that clears the floor by less (the toe at mid-swing) moves fast, which the speed test
+    /// rejects.
     pub height_on: f64,
-    /// A point leaves contact above this height. Default 0.06 m (twice `height_on`).
+    /// A point leaves contact above this height. Default 0.07 m.
     pub height_off: f64,
-    /// A point enters contact below this speed. Default 0.5 m/s: planted points move at
-    /// < 0.3 m/s (heel roll, push-off), swinging feet at 2–5 m/s in walking (Winter 2009,
-    /// *Biomechanics and Motor Control of Human Movement*, 4th ed., ch. 2 toe trajectory) and
-    /// faster in running.
+    /// A point enters contact below this speed. Default 0.8 m/s: planted points move at
+    /// < 0.3 m/s (heel roll, push-off) but the low-pass filter (6 Hz) smears the last
+    /// 1–2 m/s of a heel strike over ~0.05 s; swinging feet move at 2–5 m/s in walking
+    /// (Winter 2009, *Biomechanics and Motor Control of Human Movement*, 4th ed., ch. 2 toe
+    /// trajectory) and faster in running.
     pub speed_on: f64,
-    /// A point leaves contact above this speed. Default 1.0 m/s.
+    /// A point leaves contact above this speed. Default 1.2 m/s.
     pub speed_off: f64,
     /// Contact or flight phases shorter than this are absorbed by their neighbours (except at
     /// the ends of the take). Default 0.04 s: one frame at 30 fps, five at 120 fps; flight in
@@ -58,10 +60,10 @@ pub struct ContactParams {
 impl Default for ContactParams {
     fn default() -> Self {
         Self {
-            height_on: 0.03,
-            height_off: 0.06,
-            speed_on: 0.5,
-            speed_off: 1.0,
+            height_on: 0.04,
+            height_off: 0.07,
+            speed_on: 0.8,
+            speed_off: 1.2,
             min_phase_s: 0.04,
             cop_margin: 0.05,
             friction: 1.0,
@@ -427,6 +429,48 @@ pub fn feet_of_bvh(bvh: &Bvh, map: &BvhMap, model: &Model) -> Vec<Foot> {
     }
     set_heel_points(model, &mut feet);
     feet
+}
+
+/// Fits the feet's heel points to a take, for skeletons whose rest pose is not standing (some
+/// rest poses lay the legs along a horizontal axis): for each foot, over the frames where its
+/// ankle is lowest (its lowest 10 %, the foot flat on the floor), the mean downward direction
+/// in the ankle body's frame; and for all feet the smallest mean height of an ankle above the
+/// `floor` over those frames (the same for both feet, so that a foot that never comes down
+/// does not get a heel reaching for the floor). `poses[foot]` are the world poses of that
+/// foot's `ankle_body`, one per frame. A foot without poses keeps its heel point.
+pub fn fit_heel_points(
+    feet: &mut [Foot],
+    poses: &[Vec<crate::spatial::SpatialTransform>],
+    up: usize,
+    floor: f64,
+) {
+    let down = -Vector3::ith(up, 1.0);
+    let mut drop = f64::INFINITY;
+    let mut dirs = vec![None; feet.len()];
+    for ((foot, poses), dir) in feet.iter().zip(poses).zip(&mut dirs) {
+        let heights: Vec<f64> = poses
+            .iter()
+            .map(|x| x.transform_point(&foot.ankle_point)[up])
+            .collect();
+        let mut sorted = heights.clone();
+        sorted.sort_by(f64::total_cmp);
+        let Some(&cut) = sorted.get(sorted.len() / 10) else {
+            continue;
+        };
+        let (mut sum, mut height, mut count) = (Vector3::zeros(), 0.0, 0.0);
+        for (x, h) in poses.iter().zip(&heights).filter(|(_, h)| **h <= cut) {
+            sum += x.rot.tr_mul(&down);
+            height += h;
+            count += 1.0;
+        }
+        *dir = sum.try_normalize(1e-9);
+        drop = drop.min((height / count - floor).max(0.0));
+    }
+    for (foot, dir) in feet.iter_mut().zip(dirs) {
+        if let Some(dir) = dir {
+            foot.heel_point = foot.ankle_point + dir * drop;
+        }
+    }
 }
 
 /// Places each foot's heel point under its ankle: in the rest pose (q = neutral, every joint
