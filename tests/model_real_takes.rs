@@ -1,7 +1,9 @@
 //! Every real take (`ARTICULA_REAL_TAKES`) becomes a model in both joint models whose link
 //! masses sum to the body mass, and whose forward kinematics puts every BVH joint where the
 //! BVH definition (`io::bvh::bvh_world_positions`, scaled to metres) puts it, to 1e-9 m, on
-//! every frame; the euler and ball models agree with each other to the same tolerance.
+//! every frame; the euler and ball models agree with each other to the same tolerance; every
+//! leaf link has mass and a positive-definite inertia; a link mass override is kept exactly
+//! and a locked joint leaves the model without losing mass.
 
 mod common;
 
@@ -40,6 +42,20 @@ fn every_real_take_builds_and_its_fk_matches_the_bvh_definition() {
                 path.display()
             );
             assert!(model.inertia.iter().all(|i| i.mass >= 0.0));
+            // every leaf link has mass and a positive-definite inertia (no singular joint in
+            // forward dynamics)
+            for i in 1..model.nbodies() {
+                if !model.parent[1..].contains(&i) {
+                    let ev = model.inertia[i].inertia_com.symmetric_eigenvalues().min();
+                    assert!(
+                        model.inertia[i].mass > 0.0 && ev > 0.0,
+                        "{}: {jm}: leaf {} has mass {} and inertia eigenvalue {ev}",
+                        path.display(),
+                        model.body_names[i],
+                        model.inertia[i].mass
+                    );
+                }
+            }
             let traj = Trajectory::from_bvh(&take, &model, &map);
             let mut ws = Workspace::new(&model);
             let mut worst: f64 = 0.0;
@@ -60,6 +76,28 @@ fn every_real_take_builds_and_its_fk_matches_the_bvh_definition() {
             );
             positions_by_model.push(all);
         }
+        // a link mass override is kept exactly and the rest rescaled; a locked joint leaves
+        // the model without losing mass
+        let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+        let leaf = take.joints.len() - 1;
+        let mut opts = BvhModelOptions::new(name, scale, up, modes.clone());
+        opts.body = BodyParams::new(80.0, Sex::Male);
+        opts.body
+            .link_mass
+            .insert(take.joints[1].name.clone(), 3.25);
+        opts.lock = vec![take.joints[leaf].name.clone()];
+        let (model, map) = build_bvh_model(&take, &opts).unwrap();
+        let total = model.total_mass();
+        assert!((total - 80.0).abs() < 1e-9, "{}: {total}", path.display());
+        let n_leaf = take.joints[leaf].channels.len();
+        assert_eq!(model.nv, take.channel_count - n_leaf, "{}", path.display());
+        let body1 = map.joints[1].body;
+        let m1 = model.inertia[body1].mass;
+        // joint 1's link carries its override (plus any locked child lumped into it)
+        if take.joints[leaf].parent != Some(1) {
+            assert!((m1 - 3.25).abs() < 1e-12, "{}: {m1}", path.display());
+        }
+
         let worst = positions_by_model[0]
             .iter()
             .zip(&positions_by_model[1])
