@@ -165,3 +165,25 @@ fn a_bvh_file_next_to_the_session_loads_by_relative_path() {
         r.messages
     );
 }
+
+#[test]
+fn screen_dump_for_the_readme() {
+    // `screen` writes what the TUI shows; print it with --nocapture
+    let dir = tempfile::tempdir().unwrap();
+    let s = write(
+        dir.path(),
+        "s.session",
+        "load demo:walk\nselect LeftLeg.Xrotation\nframe 60\nkey <Tab><Tab>\nscreen s.txt\nexpect screen contains Parameters\n",
+    );
+    run_session(&s, dir.path()).unwrap_or_else(|e| panic!("{e}"));
+    let text = std::fs::read_to_string(dir.path().join("s.txt")).unwrap();
+    println!("{text}");
+    assert_eq!(text.lines().count(), 30);
+    // the avatar pane holds braille dots (the superquadric links)
+    assert!(
+        text.chars()
+            .filter(|c| ('\u{2801}'..='\u{28FF}').contains(c))
+            .count()
+            > 50
+    );
+}

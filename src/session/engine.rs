@@ -7,10 +7,16 @@
 
 use crate::dynamics::{Workspace, rnea};
 use crate::error::Error;
-use crate::io::bvh::{Bvh, Channel};
-use crate::model::{JointKind, Model, ModelBuilder};
-use crate::spatial::{SpatialInertia, SpatialTransform};
-use nalgebra::{Matrix3, Vector3};
+use crate::io::bvh::{
+    Bvh, PositionMode, check_stature, detect_unit, detect_up, resolve_position_modes,
+};
+use crate::model::anthropometry::BodyParams;
+use crate::model::bvh::{BvhModelOptions, build_bvh_model};
+use crate::model::{self, Model};
+use crate::motion::derive;
+use crate::motion::smooth::{SmoothSpec, smooth_columns};
+use crate::motion::take::Trajectory;
+use crate::motion::unwrap::{AngleUnit, unwrap_angles};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Arc;
@@ -297,34 +303,16 @@ impl Engine for Builtin {
         ctl: &Control,
     ) -> Result<Analysis, Error> {
         let bvh = &take.bvh;
-        let scale = match params.unit {
-            Some(s) => s,
-            None => detect_scale(bvh)?,
-        };
-        let (model, map) = euler_model(bvh, params, scale, &take.name)?;
-        let frames = bvh.frames;
+        let (model, q) = model_and_q(bvh, params, &take.name)?;
         let dt = bvh.frame_time;
-        let time: Vec<f64> = (0..frames).map(|k| k as f64 * dt).collect();
+        let time: Vec<f64> = (0..bvh.frames).map(|k| k as f64 * dt).collect();
+        ctl.check()?;
 
-        // channels → q
-        let mut q = Table::zeros(model.q_names.clone(), frames);
-        for k in 0..frames {
-            let raw = bvh.frame(k);
-            let row = q.row_mut(k);
-            for &(col, ch, is_rot) in &map {
-                row[col] = if is_rot {
-                    raw[ch].to_radians()
-                } else {
-                    raw[ch] * scale
-                };
-            }
-        }
-        smooth_columns(&mut q, params.smooth, dt)?;
-
-        // q → v, a by central differences
+        // q → v, a (second-order differences, motion::derive)
         let (v, a) = differentiate(&q, dt);
 
         // inverse dynamics frame by frame
+        let frames = bvh.frames;
         let mut tau = Table::zeros(model.v_names.clone(), frames);
         let mut ws = Workspace::new(&model);
         for k in 0..frames {
@@ -336,6 +324,7 @@ impl Engine for Builtin {
             tau.row_mut(k).copy_from_slice(t.as_slice());
         }
         ctl.set_progress(1.0);
+        let scale = model_scale(bvh, params);
         Ok(Analysis {
             model: Arc::new(model),
             time,
@@ -360,208 +349,92 @@ impl Engine for Builtin {
     }
 }
 
-/// Metres per file unit from the rest-pose stature: the unit among m, dm, cm, mm and inches
-/// that puts the stature in 1.0–2.3 m.
-fn detect_scale(bvh: &Bvh) -> Result<f64, Error> {
-    let n = bvh.joints.len();
-    let mut pos = vec![Vector3::zeros(); n];
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for (i, j) in bvh.joints.iter().enumerate() {
-        pos[i] = j.parent.map_or(Vector3::zeros(), |p| pos[p]) + j.offset;
-        for p in std::iter::once(pos[i]).chain(j.end_sites.iter().map(|e| pos[i] + e)) {
-            lo = lo.min(p.y);
-            hi = hi.max(p.y);
-        }
-    }
-    let stature = hi - lo;
-    [1.0, 0.1, 0.01, 0.001, 0.0254]
-        .into_iter()
-        .find(|s| (1.0..=2.3).contains(&(stature * s)))
-        .ok_or_else(|| {
-            Error::Invalid(format!(
-                "rest-pose stature {stature} (file units) fits no length unit; use set unit"
-            ))
-        })
+/// Metres per file unit: `set unit`, else detected from the rest-pose stature
+/// (io::bvh::detect_unit).
+fn model_scale(bvh: &Bvh, params: &Params) -> f64 {
+    params
+        .unit
+        .unwrap_or_else(|| detect_unit(bvh, detect_up(bvh)).0.scale_to_m())
 }
 
-/// The euler joint model of a BVH skeleton (one revolute joint per rotation channel, one
-/// prismatic per position channel, channel order, massless fictitious links between; see
-/// ARCHITECTURE.md), link masses distributed over the body mass in proportion to bone length
-/// (the bone-volume fallback of issue 2 with a common radius) with `link.<name>.mass`
-/// overrides, each link a slender rod from its joint to the mean of its children
-/// (I = m L²/12 across the rod). Locked joints get fixed joints.
-///
-/// Returns the model and, per coordinate, `(q column, channel column, is rotation)`.
-#[allow(clippy::type_complexity)]
-fn euler_model(
-    bvh: &Bvh,
-    params: &Params,
-    scale: f64,
-    name: &str,
-) -> Result<(Model, Vec<(usize, usize, bool)>), Error> {
-    for l in params.lock.iter().chain(params.link_mass.keys()) {
-        if bvh.joint_index(l).is_none() {
-            return Err(Error::Invalid(format!("no joint called '{l}' in {name}")));
-        }
-    }
+/// The model of a take (model::bvh: de Leva masses and shapes, locks) and its smoothed
+/// configurations per frame: channels → q (motion::take), angles unwrapped
+/// (motion::unwrap), then smoothed column by column (motion::smooth).
+fn model_and_q(bvh: &Bvh, params: &Params, name: &str) -> Result<(Model, Table), Error> {
     if params.joints == JointModel::Ball {
         return Err(Error::Invalid(
-            "joints ball: the ball-joint BVH model is not on main yet; use joints euler".into(),
+            "joints ball: the workbench runs the euler model until the pipeline lands; use \
+             joints euler"
+                .into(),
         ));
     }
     if params.contact == Contact::Feet {
         return Err(Error::Invalid(
-            "contact feet: ground reactions are not on main yet; use contact none".into(),
+            "contact feet: ground reactions in the workbench land with the pipeline; use \
+             contact none"
+                .into(),
         ));
     }
-
-    // bone of each joint: towards the mean of its children (or its end sites), metres
-    let n = bvh.joints.len();
-    let bone: Vec<Vector3<f64>> = (0..n)
-        .map(|i| {
-            let ends: Vec<Vector3<f64>> = bvh
-                .joints
-                .iter()
-                .filter(|c| c.parent == Some(i))
-                .map(|c| c.offset)
-                .chain(bvh.joints[i].end_sites.iter().copied())
-                .collect();
-            if ends.is_empty() {
-                Vector3::zeros()
-            } else {
-                ends.iter().sum::<Vector3<f64>>() / ends.len() as f64 * scale
-            }
-        })
-        .collect();
-
-    // masses: overrides first, the rest shared by bone length
-    let fixed: f64 = params.link_mass.values().sum();
-    if fixed > params.body_mass {
-        return Err(Error::Invalid(format!(
-            "link mass overrides ({fixed} kg) exceed the body mass ({} kg)",
-            params.body_mass
-        )));
+    let up = detect_up(bvh);
+    let scale = model_scale(bvh, params);
+    if params.unit.is_none() {
+        check_stature(detect_unit(bvh, up).1)?;
     }
-    let free_len: f64 = (0..n)
-        .filter(|&i| !params.link_mass.contains_key(&bvh.joints[i].name))
-        .map(|i| bone[i].norm())
-        .sum();
-    let mass: Vec<f64> = (0..n)
-        .map(|i| match params.link_mass.get(&bvh.joints[i].name) {
-            Some(&m) => m,
-            None if free_len > 0.0 => (params.body_mass - fixed) * bone[i].norm() / free_len,
-            None => 0.0,
-        })
-        .collect();
-
-    let mut mb = ModelBuilder::new(name, Vector3::new(0.0, -9.81, 0.0));
-    let mut last_body = vec![0usize; n];
-    let mut map = vec![];
-    for (i, j) in bvh.joints.iter().enumerate() {
-        let locked = params.lock.contains(&j.name);
-        let mut parent = j.parent.map_or(0, |p| last_body[p]);
-        let mut placement = SpatialTransform::from_translation(j.offset * scale);
-        let chans: Vec<Channel> = if j.channels.is_empty() || locked {
-            vec![]
-        } else {
-            j.channels.clone()
-        };
-        let links = chans.len().max(1);
-        for c in 0..links {
-            let (joint, cname) = match chans.get(c) {
-                Some(ch) => {
-                    let axis = Vector3::ith(ch.axis(), 1.0);
-                    let kind = if ch.is_rotation() {
-                        JointKind::Revolute { axis }
-                    } else {
-                        JointKind::Prismatic { axis }
-                    };
-                    (kind, format!("{}.{}", j.name, ch.name()))
-                }
-                None => (JointKind::Fixed, j.name.clone()),
-            };
-            let inertia = if c + 1 == links {
-                rod(mass[i], bone[i])
-            } else {
-                SpatialInertia::ZERO
-            };
-            let b = mb.add_body(parent, cname.clone(), cname, joint, placement, inertia);
-            if let Some(ch) = chans.get(c) {
-                map.push((mb.model().idx_q[b], j.first_channel + c, ch.is_rotation()));
-            }
-            parent = b;
-            placement = SpatialTransform::IDENTITY;
-        }
-        last_body[i] = parent;
-    }
-    Ok((mb.build(), map))
-}
-
-/// A slender rod of mass `m` from the origin to `bone` (m): COM at the middle,
-/// `I = m L²/12 (1 − d dᵀ)` about the COM (plus 1 % along the axis so it is never singular).
-fn rod(m: f64, bone: Vector3<f64>) -> SpatialInertia {
-    let l2 = bone.norm_squared();
-    let inertia = if l2 > 0.0 {
-        let d = bone / l2.sqrt();
-        (Matrix3::identity() - d * d.transpose() * 0.99) * (m * l2 / 12.0)
-    } else {
-        Matrix3::identity() * (m * 1e-4)
+    let mut opts = BvhModelOptions::new(
+        name,
+        scale,
+        up,
+        resolve_position_modes(bvh, PositionMode::Auto),
+    );
+    opts.joints = model::bvh::JointModel::Euler;
+    opts.body = BodyParams {
+        mass_kg: params.body_mass,
+        sex: match params.sex {
+            Sex::Male => model::anthropometry::Sex::Male,
+            Sex::Female => model::anthropometry::Sex::Female,
+        },
+        link_mass: params.link_mass.clone(),
     };
-    SpatialInertia::new(m, bone * 0.5, inertia)
-}
+    opts.lock = params.lock.clone();
+    let (model, map) = build_bvh_model(bvh, &opts)?;
+    let traj = Trajectory::from_bvh(bvh, &model, &map);
 
-/// Smooths every column of `q` in place. The Gaussian kernel (the paper's, standard deviation
-/// `width_s`, truncated at 3σ) is renormalised over the samples inside the take at the ends,
-/// so the ends do not droop toward zero.
-fn smooth_columns(q: &mut Table, smooth: Smooth, dt: f64) -> Result<(), Error> {
-    match smooth {
-        Smooth::None => Ok(()),
-        Smooth::Butterworth { .. } => Err(Error::Invalid(
-            "smooth butterworth: the Butterworth filter is not on main yet; use gaussian:W".into(),
-        )),
-        Smooth::Gaussian { width_s } => {
-            let sigma = width_s / dt;
-            let half = (3.0 * sigma).ceil() as isize;
-            let w: Vec<f64> = (-half..=half)
-                .map(|k| (-0.5 * (k as f64 / sigma).powi(2)).exp())
-                .collect();
-            let rows = q.rows() as isize;
-            for j in 0..q.cols() {
-                let x = q.column(j);
-                for k in 0..rows {
-                    let (mut s, mut ws) = (0.0, 0.0);
-                    for (o, wk) in (-half..=half).zip(&w) {
-                        let i = k + o;
-                        if (0..rows).contains(&i) {
-                            s += wk * x[i as usize];
-                            ws += wk;
-                        }
-                    }
-                    q.row_mut(k as usize)[j] = s / ws;
-                }
-            }
-            Ok(())
+    // columns: unwrap the revolute ones, smooth all
+    let mut columns: Vec<Vec<f64>> = (0..model.nq)
+        .map(|j| traj.q.iter().map(|row| row[j]).collect())
+        .collect();
+    for (j, c) in columns.iter_mut().enumerate() {
+        if model.joints[model.body_of_v(j)].name() == "revolute" {
+            unwrap_angles(AngleUnit::Radians, c);
         }
     }
+    if params.smooth != Smooth::None {
+        let spec: SmoothSpec = params.smooth.to_string().parse()?;
+        smooth_columns(spec, bvh.frame_time, &mut columns)?;
+    }
+    let mut q = Table::zeros(model.q_names.clone(), bvh.frames);
+    for (j, c) in columns.iter().enumerate() {
+        for (k, x) in c.iter().enumerate() {
+            q.row_mut(k)[j] = *x;
+        }
+    }
+    Ok((model, q))
 }
 
-/// Central differences: `v_k = (q_{k+1} − q_{k−1}) / 2dt`, `a_k = (q_{k+1} − 2q_k + q_{k−1}) /
-/// dt²`, one-sided at the ends (the euler model's coordinates are all scalar, so plain
-/// differences are the manifold differences).
+/// Velocities and accelerations of scalar coordinates (the euler model: q and v have the same
+/// size) by second-order differences at every frame (motion::derive).
 fn differentiate(q: &Table, dt: f64) -> (Table, Table) {
-    let (rows, cols) = (q.rows(), q.cols());
+    let rows = q.rows();
     let mut v = Table::zeros(q.names.clone(), rows);
     let mut a = Table::zeros(q.names.clone(), rows);
-    if rows < 3 {
-        return (v, a);
-    }
-    for k in 0..rows {
-        let (km, kp) = (k.saturating_sub(1), (k + 1).min(rows - 1));
-        let kc = k.clamp(1, rows - 2);
-        for j in 0..cols {
-            v.row_mut(k)[j] = (q.row(kp)[j] - q.row(km)[j]) / ((kp - km) as f64 * dt);
-            a.row_mut(k)[j] =
-                (q.row(kc + 1)[j] - 2.0 * q.row(kc)[j] + q.row(kc - 1)[j]) / (dt * dt);
+    let (mut dv, mut da) = (vec![0.0; rows], vec![0.0; rows]);
+    for j in 0..q.cols() {
+        let x = q.column(j);
+        derive::differentiate(&x, dt, &mut dv);
+        derive::second_derivative(&x, dt, &mut da);
+        for k in 0..rows {
+            v.row_mut(k)[j] = dv[k];
+            a.row_mut(k)[j] = da[k];
         }
     }
     (v, a)
@@ -586,18 +459,25 @@ mod tests {
     }
 
     #[test]
-    fn gaussian_smoothing_keeps_a_constant_and_a_line() {
-        let mut q = Table::zeros(vec!["a".into(), "b".into()], 50);
-        for k in 0..50 {
-            q.row_mut(k).copy_from_slice(&[2.0, 0.1 * k as f64]);
+    fn smoothing_width_changes_the_torques_and_none_keeps_the_raw_angles() {
+        let take = Builtin.load(Path::new(DEMO_WALK)).unwrap();
+        let ctl = Control::default();
+        let raw = Params {
+            smooth: Smooth::None,
+            ..Params::default()
+        };
+        let r0 = Builtin.inverse_dynamics(&take, &raw, &ctl).unwrap();
+        // unsmoothed: q is the channel value in radians
+        let j = r0.q.col_index("LeftLeg.Xrotation").unwrap();
+        let c = take.bvh.joints[take.bvh.joint_index("LeftLeg").unwrap()].first_channel + 1;
+        for k in [0, 100, 479] {
+            assert!((r0.q.row(k)[j] - take.bvh.frame(k)[c].to_radians()).abs() < 1e-12);
         }
-        smooth_columns(&mut q, Smooth::Gaussian { width_s: 0.05 }, 0.01).unwrap();
-        for k in 0..50 {
-            assert!((q.row(k)[0] - 2.0).abs() < 1e-12);
-            // interior samples of a line are unchanged by a symmetric kernel
-            if (15..35).contains(&k) {
-                assert!((q.row(k)[1] - 0.1 * k as f64).abs() < 1e-9);
-            }
-        }
+        let wide = Params {
+            smooth: Smooth::Gaussian { width_s: 0.05 },
+            ..Params::default()
+        };
+        let r1 = Builtin.inverse_dynamics(&take, &wide, &ctl).unwrap();
+        assert_ne!(r0.tau, r1.tau);
     }
 }

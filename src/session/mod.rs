@@ -45,7 +45,7 @@
 //!   `expect peak LeftLeg.Xrotation torque between 20 150`;
 //! - `expect screen contains TEXT`, `expect message contains TEXT`.
 //!
-//! `expect`, `export` and `compare` run inverse dynamics first when the results are missing or
+//! `expect`, `export`, `compare`, `report` and `screen` run inverse dynamics first when the results are missing or
 //! stale, so a session needs no explicit `run id`.
 //!
 //! # Replay
@@ -207,6 +207,7 @@ pub fn apply_with(
     match cmd {
         Command::Key(keys) => frontend.keys(wb, keys),
         Command::Screen { path } => {
+            wb.refresh()?;
             let out = wb.out_path(path);
             let text = frontend.screen(wb);
             crate::io::write_atomic(&out, text.as_bytes())?;
@@ -217,6 +218,7 @@ pub fn apply_with(
             })
         }
         Command::Expect(Expectation::ScreenContains(t)) => {
+            wb.refresh()?;
             let screen = frontend.screen(wb);
             if screen.contains(t.as_str()) {
                 Ok(Outcome {

@@ -252,6 +252,15 @@ impl Workbench {
         }
     }
 
+    /// Runs inverse dynamics now if a take is loaded and its results are missing or stale (what
+    /// a front end does before showing the screen of a replay).
+    pub fn refresh(&mut self) -> Result<(), SessionError> {
+        if self.take().is_some() && self.fresh_results().is_none() {
+            self.ensure_results()?;
+        }
+        Ok(())
+    }
+
     /// Runs inverse dynamics now unless fresh results exist.
     fn ensure_results(&mut self) -> Result<Arc<Analysis>, SessionError> {
         if let Some(r) = self.fresh_results() {
