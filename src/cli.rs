@@ -1,13 +1,453 @@
-//! Command-line flags (clap) and their dispatch to the library.
+//! Command-line flags (clap), validated into library settings, and their dispatch.
+//!
+//! Two steps, as ripgrep does: clap parses raw flags into the structs below; `run` turns them
+//! into `pipeline` options and calls the library. Nothing computes here.
 
-use clap::Parser;
+use anyhow::{Context, Result, bail};
+use articula::pipeline::{self, ModelSource, TakeOptions};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// articula: a terminal workbench for the dynamics of articulated avatars.
+///
+/// With no subcommand, opens the terminal UI on the given takes (or on the bundled demo take
+/// `data/demo_walk.bvh`).
 #[derive(Debug, Parser)]
-#[command(name = "articula", version, about)]
-pub struct Cli {}
+#[command(name = "articula", version, about, args_conflicts_with_subcommands = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub cmd: Option<Cmd>,
+    /// Takes (BVH), DH tables (.toml) or URDFs to open in the terminal UI.
+    pub files: Vec<PathBuf>,
+}
 
-pub fn run(_cli: Cli) -> anyhow::Result<ExitCode> {
+#[derive(Debug, Subcommand)]
+pub enum Cmd {
+    /// Describe a take: skeleton, channels, frames, unit, up axis, model size, mass.
+    Info {
+        take: PathBuf,
+        #[command(flatten)]
+        opts: TakeArgs,
+        /// Machine-readable summary with the keys joints, frames, frame_time, nq, nv,
+        /// scale_to_m, stature_m, up, gravity, mass_kg.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Write positions, the euler model as URDF, or the states inverse dynamics uses.
+    Export {
+        what: ExportWhat,
+        take: PathBuf,
+        #[command(flatten)]
+        opts: TakeArgs,
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Make a take (the bundled demo walk is made this way).
+    Generate {
+        what: GenerateWhat,
+        #[arg(short, long, default_value = "data/demo_walk.bvh")]
+        output: PathBuf,
+        /// Frames per second.
+        #[arg(long, default_value_t = 120.0)]
+        fps: f64,
+        /// Length (s).
+        #[arg(long, default_value_t = 4.0)]
+        duration: f64,
+        /// Skeleton scale relative to a 1.72 m adult.
+        #[arg(long, default_value_t = 1.0)]
+        scale: f64,
+    },
+    /// Inverse dynamics (RNEA): the torque of every coordinate, frame by frame.
+    Id {
+        #[command(flatten)]
+        src: SourceArgs,
+        #[command(flatten)]
+        opts: TakeArgs,
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Direct dynamics (ABA): accelerations `a:<coord>` from states and torques.
+    Fd {
+        #[command(flatten)]
+        src: SourceArgs,
+        #[command(flatten)]
+        opts: TakeArgs,
+        /// Torques CSV (`time`, then one column per coordinate, as `articula id` writes).
+        #[arg(long)]
+        torques: PathBuf,
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// The joint-space mass matrix D(q) (CRBA), row-major `M:<i>:<j>`, one row per state.
+    MassMatrix {
+        #[command(flatten)]
+        src: SourceArgs,
+        #[command(flatten)]
+        opts: TakeArgs,
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Forward simulation tracking the take with computed-torque PD control.
+    Simulate {
+        take: PathBuf,
+        #[command(flatten)]
+        opts: TakeArgs,
+        #[command(flatten)]
+        sim: SimArgs,
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Print a JSON summary (rms_error_rad, max_error_rad, steps, integrator, dt).
+        #[arg(long)]
+        json: bool,
+    },
+    /// Nanoseconds per call of rnea, crba, aba and one RK4 step.
+    Bench {
+        #[command(flatten)]
+        src: SourceArgs,
+        #[command(flatten)]
+        opts: TakeArgs,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Measure the speed/accuracy trade of integrators, steps and joint models.
+    Tradeoff {
+        take: PathBuf,
+        #[command(flatten)]
+        opts: TakeArgs,
+        /// Simulated time (s) from the start of the take.
+        #[arg(long, default_value_t = 1.0)]
+        duration: f64,
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
+    /// Write a cleaned (smoothed) take.
+    Smooth {
+        take: PathBuf,
+        #[command(flatten)]
+        opts: TakeArgs,
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Blend two takes through a transition window.
+    Blend {
+        a: PathBuf,
+        b: PathBuf,
+        /// Transition window(s) `t0:t1` in seconds of take a.
+        #[arg(long, required = true)]
+        window: Vec<String>,
+        /// What of take b to align to take a at the window: `root,heading`, `root`, `none`.
+        #[arg(long, default_value = "root,heading")]
+        align: String,
+        /// Time offset (s) of take b.
+        #[arg(long, default_value_t = 0.0)]
+        offset: f64,
+        /// Time scale of take b.
+        #[arg(long, default_value_t = 1.0)]
+        time_scale: f64,
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Replay a session file headless.
+    Run {
+        session: PathBuf,
+        /// Folder for the session's outputs (relative paths in the session go here).
+        #[arg(long, default_value = ".")]
+        out: PathBuf,
+    },
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum ExportWhat {
+    /// World position of every joint, per frame (m, the take's axes).
+    Positions,
+    /// The model as URDF.
+    Urdf,
+    /// q, v, a per frame, exactly as inverse dynamics uses them.
+    States,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum GenerateWhat {
+    /// A parametric walk on a standard 21-joint skeleton.
+    Walk,
+}
+
+/// Where the model and states come from: a take, or a robot with a states CSV.
+#[derive(Debug, Args)]
+pub struct SourceArgs {
+    /// A BVH take.
+    #[arg(conflicts_with_all = ["urdf", "dh"])]
+    pub take: Option<PathBuf>,
+    /// A URDF robot (fixed base).
+    #[arg(long, conflicts_with = "dh")]
+    pub urdf: Option<PathBuf>,
+    /// A DH table (TOML, Robotics Toolbox conventions).
+    #[arg(long)]
+    pub dh: Option<PathBuf>,
+    /// States CSV (`time`, `q:<coord>`, `v:<coord>`, `a:<coord>`), as `export states` writes.
+    /// Required with --urdf/--dh; with a take, replaces the take's own states.
+    #[arg(long)]
+    pub states: Option<PathBuf>,
+}
+
+/// How a take becomes a model and states.
+#[derive(Debug, Args, Clone)]
+pub struct TakeArgs {
+    /// Length unit of the BVH: m, dm, cm, mm, in, cmu, or metres per unit. Default: detected.
+    #[arg(long)]
+    pub unit: Option<String>,
+    /// Scale the skeleton to this rest-pose stature (m) instead of using a unit.
+    #[arg(long, conflicts_with = "unit")]
+    pub stature: Option<f64>,
+    /// Up axis of the take: x, y or z. Default: detected.
+    #[arg(long)]
+    pub up: Option<String>,
+    /// Position channels: add (to OFFSET), replace (OFFSET), or auto (per joint, from data;
+    /// the default).
+    #[arg(long)]
+    pub positions: Option<String>,
+    /// Joint model: euler (one revolute per channel, the paper's; the default) or ball.
+    #[arg(long)]
+    pub joints: Option<String>,
+    /// Body mass (kg); default 75.
+    #[arg(long)]
+    pub mass: Option<f64>,
+    /// Sex for the de Leva (1996) tables: male (default) or female.
+    #[arg(long)]
+    pub sex: Option<String>,
+    /// Link mass override `JOINT=KG` (repeatable); the other links are rescaled.
+    #[arg(long = "link-mass", value_name = "JOINT=KG")]
+    pub link_mass: Vec<String>,
+    /// Smoothing: none, gaussian:<sigma s>, butterworth:<cutoff>hz (default butterworth:6hz).
+    #[arg(long)]
+    pub smooth: Option<String>,
+    /// Joints to lock (comma-separated); their DOFs leave the model.
+    #[arg(long, value_delimiter = ',')]
+    pub lock: Vec<String>,
+    /// Keep only the subtree below this joint.
+    #[arg(long)]
+    pub subtree: Option<String>,
+    /// Ground contact: none (default), or feet (estimate ground reaction forces).
+    #[arg(long)]
+    pub contact: Option<String>,
+    /// Scene file (TOML); command-line flags given explicitly override it.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+}
+
+/// Computed-torque tracking settings.
+#[derive(Debug, Args, Clone)]
+pub struct SimArgs {
+    /// euler, semi-implicit, rk4, dopri5[:tol].
+    #[arg(long, default_value = "rk4")]
+    pub integrator: String,
+    /// Step (s).
+    #[arg(long, default_value_t = 0.001)]
+    pub dt: f64,
+    /// Position gain (1/s²).
+    #[arg(long, default_value_t = 400.0)]
+    pub kp: f64,
+    /// Velocity gain (1/s).
+    #[arg(long, default_value_t = 40.0)]
+    pub kv: f64,
+    /// Relative error of the controller's link masses (0.1 = 10 % heavy).
+    #[arg(long, default_value_t = 0.0)]
+    pub mass_error: f64,
+    /// Simulated time (s); default: the whole take.
+    #[arg(long)]
+    pub duration: Option<f64>,
+}
+
+impl TakeArgs {
+    fn options(&self) -> Result<TakeOptions> {
+        let mut o = match &self.scene {
+            Some(path) => TakeOptions::from_scene_file(path)?,
+            None => TakeOptions::default(),
+        };
+        o.apply_flags(&pipeline::Flags {
+            unit: self.unit.as_deref(),
+            stature_m: self.stature,
+            up: self.up.as_deref(),
+            positions: self.positions.as_deref(),
+            joints: self.joints.as_deref(),
+            mass_kg: self.mass,
+            sex: self.sex.as_deref(),
+            link_mass: &self.link_mass,
+            smooth: self.smooth.as_deref(),
+            lock: &self.lock,
+            subtree: self.subtree.as_deref(),
+            contact: self.contact.as_deref(),
+        })?;
+        Ok(o)
+    }
+}
+
+impl SourceArgs {
+    fn source(&self) -> Result<ModelSource> {
+        Ok(match (&self.take, &self.urdf, &self.dh) {
+            (Some(t), None, None) => ModelSource::Take(t.clone()),
+            (None, Some(u), None) => ModelSource::Urdf(u.clone()),
+            (None, None, Some(d)) => ModelSource::Dh(d.clone()),
+            _ => bail!("give a take (TAKE.bvh), --urdf FILE or --dh FILE"),
+        })
+    }
+}
+
+fn need(path: &Path) -> Result<()> {
+    if !path.exists() {
+        bail!("{}: no such file", path.display());
+    }
+    Ok(())
+}
+
+/// The bundled demo take, found beside the binary's sources (cargo run) or the working folder.
+fn demo_take() -> PathBuf {
+    let here = PathBuf::from("data/demo_walk.bvh");
+    if here.exists() {
+        return here;
+    }
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/demo_walk.bvh")
+}
+
+pub fn run(cli: Cli) -> Result<ExitCode> {
+    let Some(cmd) = cli.cmd else {
+        let files = if cli.files.is_empty() {
+            vec![demo_take()]
+        } else {
+            cli.files
+        };
+        for f in &files {
+            need(f)?;
+        }
+        articula::tui::run_files(&files).context("terminal UI")?;
+        return Ok(ExitCode::SUCCESS);
+    };
+    match cmd {
+        Cmd::Info { take, opts, json } => {
+            let take = pipeline::load_take(&take, &opts.options()?)?;
+            let info = pipeline::info(&take);
+            if json {
+                println!("{}", serde_json::to_string_pretty(&info.json())?);
+            } else {
+                print!("{}", info.text());
+            }
+        }
+        Cmd::Export {
+            what,
+            take,
+            opts,
+            output,
+        } => {
+            let take = pipeline::load_take(&take, &opts.options()?)?;
+            match what {
+                ExportWhat::Positions => pipeline::export_positions(&take, &output)?,
+                ExportWhat::Urdf => pipeline::export_urdf(&take, &output)?,
+                ExportWhat::States => pipeline::export_states(&take, &output)?,
+            }
+            eprintln!("wrote {}", output.display());
+        }
+        Cmd::Generate {
+            what: GenerateWhat::Walk,
+            output,
+            fps,
+            duration,
+            scale,
+        } => {
+            pipeline::generate_walk(&output, fps, duration, scale)?;
+            eprintln!("wrote {}", output.display());
+        }
+        Cmd::Id { src, opts, output } => {
+            let job = pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
+            pipeline::write_inverse_dynamics(&job, &output)?;
+            eprintln!("wrote {}", output.display());
+        }
+        Cmd::Fd {
+            src,
+            opts,
+            torques,
+            output,
+        } => {
+            let job = pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
+            pipeline::write_forward_dynamics(&job, &torques, &output)?;
+            eprintln!("wrote {}", output.display());
+        }
+        Cmd::MassMatrix { src, opts, output } => {
+            let job = pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
+            pipeline::write_mass_matrix(&job, &output)?;
+            eprintln!("wrote {}", output.display());
+        }
+        Cmd::Simulate {
+            take,
+            opts,
+            sim,
+            output,
+            json,
+        } => {
+            let take = pipeline::load_take(&take, &opts.options()?)?;
+            let settings = pipeline::SimSettings::parse(
+                &sim.integrator,
+                sim.dt,
+                sim.kp,
+                sim.kv,
+                sim.mass_error,
+                sim.duration,
+            )?;
+            let summary = pipeline::simulate(&take, &settings, output.as_deref())?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&summary.json())?);
+            } else {
+                print!("{}", summary.text());
+            }
+        }
+        Cmd::Bench { src, opts, json } => {
+            let job = pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
+            let r = pipeline::bench(&job);
+            if json {
+                println!("{}", serde_json::to_string_pretty(&r.json())?);
+            } else {
+                print!("{}", r.text());
+            }
+        }
+        Cmd::Tradeoff {
+            take,
+            opts,
+            duration,
+            output,
+        } => {
+            let table = pipeline::tradeoff(&take, &opts.options()?, duration)?;
+            print!("{}", table.text());
+            if let Some(out) = output {
+                table.write_csv(&out)?;
+                eprintln!("wrote {}", out.display());
+            }
+        }
+        Cmd::Smooth {
+            take,
+            opts,
+            output,
+        } => {
+            let take = pipeline::load_take(&take, &opts.options()?)?;
+            pipeline::export_smoothed_bvh(&take, &output)?;
+            eprintln!("wrote {}", output.display());
+        }
+        Cmd::Blend {
+            a,
+            b,
+            window,
+            align,
+            offset,
+            time_scale,
+            output,
+        } => {
+            pipeline::blend_files(&a, &b, &window, &align, offset, time_scale, &output)?;
+            eprintln!("wrote {}", output.display());
+        }
+        Cmd::Run { session, out } => {
+            need(&session)?;
+            let report = articula::session::run_session(&session, &out)?;
+            print!("{report}");
+        }
+    }
     Ok(ExitCode::SUCCESS)
 }

@@ -1,1 +1,812 @@
-//! (in progress)
+//! The named stages that turn a take (or a robot and a states file) and its options into a
+//! model and the q, v, a that the dynamics uses; and the jobs the CLI, sessions and TUI run on
+//! them. Every front end goes through here, so `articula id`, a session's `run id` and the
+//! TUI's torque curves are the same numbers.
+//!
+//! A take flows through these stages, in order:
+//! 1. `read`: parse the BVH (`io::bvh`);
+//! 2. `axes and unit`: up axis and length unit detected from the rest pose, or given
+//!    (`--up`, `--unit`, `--stature`), stature checked against 1.0–2.3 m;
+//! 3. `position semantics`: add / replace / auto per joint;
+//! 4. `model`: euler or ball joints, de Leva masses, locks and subtree (`model::bvh`);
+//! 5. `q`: channels → q per frame (`motion::take`), Euler angles unwrapped;
+//! 6. `smooth`: the chosen low-pass on q (`motion::smooth`);
+//! 7. `v, a`: central differences on the configuration manifold (`Model::difference`), then
+//!    of v.
+
+use crate::dynamics::{self, Workspace};
+use crate::error::Error;
+use crate::io::bvh::{self, Bvh, LengthUnit, PositionMode, ResolvedPosition, UpAxis};
+use crate::io::scene::Scene;
+use crate::model::anthropometry::{BodyParams, Sex};
+use crate::model::bvh::{BvhMap, BvhModelOptions, JointModel, build_bvh_model};
+use crate::model::{JointKind, Model};
+use crate::motion::smooth::SmoothSpec;
+use crate::report::csv::{read_columns, write_columns};
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+/// Everything that decides how a take becomes a model and states.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TakeOptions {
+    /// Length unit; `None`: detected from the rest-pose stature.
+    pub unit: Option<LengthUnit>,
+    /// Scale the skeleton to this stature (m) instead; wins over `unit`.
+    pub stature_m: Option<f64>,
+    /// Up axis; `None`: detected.
+    pub up: Option<UpAxis>,
+    /// Position channel semantics.
+    pub positions: PositionMode,
+    /// Joint model.
+    pub joints: JointModel,
+    /// Body mass, sex and link-mass overrides.
+    pub body: BodyParams,
+    /// Low-pass applied to q before differentiation.
+    pub smooth: SmoothSpec,
+    /// Joints whose DOFs leave the model (held at the rest pose).
+    pub lock: Vec<String>,
+    /// Keep only the subtree below this joint.
+    pub subtree: Option<String>,
+    /// Ground contact model.
+    pub contact: Contact,
+}
+
+/// Ground contact model of a scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Contact {
+    /// No contact: a floating avatar hangs from its root residual.
+    None,
+    /// Feet on a detected floor: ground reaction forces estimated.
+    Feet,
+}
+
+impl FromStr for Contact {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        match s.trim() {
+            "none" => Ok(Contact::None),
+            "feet" => Ok(Contact::Feet),
+            other => Err(Error::Invalid(format!(
+                "contact `{other}`: expected `none` or `feet`"
+            ))),
+        }
+    }
+}
+
+impl Default for TakeOptions {
+    fn default() -> Self {
+        Self {
+            unit: None,
+            stature_m: None,
+            up: None,
+            positions: PositionMode::Auto,
+            joints: JointModel::Euler,
+            body: BodyParams::new(75.0, Sex::Male),
+            smooth: SmoothSpec::Butterworth {
+                cutoff_hz: 6.0,
+                order: 2,
+            },
+            lock: vec![],
+            subtree: None,
+            contact: Contact::None,
+        }
+    }
+}
+
+/// Flags as typed by a user (strings not yet validated); `None` leaves the option unchanged.
+#[derive(Debug, Default)]
+pub struct Flags<'a> {
+    pub unit: Option<&'a str>,
+    pub stature_m: Option<f64>,
+    pub up: Option<&'a str>,
+    pub positions: Option<&'a str>,
+    pub joints: Option<&'a str>,
+    pub mass_kg: Option<f64>,
+    pub sex: Option<&'a str>,
+    pub link_mass: &'a [String],
+    pub smooth: Option<&'a str>,
+    pub lock: &'a [String],
+    pub subtree: Option<&'a str>,
+    pub contact: Option<&'a str>,
+}
+
+fn parse_flag<T: FromStr>(flag: &str, value: &str) -> Result<T, Error>
+where
+    T::Err: std::fmt::Display,
+{
+    value
+        .parse()
+        .map_err(|e| Error::Invalid(format!("--{flag} {value}: {e}")))
+}
+
+impl TakeOptions {
+    /// Options from a scene file (TOML); see `data/scene_example.toml`.
+    pub fn from_scene_file(path: &Path) -> Result<Self, Error> {
+        let scene = crate::io::scene::read(path)?;
+        Self::from_scene(&scene)
+    }
+
+    /// Options from a parsed scene.
+    pub fn from_scene(scene: &Scene) -> Result<Self, Error> {
+        let mut o = Self::default();
+        let link_mass: Vec<String> = scene
+            .link_mass
+            .iter()
+            .map(|(k, v)| format!("{k}={v}"))
+            .collect();
+        o.apply_flags(&Flags {
+            unit: scene.unit.as_deref(),
+            stature_m: scene.stature,
+            up: scene.up.as_deref(),
+            positions: scene.positions.as_deref(),
+            joints: scene.joints.as_deref(),
+            mass_kg: scene.body_mass,
+            sex: scene.sex.as_deref(),
+            link_mass: &link_mass,
+            smooth: scene.smooth.as_deref(),
+            lock: &scene.lock,
+            subtree: scene.subtree.as_deref(),
+            contact: scene.contact.as_deref(),
+        })?;
+        Ok(o)
+    }
+
+    /// Applies user flags over these options.
+    pub fn apply_flags(&mut self, f: &Flags) -> Result<(), Error> {
+        if let Some(u) = f.unit {
+            self.unit = Some(parse_flag("unit", u)?);
+            self.stature_m = None;
+        }
+        if let Some(s) = f.stature_m {
+            if !(s.is_finite() && s > 0.0) {
+                return Err(Error::Invalid(format!(
+                    "--stature {s}: expected a height in metres, e.g. 1.75"
+                )));
+            }
+            self.stature_m = Some(s);
+        }
+        if let Some(u) = f.up {
+            self.up = Some(parse_flag("up", u)?);
+        }
+        if let Some(p) = f.positions {
+            self.positions = parse_flag("positions", p)?;
+        }
+        if let Some(j) = f.joints {
+            self.joints = parse_flag("joints", j)?;
+        }
+        if let Some(m) = f.mass_kg {
+            if !(m.is_finite() && m > 0.0) {
+                return Err(Error::Invalid(format!(
+                    "--mass {m}: expected a body mass in kg, e.g. 75"
+                )));
+            }
+            self.body.mass_kg = m;
+        }
+        if let Some(s) = f.sex {
+            self.body.sex = parse_flag("sex", s)?;
+        }
+        for lm in f.link_mass {
+            let (name, kg) = lm.split_once('=').ok_or_else(|| {
+                Error::Invalid(format!("--link-mass {lm}: expected JOINT=KG, e.g. LeftLeg=3.5"))
+            })?;
+            let kg: f64 = parse_flag("link-mass", kg.trim())?;
+            self.body.link_mass.insert(name.trim().to_string(), kg);
+        }
+        if let Some(s) = f.smooth {
+            self.smooth = parse_flag("smooth", s)?;
+        }
+        if !f.lock.is_empty() {
+            self.lock = f.lock.iter().map(|s| s.trim().to_string()).collect();
+        }
+        if let Some(s) = f.subtree {
+            self.subtree = Some(s.to_string());
+        }
+        if let Some(c) = f.contact {
+            self.contact = parse_flag("contact", c)?;
+        }
+        Ok(())
+    }
+}
+
+/// Generalized states over time: `q` (nq per sample), `v` and `a` (nv per sample), SI.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct States {
+    /// Sample times (s).
+    pub time: Vec<f64>,
+    pub q: Vec<Vec<f64>>,
+    pub v: Vec<Vec<f64>>,
+    pub a: Vec<Vec<f64>>,
+}
+
+impl States {
+    pub fn len(&self) -> usize {
+        self.time.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.time.is_empty()
+    }
+}
+
+/// A loaded take: the file, what was detected, the model and its states.
+#[derive(Debug, Clone)]
+pub struct Take {
+    pub path: PathBuf,
+    pub bvh: Bvh,
+    pub options: TakeOptions,
+    pub up: UpAxis,
+    /// The unit used (detected or given); with `--stature`, the scale is in `scale_to_m`.
+    pub unit: String,
+    /// Metres per file length unit.
+    pub scale_to_m: f64,
+    /// Rest-pose stature (m) after scaling.
+    pub stature_m: f64,
+    pub positions: Vec<ResolvedPosition>,
+    pub model: Model,
+    pub map: BvhMap,
+    /// q, v, a after unwrapping, smoothing and differentiation.
+    pub states: States,
+}
+
+/// Stages 1–7 of the module doc.
+pub fn load_take(path: &Path, opts: &TakeOptions) -> Result<Take, Error> {
+    // read
+    let bvh = bvh::read(path)?;
+    take_from_bvh(path, bvh, opts)
+}
+
+/// Stages 2–7 on an already parsed take.
+pub fn take_from_bvh(path: &Path, bvh: Bvh, opts: &TakeOptions) -> Result<Take, Error> {
+    // axes and unit
+    let up = opts.up.unwrap_or_else(|| bvh::detect_up(&bvh));
+    let (unit, scale_to_m) = match (opts.stature_m, opts.unit) {
+        (Some(s), _) => ("stature".to_string(), bvh::scale_for_stature(&bvh, up, s)),
+        (None, Some(u)) => (u.to_string(), u.scale_to_m()),
+        (None, None) => {
+            let (u, _) = bvh::detect_unit(&bvh, up);
+            (u.to_string(), u.scale_to_m())
+        }
+    };
+    let stature_m = bvh::rest_stature(&bvh, up) * scale_to_m;
+    bvh::check_stature(stature_m).map_err(|e| at_file(path, e))?;
+
+    // position semantics
+    let positions = bvh::resolve_position_modes(&bvh, opts.positions);
+
+    // model
+    let name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "take".into());
+    let mopts = BvhModelOptions {
+        name,
+        joints: opts.joints,
+        scale_to_m,
+        up,
+        positions: positions.clone(),
+        body: opts.body.clone(),
+        lock: opts.lock.clone(),
+        subtree: opts.subtree.clone(),
+    };
+    let (model, map) = build_bvh_model(&bvh, &mopts).map_err(|e| at_file(path, e))?;
+
+    // q, smooth, v, a
+    let states = take_states(&bvh, &model, &map, &opts.smooth)?;
+    Ok(Take {
+        path: path.to_path_buf(),
+        bvh,
+        options: opts.clone(),
+        up,
+        unit,
+        scale_to_m,
+        stature_m,
+        positions,
+        model,
+        map,
+        states,
+    })
+}
+
+fn at_file(path: &Path, e: Error) -> Error {
+    match e {
+        Error::Invalid(m) => Error::Invalid(format!("{}: {m}", path.display())),
+        other => other,
+    }
+}
+
+/// Stages 5–7: channels → q (unwrapped), smoothed, then v and a.
+pub fn take_states(
+    bvh: &Bvh,
+    model: &Model,
+    map: &BvhMap,
+    smooth: &SmoothSpec,
+) -> Result<States, Error> {
+    let traj = crate::motion::take::Trajectory::from_bvh(bvh, model, map);
+    let dt = bvh.frame_time;
+    let mut q = traj.q;
+    unwrap_and_smooth(model, &mut q, dt, smooth);
+    let (v, a) = derivatives(model, &q, dt);
+    Ok(States {
+        time: traj.time,
+        q,
+        v,
+        a,
+    })
+}
+
+/// Unwraps revolute coordinates (±2π jumps) and smooths every coordinate: scalar coordinates
+/// column by column, quaternions of ball and free joints on the rotation manifold.
+pub fn unwrap_and_smooth(model: &Model, q: &mut [Vec<f64>], dt: f64, smooth: &SmoothSpec) {
+    let n = q.len();
+    if n == 0 {
+        return;
+    }
+    for i in 1..model.nbodies() {
+        let iq = model.idx_q[i];
+        match model.joints[i] {
+            JointKind::Revolute { .. } | JointKind::Prismatic { .. } => {
+                let mut col: Vec<f64> = q.iter().map(|row| row[iq]).collect();
+                if matches!(model.joints[i], JointKind::Revolute { .. }) {
+                    crate::motion::unwrap::unwrap_radians(&mut col);
+                }
+                crate::motion::smooth::smooth_columns(smooth, dt, std::slice::from_mut(&mut col));
+                for (row, x) in q.iter_mut().zip(&col) {
+                    row[iq] = *x;
+                }
+            }
+            JointKind::Spherical | JointKind::Free => {
+                let off = if matches!(model.joints[i], JointKind::Free) {
+                    let mut cols: Vec<Vec<f64>> =
+                        (0..3).map(|c| q.iter().map(|r| r[iq + c]).collect()).collect();
+                    crate::motion::smooth::smooth_columns(smooth, dt, &mut cols);
+                    for (k, row) in q.iter_mut().enumerate() {
+                        for c in 0..3 {
+                            row[iq + c] = cols[c][k];
+                        }
+                    }
+                    3
+                } else {
+                    0
+                };
+                let mut quats: Vec<nalgebra::UnitQuaternion<f64>> = q
+                    .iter()
+                    .map(|r| crate::spatial::quat_from_xyzw(&r[iq + off..iq + off + 4]))
+                    .collect();
+                crate::motion::smooth::smooth_quaternions(smooth, dt, &mut quats);
+                for (row, qt) in q.iter_mut().zip(&quats) {
+                    crate::spatial::quat_to_xyzw(qt, &mut row[iq + off..iq + off + 4]);
+                }
+            }
+            JointKind::Fixed => {}
+        }
+    }
+}
+
+/// v and a by second-order central differences on the configuration manifold
+/// (`v_k = (q_{k+1} ⊖ q_{k−1}) / 2dt`, one-sided second-order formulas at the ends), then the
+/// same on v. Takes of one or two frames get v = a = 0 (one frame) or first differences.
+pub fn derivatives(model: &Model, q: &[Vec<f64>], dt: f64) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+    let n = q.len();
+    let nv = model.nv;
+    let mut v = vec![vec![0.0; nv]; n];
+    let mut a = vec![vec![0.0; nv]; n];
+    if n < 2 {
+        return (v, a);
+    }
+    let mut d1 = vec![0.0; nv];
+    let mut d2 = vec![0.0; nv];
+    if n == 2 {
+        model.difference(&q[0], &q[1], &mut d1);
+        for x in d1.iter_mut() {
+            *x /= dt;
+        }
+        v[0].copy_from_slice(&d1);
+        v[1].copy_from_slice(&d1);
+        return (v, a);
+    }
+    for k in 0..n {
+        if k == 0 || k == n - 1 {
+            // one-sided: v0 = (−3 q0 + 4 q1 − q2) / 2dt = (4 (q1 ⊖ q0) − (q2 ⊖ q0)) / 2dt
+            let (o, s) = if k == 0 { (0, 1isize) } else { (n - 1, -1) };
+            let p1 = (o as isize + s) as usize;
+            let p2 = (o as isize + 2 * s) as usize;
+            model.difference(&q[o], &q[p1], &mut d1);
+            model.difference(&q[o], &q[p2], &mut d2);
+            for j in 0..nv {
+                v[k][j] = s as f64 * (4.0 * d1[j] - d2[j]) / (2.0 * dt);
+            }
+        } else {
+            model.difference(&q[k - 1], &q[k + 1], &mut d1);
+            for j in 0..nv {
+                v[k][j] = d1[j] / (2.0 * dt);
+            }
+        }
+    }
+    for j in 0..nv {
+        for k in 0..n {
+            a[k][j] = if k == 0 {
+                (-3.0 * v[0][j] + 4.0 * v[1][j] - v[2][j]) / (2.0 * dt)
+            } else if k == n - 1 {
+                (3.0 * v[n - 1][j] - 4.0 * v[n - 2][j] + v[n - 3][j]) / (2.0 * dt)
+            } else {
+                (v[k + 1][j] - v[k - 1][j]) / (2.0 * dt)
+            };
+        }
+    }
+    (v, a)
+}
+
+/// Where a job's model comes from.
+#[derive(Debug, Clone)]
+pub enum ModelSource {
+    Take(PathBuf),
+    Urdf(PathBuf),
+    Dh(PathBuf),
+}
+
+/// A model and states to run an algorithm on (a take, or a robot with a states file).
+#[derive(Debug, Clone)]
+pub struct Job {
+    pub model: Model,
+    pub states: States,
+    /// The take, when the source is one (for contact and reports).
+    pub take: Option<Take>,
+}
+
+/// Loads a model and its states: a take's own states, or a states CSV (required for robots).
+pub fn load_source(
+    src: &ModelSource,
+    states: Option<&Path>,
+    opts: &TakeOptions,
+) -> Result<Job, Error> {
+    let (model, own, take) = match src {
+        ModelSource::Take(p) => {
+            let t = load_take(p, opts)?;
+            (t.model.clone(), Some(t.states.clone()), Some(t))
+        }
+        ModelSource::Urdf(p) => (
+            crate::model::urdf::read_urdf(p, &crate::model::urdf::UrdfOptions::default())?,
+            None,
+            None,
+        ),
+        ModelSource::Dh(p) => (crate::model::dh::build_dh_model(&crate::io::dh::read(p)?)?, None, None),
+    };
+    let states = match (states, own) {
+        (Some(s), _) => read_states(&model, s)?,
+        (None, Some(own)) => own,
+        (None, None) => {
+            return Err(Error::Invalid(
+                "a robot model needs --states S.csv (time, q:<coord>…, v:<coord>…, a:<coord>…)"
+                    .into(),
+            ));
+        }
+    };
+    Ok(Job {
+        model,
+        states,
+        take,
+    })
+}
+
+/// Header of a states CSV for `model`: `time`, `q:<coord>`…, `v:<coord>`…, `a:<coord>`….
+pub fn states_header(model: &Model) -> Vec<String> {
+    let mut h = vec!["time".to_string()];
+    h.extend(model.q_names.iter().map(|n| format!("q:{n}")));
+    h.extend(model.v_names.iter().map(|n| format!("v:{n}")));
+    h.extend(model.v_names.iter().map(|n| format!("a:{n}")));
+    h
+}
+
+/// Reads a states CSV written by `export states` (columns matched by name, any order).
+pub fn read_states(model: &Model, path: &Path) -> Result<States, Error> {
+    let (header, cols) = read_columns(path)?;
+    let find = |name: &str| -> Result<&Vec<f64>, Error> {
+        header
+            .iter()
+            .position(|h| h == name)
+            .map(|i| &cols[i])
+            .ok_or_else(|| {
+                Error::Invalid(format!(
+                    "{}: no column `{name}` (expected `time`, then q:, v:, a: columns for {})",
+                    path.display(),
+                    model.name
+                ))
+            })
+    };
+    let time = find("time")?.clone();
+    let n = time.len();
+    let mut s = States {
+        time,
+        q: vec![vec![0.0; model.nq]; n],
+        v: vec![vec![0.0; model.nv]; n],
+        a: vec![vec![0.0; model.nv]; n],
+    };
+    for (j, name) in model.q_names.iter().enumerate() {
+        let c = find(&format!("q:{name}"))?;
+        for k in 0..n {
+            s.q[k][j] = c[k];
+        }
+    }
+    for (j, name) in model.v_names.iter().enumerate() {
+        let cv = find(&format!("v:{name}"))?;
+        let ca = find(&format!("a:{name}"))?;
+        for k in 0..n {
+            s.v[k][j] = cv[k];
+            s.a[k][j] = ca[k];
+        }
+    }
+    Ok(s)
+}
+
+fn write_rows(path: &Path, header: Vec<String>, rows: &[Vec<f64>]) -> Result<(), Error> {
+    let ncol = header.len();
+    let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(rows.len()); ncol];
+    for r in rows {
+        for (c, x) in cols.iter_mut().zip(r) {
+            c.push(*x);
+        }
+    }
+    let refs: Vec<&[f64]> = cols.iter().map(|c| c.as_slice()).collect();
+    write_columns(path, &header, &refs)
+}
+
+/// `articula export states`.
+pub fn export_states(take: &Take, path: &Path) -> Result<(), Error> {
+    let s = &take.states;
+    let rows: Vec<Vec<f64>> = (0..s.len())
+        .map(|k| {
+            let mut r = vec![s.time[k]];
+            r.extend_from_slice(&s.q[k]);
+            r.extend_from_slice(&s.v[k]);
+            r.extend_from_slice(&s.a[k]);
+            r
+        })
+        .collect();
+    write_rows(path, states_header(&take.model), &rows)
+}
+
+/// `articula export positions`: world position of every BVH joint (m, the take's own axes),
+/// straight from the BVH definition (independent of the model).
+pub fn export_positions(take: &Take, path: &Path) -> Result<(), Error> {
+    let b = &take.bvh;
+    let mut header = vec!["time".to_string()];
+    for j in &b.joints {
+        for c in ["x", "y", "z"] {
+            header.push(format!("{}.{c}", j.name));
+        }
+    }
+    let rows: Vec<Vec<f64>> = (0..b.frames)
+        .map(|k| {
+            let p = bvh::bvh_world_positions(b, &take.positions, k);
+            let mut r = vec![k as f64 * b.frame_time];
+            for x in p {
+                r.extend([x.x, x.y, x.z].map(|c| c * take.scale_to_m));
+            }
+            r
+        })
+        .collect();
+    write_rows(path, header, &rows)
+}
+
+/// `articula export urdf`.
+pub fn export_urdf(take: &Take, path: &Path) -> Result<(), Error> {
+    let text = crate::io::urdf_write::model_to_urdf(&take.model)?;
+    crate::io::write_atomic(path, text.as_bytes())
+}
+
+/// Generalized forces per sample (`nv` each), and optional ground reaction columns.
+#[derive(Debug, Clone)]
+pub struct Torques {
+    pub time: Vec<f64>,
+    pub names: Vec<String>,
+    pub tau: Vec<Vec<f64>>,
+}
+
+/// Inverse dynamics over every sample of a job.
+pub fn inverse_dynamics(model: &Model, states: &States) -> Torques {
+    let mut ws = Workspace::new(model);
+    let tau = (0..states.len())
+        .map(|k| {
+            dynamics::rnea(model, &mut ws, &states.q[k], &states.v[k], &states.a[k], None)
+                .as_slice()
+                .to_vec()
+        })
+        .collect();
+    Torques {
+        time: states.time.clone(),
+        names: model.v_names.clone(),
+        tau,
+    }
+}
+
+/// `articula id`.
+pub fn write_inverse_dynamics(job: &Job, path: &Path) -> Result<(), Error> {
+    let t = inverse_dynamics(&job.model, &job.states);
+    check_finite(&t.tau, &t.names, "torque")?;
+    let mut header = vec!["time".to_string()];
+    header.extend(t.names.iter().cloned());
+    let rows: Vec<Vec<f64>> = (0..t.time.len())
+        .map(|k| {
+            let mut r = vec![t.time[k]];
+            r.extend_from_slice(&t.tau[k]);
+            r
+        })
+        .collect();
+    write_rows(path, header, &rows)
+}
+
+fn check_finite(rows: &[Vec<f64>], names: &[String], what: &str) -> Result<(), Error> {
+    for (k, r) in rows.iter().enumerate() {
+        if let Some(j) = r.iter().position(|x| !x.is_finite()) {
+            return Err(Error::Numerical(format!(
+                "{what} of `{}` is not finite at sample {k}; nothing written",
+                names.get(j).map(String::as_str).unwrap_or("?")
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// `articula fd`: accelerations from states and a torques CSV (columns by coordinate name).
+pub fn write_forward_dynamics(job: &Job, torques: &Path, path: &Path) -> Result<(), Error> {
+    let m = &job.model;
+    let (header, cols) = read_columns(torques)?;
+    let mut idx = Vec::with_capacity(m.nv);
+    for n in &m.v_names {
+        idx.push(header.iter().position(|h| h == n).ok_or_else(|| {
+            Error::Invalid(format!(
+                "{}: no torque column `{n}` (write it with `articula id`)",
+                torques.display()
+            ))
+        })?);
+    }
+    let n = job.states.len();
+    if cols.first().map_or(0, |c| c.len()) != n {
+        return Err(Error::Invalid(format!(
+            "{}: {} rows of torques for {n} states",
+            torques.display(),
+            cols.first().map_or(0, |c| c.len())
+        )));
+    }
+    let mut ws = Workspace::new(m);
+    let mut tau = vec![0.0; m.nv];
+    let mut rows = Vec::with_capacity(n);
+    for k in 0..n {
+        for (j, &c) in idx.iter().enumerate() {
+            tau[j] = cols[c][k];
+        }
+        let s = &job.states;
+        let a = dynamics::aba(m, &mut ws, &s.q[k], &s.v[k], &tau, None)?;
+        let mut r = vec![s.time[k]];
+        r.extend(a.iter());
+        rows.push(r);
+    }
+    let mut h = vec!["time".to_string()];
+    h.extend(m.v_names.iter().map(|n| format!("a:{n}")));
+    write_rows(path, h, &rows)
+}
+
+/// `articula mass-matrix`: D(q) row-major per sample, columns `M:<i>:<j>`.
+pub fn write_mass_matrix(job: &Job, path: &Path) -> Result<(), Error> {
+    let m = &job.model;
+    let mut ws = Workspace::new(m);
+    let mut h = vec!["time".to_string()];
+    for i in 0..m.nv {
+        for j in 0..m.nv {
+            h.push(format!("M:{i}:{j}"));
+        }
+    }
+    let s = &job.states;
+    let rows: Vec<Vec<f64>> = (0..s.len())
+        .map(|k| {
+            let d = dynamics::crba(m, &mut ws, &s.q[k]);
+            let mut r = vec![s.time[k]];
+            for i in 0..m.nv {
+                for j in 0..m.nv {
+                    r.push(d[(i, j)]);
+                }
+            }
+            r
+        })
+        .collect();
+    write_rows(path, h, &rows)
+}
+
+/// `articula generate walk`: the bundled demo take is made this way.
+pub fn generate_walk(path: &Path, fps: f64, duration_s: f64, scale: f64) -> Result<(), Error> {
+    if !(fps > 0.0 && duration_s > 0.0 && scale > 0.0) {
+        return Err(Error::Invalid(
+            "generate walk: --fps, --duration and --scale must be positive".into(),
+        ));
+    }
+    let take = crate::io::generate::walk(&crate::io::generate::WalkParams {
+        fps,
+        duration_s,
+        scale,
+        ..Default::default()
+    });
+    bvh::write(&take, path)
+}
+
+/// What `articula info` prints.
+#[derive(Debug, Clone)]
+pub struct Info<'a> {
+    take: &'a Take,
+}
+
+/// Describes a loaded take.
+pub fn info(take: &Take) -> Info<'_> {
+    Info { take }
+}
+
+impl Info<'_> {
+    /// The `--json` summary: exactly the keys joints, frames, frame_time, nq, nv, scale_to_m,
+    /// stature_m, up, gravity, mass_kg.
+    pub fn json(&self) -> serde_json::Value {
+        let t = self.take;
+        serde_json::json!({
+            "joints": t.bvh.joints.len(),
+            "frames": t.bvh.frames,
+            "frame_time": t.bvh.frame_time,
+            "nq": t.model.nq,
+            "nv": t.model.nv,
+            "scale_to_m": t.scale_to_m,
+            "stature_m": t.stature_m,
+            "up": t.up.to_string(),
+            "gravity": [t.model.gravity.x, t.model.gravity.y, t.model.gravity.z],
+            "mass_kg": t.model.total_mass(),
+        })
+    }
+
+    /// The human-readable description.
+    pub fn text(&self) -> String {
+        use std::fmt::Write;
+        let t = self.take;
+        let b = &t.bvh;
+        let mut s = String::new();
+        let end_sites: usize = b.joints.iter().map(|j| j.end_sites.len()).sum();
+        let _ = writeln!(s, "take        {}", t.path.display());
+        let _ = writeln!(
+            s,
+            "skeleton    {} joints (root `{}`), {} End Sites, {} channels",
+            b.joints.len(),
+            b.joints.first().map(|j| j.name.as_str()).unwrap_or("?"),
+            end_sites,
+            b.channel_count
+        );
+        let _ = writeln!(
+            s,
+            "motion      {} frames, frame time {} s ({:.3} fps), {:.3} s",
+            b.frames,
+            b.frame_time,
+            1.0 / b.frame_time,
+            b.frames.saturating_sub(1) as f64 * b.frame_time
+        );
+        let _ = writeln!(
+            s,
+            "unit        {} (scale_to_m {}), stature {:.3} m, up {}",
+            t.unit, t.scale_to_m, t.stature_m, t.up
+        );
+        let g = t.model.gravity;
+        let _ = writeln!(s, "gravity     [{}, {}, {}] m/s²", g.x, g.y, g.z);
+        let _ = writeln!(
+            s,
+            "model       {} joints, nq {}, nv {}, mass {:.3} kg, smoothing {}",
+            t.options.joints, t.model.nq, t.model.nv, t.model.total_mass(), t.options.smooth
+        );
+        let _ = writeln!(s, "joints      (name: channels [rotation order] position channels)");
+        for (j, pos) in b.joints.iter().zip(&t.positions) {
+            let chans: Vec<&str> = j.channels.iter().map(|c| c.name()).collect();
+            let order = j
+                .euler_order()
+                .map(|o| format!(" [{o}]"))
+                .unwrap_or_default();
+            let p = match pos {
+                ResolvedPosition::None => String::new(),
+                ResolvedPosition::Add => " positions: add".into(),
+                ResolvedPosition::Replace => " positions: replace".into(),
+            };
+            let _ = writeln!(s, "  {}: {}{order}{p}", j.name, chans.join(" "));
+        }
+        s
+    }
+}
