@@ -21,7 +21,8 @@ use crate::io::scene::Scene;
 use crate::model::anthropometry::{BodyParams, Sex};
 use crate::model::bvh::{BvhMap, BvhModelOptions, JointModel, build_bvh_model};
 use crate::model::{JointKind, Model};
-use crate::motion::smooth::SmoothSpec;
+use crate::motion::smooth::{SmoothSpec, Smoother};
+use crate::motion::unwrap::{AngleUnit, unwrap_angles};
 use crate::report::csv::{read_columns, write_columns};
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
@@ -323,7 +324,7 @@ pub fn take_states(
     let traj = crate::motion::take::Trajectory::from_bvh(bvh, model, map);
     let dt = bvh.frame_time;
     let mut q = traj.q;
-    unwrap_and_smooth(model, &mut q, dt, smooth);
+    unwrap_and_smooth(model, &mut q, dt, smooth)?;
     let (v, a) = derivatives(model, &q, dt);
     Ok(States {
         time: traj.time,
@@ -335,20 +336,25 @@ pub fn take_states(
 
 /// Unwraps revolute coordinates (±2π jumps) and smooths every coordinate: scalar coordinates
 /// column by column, quaternions of ball and free joints on the rotation manifold.
-pub fn unwrap_and_smooth(model: &Model, q: &mut [Vec<f64>], dt: f64, smooth: &SmoothSpec) {
-    let n = q.len();
-    if n == 0 {
-        return;
+pub fn unwrap_and_smooth(
+    model: &Model,
+    q: &mut [Vec<f64>],
+    dt: f64,
+    smooth: &SmoothSpec,
+) -> Result<(), Error> {
+    if q.is_empty() {
+        return Ok(());
     }
+    let mut smoother = Smoother::new(*smooth, dt)?;
     for i in 1..model.nbodies() {
         let iq = model.idx_q[i];
         match model.joints[i] {
             JointKind::Revolute { .. } | JointKind::Prismatic { .. } => {
                 let mut col: Vec<f64> = q.iter().map(|row| row[iq]).collect();
                 if matches!(model.joints[i], JointKind::Revolute { .. }) {
-                    crate::motion::unwrap::unwrap_radians(&mut col);
+                    unwrap_angles(AngleUnit::Radians, &mut col);
                 }
-                crate::motion::smooth::smooth_columns(smooth, dt, std::slice::from_mut(&mut col));
+                smoother.smooth(&mut col);
                 for (row, x) in q.iter_mut().zip(&col) {
                     row[iq] = *x;
                 }
@@ -357,7 +363,9 @@ pub fn unwrap_and_smooth(model: &Model, q: &mut [Vec<f64>], dt: f64, smooth: &Sm
                 let off = if matches!(model.joints[i], JointKind::Free) {
                     let mut cols: Vec<Vec<f64>> =
                         (0..3).map(|c| q.iter().map(|r| r[iq + c]).collect()).collect();
-                    crate::motion::smooth::smooth_columns(smooth, dt, &mut cols);
+                    for c in cols.iter_mut() {
+                        smoother.smooth(c);
+                    }
                     for (k, row) in q.iter_mut().enumerate() {
                         for c in 0..3 {
                             row[iq + c] = cols[c][k];
@@ -371,7 +379,7 @@ pub fn unwrap_and_smooth(model: &Model, q: &mut [Vec<f64>], dt: f64, smooth: &Sm
                     .iter()
                     .map(|r| crate::spatial::quat_from_xyzw(&r[iq + off..iq + off + 4]))
                     .collect();
-                crate::motion::smooth::smooth_quaternions(smooth, dt, &mut quats);
+                smoother.smooth_quaternions(&mut quats);
                 for (row, qt) in q.iter_mut().zip(&quats) {
                     crate::spatial::quat_to_xyzw(qt, &mut row[iq + off..iq + off + 4]);
                 }
@@ -379,6 +387,7 @@ pub fn unwrap_and_smooth(model: &Model, q: &mut [Vec<f64>], dt: f64, smooth: &Sm
             JointKind::Fixed => {}
         }
     }
+    Ok(())
 }
 
 /// v and a by second-order central differences on the configuration manifold
