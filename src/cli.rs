@@ -129,11 +129,12 @@ pub enum Cmd {
         #[arg(short, long)]
         output: PathBuf,
     },
-    /// Blend two takes through a transition window.
+    /// Blend two takes (or chain several) through transition windows.
     Blend {
-        a: PathBuf,
-        b: PathBuf,
-        /// Transition window(s) `t0:t1` in seconds of take a.
+        /// Takes in order: the first, then each one blended in at its window.
+        #[arg(required = true, num_args = 2..)]
+        takes: Vec<PathBuf>,
+        /// Transition window `t0:t1` (s, on the first take's clock), one per following take.
         #[arg(long, required = true)]
         window: Vec<String>,
         /// What of take b to align to take a at the window: `root,heading`, `root`, `none`.
@@ -145,6 +146,9 @@ pub enum Cmd {
         /// Time scale of take b.
         #[arg(long, default_value_t = 1.0)]
         time_scale: f64,
+        /// Up axis of the takes (x, y, z); default: detected from the first take.
+        #[arg(long)]
+        up: Option<String>,
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -402,7 +406,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         }
         Cmd::Bench { src, opts, json } => {
             let job = pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
-            let r = pipeline::bench(&job);
+            let r = pipeline::bench(&job)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&r.json())?);
             } else {
@@ -432,15 +436,16 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             eprintln!("wrote {}", output.display());
         }
         Cmd::Blend {
-            a,
-            b,
+            takes,
             window,
             align,
             offset,
             time_scale,
+            up,
             output,
         } => {
-            pipeline::blend_files(&a, &b, &window, &align, offset, time_scale, &output)?;
+            let up = up.map(|u| u.parse()).transpose()?;
+            pipeline::blend_files(&takes, &window, &align, offset, time_scale, up, &output)?;
             eprintln!("wrote {}", output.display());
         }
         Cmd::Run { session, out } => {
