@@ -1,0 +1,67 @@
+//! Editing jobs that write takes: the smoothed take and blends of several takes.
+
+use super::{Take, parse_flag};
+use crate::error::Error;
+use crate::io::bvh::{self, Bvh, UpAxis};
+use std::path::{Path, PathBuf};
+
+/// `articula smooth`: the take's smoothed q written back as BVH channels (euler model).
+pub fn export_smoothed_bvh(take: &Take, path: &Path) -> Result<(), Error> {
+    let mut out = take.bvh.clone();
+    let cc = out.channel_count;
+    for (k, q) in take.states.q.iter().enumerate() {
+        crate::motion::take::q_to_frame(
+            &take.bvh,
+            &take.map,
+            &take.model,
+            q,
+            &mut out.motion[k * cc..(k + 1) * cc],
+        )?;
+    }
+    bvh::write(&out, path)
+}
+
+/// `articula blend`: takes[0] into takes[1] (into takes[2] …) through one window per
+/// transition, written as BVH.
+pub fn blend_files(
+    takes: &[PathBuf],
+    windows: &[String],
+    align: &str,
+    offset_s: f64,
+    time_scale: f64,
+    up: Option<UpAxis>,
+    path: &Path,
+) -> Result<(), Error> {
+    use crate::motion::blend::{Align, BlendOptions, TimeMap, WarpWindow, blend_chain};
+    if takes.len() < 2 {
+        return Err(Error::Invalid("blend needs two takes or more".into()));
+    }
+    if windows.len() != takes.len() - 1 {
+        return Err(Error::Invalid(format!(
+            "{} takes need {} transition windows (--window T0:T1 each), got {}",
+            takes.len(),
+            takes.len() - 1,
+            windows.len()
+        )));
+    }
+    let bvhs = takes
+        .iter()
+        .map(|p| bvh::read(p))
+        .collect::<Result<Vec<_>, _>>()?;
+    let windows = windows
+        .iter()
+        .map(|w| parse_flag::<WarpWindow>("window", w))
+        .collect::<Result<Vec<_>, _>>()?;
+    let align: Align = parse_flag("align", align)?;
+    let map = TimeMap::new(offset_s, time_scale)?;
+    let up = up.unwrap_or_else(|| bvh::detect_up(&bvhs[0]));
+    let opts = BlendOptions {
+        align,
+        up_axis: up.index(),
+        ..Default::default()
+    };
+    let refs: Vec<&Bvh> = bvhs.iter().collect();
+    let maps = vec![map; takes.len() - 1];
+    let out = blend_chain(&refs, &windows, &maps, &opts)?;
+    bvh::write(&out, path)
+}

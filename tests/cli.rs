@@ -1,0 +1,312 @@
+//! End to end: the real `articula` binary, as a user runs it (assert_cmd).
+//!
+//! Every take here is made by the project (`articula generate walk`); the Pinocchio fixtures
+//! give the robot cases an independent answer.
+
+mod common;
+
+use assert_cmd::Command;
+use articula::report::csv::read_columns;
+use std::path::{Path, PathBuf};
+
+fn articula() -> Command {
+    Command::cargo_bin("articula").expect("binary")
+}
+
+/// A generated walk of `secs` seconds at 60 fps in `dir`.
+fn walk(dir: &Path, secs: f64) -> PathBuf {
+    let p = dir.join("walk.bvh");
+    articula()
+        .args(["generate", "walk", "--fps", "60", "--duration"])
+        .arg(secs.to_string())
+        .arg("-o")
+        .arg(&p)
+        .assert()
+        .success();
+    p
+}
+
+fn column<'a>(h: &[String], c: &'a [Vec<f64>], name: &str) -> &'a [f64] {
+    let i = h
+        .iter()
+        .position(|x| x == name)
+        .unwrap_or_else(|| panic!("no column {name} in {h:?}"));
+    &c[i]
+}
+
+#[test]
+fn info_json_has_exactly_the_documented_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 1.0);
+    let out = articula().arg("info").arg(&take).arg("--json").output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let mut keys: Vec<&str> = v.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+    keys.sort();
+    assert_eq!(
+        keys,
+        [
+            "frame_time",
+            "frames",
+            "gravity",
+            "joints",
+            "mass_kg",
+            "nq",
+            "nv",
+            "scale_to_m",
+            "stature_m",
+            "up",
+        ]
+    );
+    assert_eq!(v["frames"], 60);
+    assert_eq!(v["up"], "y");
+    assert!((v["scale_to_m"].as_f64().unwrap() - 0.01).abs() < 1e-12, "{v}");
+    assert!((v["mass_kg"].as_f64().unwrap() - 75.0).abs() < 1e-9, "{v}");
+    assert_eq!(v["gravity"][1].as_f64().unwrap(), -9.81);
+    let stature = v["stature_m"].as_f64().unwrap();
+    assert!((1.5..1.95).contains(&stature), "{stature}");
+    // the human-readable form names the semantics chosen for the position channels
+    let text = articula().arg("info").arg(&take).output().unwrap();
+    let text = String::from_utf8(text.stdout).unwrap();
+    assert!(text.contains("positions: "), "{text}");
+}
+
+#[test]
+fn inverse_dynamics_of_a_take_has_one_column_per_coordinate_and_scales_with_mass() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 1.0);
+    let run = |mass: &str, out: &str| {
+        let p = dir.path().join(out);
+        articula()
+            .arg("id")
+            .arg(&take)
+            .args(["--mass", mass, "-o"])
+            .arg(&p)
+            .assert()
+            .success();
+        read_columns(&p).unwrap()
+    };
+    let (h, c) = run("60", "t60.csv");
+    let (h2, c2) = run("90", "t90.csv");
+    assert_eq!(h[0], "time");
+    assert!(h.iter().any(|x| x == "LeftLeg.Xrotation"), "{h:?}");
+    assert!(h.iter().any(|x| x == "Hips.Yposition"), "{h:?}");
+    assert_eq!(h, h2);
+    assert_eq!(c[0].len(), 60);
+    // every link mass scales with the body mass, so every torque does too (same kinematics)
+    let k60 = column(&h, &c, "LeftLeg.Xrotation");
+    let k90 = column(&h2, &c2, "LeftLeg.Xrotation");
+    let peak = k60.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    assert!(peak > 1.0, "knee torque peak {peak} N·m");
+    for (a, b) in k60.iter().zip(k90) {
+        assert!((b - a * 1.5).abs() <= 1e-9 * (1.0 + b.abs()), "{a} {b}");
+    }
+}
+
+#[test]
+fn robot_inverse_dynamics_matches_pinocchio() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("tau.csv");
+    articula()
+        .arg("id")
+        .arg("--urdf")
+        .arg(common::repo("data/arm7.urdf"))
+        .arg("--states")
+        .arg(common::repo("tests/fixtures/pinocchio/arm7/states.csv"))
+        .arg("-o")
+        .arg(&out)
+        .assert()
+        .success();
+    let (h, c) = read_columns(&out).unwrap();
+    let (hp, cp) = read_columns(&common::repo("tests/fixtures/pinocchio/arm7/rnea.csv")).unwrap();
+    for (j, name) in hp.iter().enumerate() {
+        let ours = column(&h, &c, name.trim_start_matches("tau:"));
+        for (a, b) in ours.iter().zip(&cp[j]) {
+            assert!((a - b).abs() <= 1e-9 * (1.0 + b.abs()), "{name}: {a} vs {b}");
+        }
+    }
+}
+
+#[test]
+fn export_states_then_fd_of_id_gives_back_the_accelerations() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.5);
+    let states = dir.path().join("s.csv");
+    let tau = dir.path().join("t.csv");
+    let acc = dir.path().join("a.csv");
+    articula()
+        .args(["export", "states"])
+        .arg(&take)
+        .arg("-o")
+        .arg(&states)
+        .assert()
+        .success();
+    articula()
+        .arg("id")
+        .arg(&take)
+        .arg("-o")
+        .arg(&tau)
+        .assert()
+        .success();
+    articula()
+        .arg("fd")
+        .arg(&take)
+        .arg("--states")
+        .arg(&states)
+        .arg("--torques")
+        .arg(&tau)
+        .arg("-o")
+        .arg(&acc)
+        .assert()
+        .success();
+    let (hs, cs) = read_columns(&states).unwrap();
+    let (ha, ca) = read_columns(&acc).unwrap();
+    let mut n = 0;
+    for name in ha.iter().filter(|h| h.starts_with("a:")) {
+        let want = column(&hs, &cs, name);
+        let got = column(&ha, &ca, name);
+        for (w, g) in want.iter().zip(got) {
+            assert!((w - g).abs() <= 1e-6 * (1.0 + w.abs()), "{name}: {w} vs {g}");
+        }
+        n += 1;
+    }
+    assert!(n > 50, "{n} acceleration columns");
+}
+
+#[test]
+fn mass_matrix_is_symmetric_row_major() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("m.csv");
+    articula()
+        .arg("mass-matrix")
+        .arg("--dh")
+        .arg(common::repo("data/puma560.toml"))
+        .arg("--states")
+        .arg(common::repo("tests/fixtures/rtb/puma560/states.csv"))
+        .arg("-o")
+        .arg(&out)
+        .assert()
+        .success();
+    let (h, c) = read_columns(&out).unwrap();
+    assert_eq!(h.len(), 1 + 36);
+    for i in 0..6 {
+        for j in 0..6 {
+            let a = column(&h, &c, &format!("M:{i}:{j}"));
+            let b = column(&h, &c, &format!("M:{j}:{i}"));
+            assert_eq!(a, b);
+        }
+        assert!(column(&h, &c, &format!("M:{i}:{i}")).iter().all(|&d| d > 0.0));
+    }
+}
+
+#[test]
+fn simulate_json_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.3);
+    let out = articula()
+        .arg("simulate")
+        .arg(&take)
+        .args(["--dt", "0.002", "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for k in ["rms_error_rad", "max_error_rad", "steps", "integrator", "dt"] {
+        assert!(v.get(k).is_some(), "{k} missing from {v}");
+    }
+    assert_eq!(v["integrator"], "rk4");
+    assert_eq!(v["dt"], 0.002);
+    // starting on the reference with exact model and feed-forward, the PD terms only mop up
+    // the interpolation error: far below a degree
+    assert!(v["max_error_rad"].as_f64().unwrap() < 0.01, "{v}");
+}
+
+#[test]
+fn bench_json_keys() {
+    let out = articula()
+        .arg("bench")
+        .arg("--urdf")
+        .arg(common::repo("data/arm7.urdf"))
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["nv"], 7);
+    for k in ["rnea_ns", "crba_ns", "aba_ns", "rk4_step_ns"] {
+        assert!(v[k].as_f64().unwrap() > 0.0, "{k}: {v}");
+    }
+}
+
+#[test]
+fn bad_input_is_a_located_error_and_leaves_outputs_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.bvh");
+    std::fs::write(
+        &bad,
+        "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Xrotation Yrotation Wrotation\n}\n",
+    )
+    .unwrap();
+    let out = dir.path().join("t.csv");
+    std::fs::write(&out, "keep me").unwrap();
+    let o = articula().arg("id").arg(&bad).arg("-o").arg(&out).output().unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("bad.bvh:5"), "{err}");
+    assert!(err.contains("Wrotation"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "keep me");
+}
+
+#[test]
+fn implausible_stature_names_the_options_that_fix_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.2);
+    let o = articula()
+        .arg("info")
+        .arg(&take)
+        .args(["--unit", "m"])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("--unit") && err.contains("--stature"), "{err}");
+    // and --stature fixes it
+    let o = articula()
+        .arg("info")
+        .arg(&take)
+        .args(["--stature", "1.80", "--json"])
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!((v["stature_m"].as_f64().unwrap() - 1.80).abs() < 1e-9, "{v}");
+}
+
+#[test]
+fn smooth_and_blend_write_takes_that_read_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 1.0);
+    let smooth = dir.path().join("smooth.bvh");
+    articula()
+        .arg("smooth")
+        .arg(&take)
+        .args(["--smooth", "gaussian:0.02", "-o"])
+        .arg(&smooth)
+        .assert()
+        .success();
+    let blended = dir.path().join("blend.bvh");
+    articula()
+        .arg("blend")
+        .arg(&take)
+        .arg(&smooth)
+        .args(["--window", "0.3:0.6", "-o"])
+        .arg(&blended)
+        .assert()
+        .success();
+    for p in [&smooth, &blended] {
+        let b = articula::io::bvh::read(p).unwrap();
+        assert_eq!(b.joints.len(), 21);
+        assert!(b.frames >= 59, "{}", b.frames);
+    }
+}
