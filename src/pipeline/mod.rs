@@ -641,16 +641,52 @@ pub fn inverse_dynamics(model: &Model, states: &States) -> Torques {
     }
 }
 
-/// `articula id`.
+/// Ground reactions of a take with `--contact feet` (`None` with `--contact none`).
+pub fn ground_reactions(
+    take: &Take,
+) -> Result<Option<crate::dynamics::grf::GroundReactions>, Error> {
+    if take.options.contact == Contact::None {
+        return Ok(None);
+    }
+    let s = &take.states;
+    crate::dynamics::grf::estimate_ground_reactions(
+        &take.model,
+        &s.time,
+        &s.q,
+        &s.v,
+        &s.a,
+        take.up.index(),
+        &crate::motion::contact::ContactParams::default(),
+    )
+    .map(Some)
+    .map_err(|e| at_file(&take.path, e))
+}
+
+/// `articula id`: `time`, one torque column per coordinate; with `--contact feet` the torques
+/// are those with the ground reactions applied and `grf:<foot>:x|y|z`, `cop:<foot>:x|y|z`,
+/// `residual:fx|fy|fz|tx|ty|tz` follow (N, m, N·m; world axes of the take).
 pub fn write_inverse_dynamics(job: &Job, path: &Path) -> Result<(), Error> {
-    let t = inverse_dynamics(&job.model, &job.states);
+    let grf = match &job.take {
+        Some(t) => ground_reactions(t)?,
+        None => None,
+    };
+    let mut t = inverse_dynamics(&job.model, &job.states);
+    if let Some(g) = &grf {
+        t.tau.clone_from(&g.tau);
+    }
     check_finite(&t.tau, &t.names, "torque")?;
     let mut header = vec!["time".to_string()];
     header.extend(t.names.iter().cloned());
+    if let Some(g) = &grf {
+        header.extend(g.columns());
+    }
     let rows: Vec<Vec<f64>> = (0..t.time.len())
         .map(|k| {
             let mut r = vec![t.time[k]];
             r.extend_from_slice(&t.tau[k]);
+            if let Some(g) = &grf {
+                g.row(k, &mut r);
+            }
             r
         })
         .collect();
