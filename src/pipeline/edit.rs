@@ -53,7 +53,16 @@ pub fn blend_files(
         .map(|w| parse_flag::<WarpWindow>("window", w))
         .collect::<Result<Vec<_>, _>>()?;
     let align: Align = parse_flag("align", align)?;
-    let map = TimeMap::new(offset_s, time_scale)?;
+    if !(time_scale > 0.0 && time_scale.is_finite() && offset_s.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "--time-scale {time_scale} --offset {offset_s}: expected a scale > 0 and a finite \
+             offset (s)"
+        )));
+    }
+    let map = TimeMap {
+        offset: offset_s,
+        scale: time_scale,
+    };
     let up = up.unwrap_or_else(|| bvh::detect_up(&bvhs[0]));
     let opts = BlendOptions {
         align,

@@ -26,7 +26,6 @@ pub use sim::{
 use crate::dynamics::{self, Workspace};
 use crate::error::Error;
 use crate::io::bvh::{self, Bvh, LengthUnit, PositionMode, ResolvedPosition, UpAxis};
-use crate::io::scene::Scene;
 use crate::model::anthropometry::{BodyParams, Sex};
 use crate::model::bvh::{BvhMap, BvhModelOptions, JointModel, build_bvh_model};
 use crate::model::{JointKind, Model};
@@ -130,37 +129,6 @@ where
 }
 
 impl TakeOptions {
-    /// Options from a scene file (TOML); see `data/scene_example.toml`.
-    pub fn from_scene_file(path: &Path) -> Result<Self, Error> {
-        let scene = crate::io::scene::read(path)?;
-        Self::from_scene(&scene)
-    }
-
-    /// Options from a parsed scene.
-    pub fn from_scene(scene: &Scene) -> Result<Self, Error> {
-        let mut o = Self::default();
-        let link_mass: Vec<String> = scene
-            .link_mass
-            .iter()
-            .map(|(k, v)| format!("{k}={v}"))
-            .collect();
-        o.apply_flags(&Flags {
-            unit: scene.unit.as_deref(),
-            stature_m: scene.stature,
-            up: scene.up.as_deref(),
-            positions: scene.positions.as_deref(),
-            joints: scene.joints.as_deref(),
-            mass_kg: scene.body_mass,
-            sex: scene.sex.as_deref(),
-            link_mass: &link_mass,
-            smooth: scene.smooth.as_deref(),
-            lock: &scene.lock,
-            subtree: scene.subtree.as_deref(),
-            contact: scene.contact.as_deref(),
-        })?;
-        Ok(o)
-    }
-
     /// Applies user flags over these options.
     pub fn apply_flags(&mut self, f: &Flags) -> Result<(), Error> {
         if let Some(u) = f.unit {
@@ -457,7 +425,6 @@ pub fn derivatives(model: &Model, q: &[Vec<f64>], dt: f64) -> (Vec<Vec<f64>>, Ve
 #[derive(Debug, Clone)]
 pub enum ModelSource {
     Take(PathBuf),
-    Urdf(PathBuf),
     Dh(PathBuf),
 }
 
@@ -481,11 +448,6 @@ pub fn load_source(
             let t = load_take(p, opts)?;
             (t.model.clone(), Some(t.states.clone()), Some(t))
         }
-        ModelSource::Urdf(p) => (
-            crate::model::urdf::read_urdf(p, &crate::model::urdf::UrdfOptions::default())?,
-            None,
-            None,
-        ),
         ModelSource::Dh(p) => (crate::model::dh::build_dh_model(&crate::io::dh::read(p)?)?, None, None),
     };
     let states = match (states, own) {
@@ -608,12 +570,6 @@ pub fn export_positions(take: &Take, path: &Path) -> Result<(), Error> {
         })
         .collect();
     write_rows(path, header, &rows)
-}
-
-/// `articula export urdf`.
-pub fn export_urdf(take: &Take, path: &Path) -> Result<(), Error> {
-    let text = crate::io::urdf_write::model_to_urdf(&take.model)?;
-    crate::io::write_atomic(path, text.as_bytes())
 }
 
 /// Generalized forces per sample (`nv` each), and optional ground reaction columns.
