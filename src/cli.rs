@@ -189,6 +189,13 @@ pub struct SourceArgs {
     /// A DH table (TOML, Robotics Toolbox conventions).
     #[arg(long)]
     pub dh: Option<PathBuf>,
+    /// Gravity `x,y,z` (m/s²) for --urdf (default 0,0,-9.81: z up; a URDF exported from a
+    /// Y-up take needs 0,-9.81,0, as its header comment says).
+    #[arg(long, allow_hyphen_values = true)]
+    pub gravity: Option<String>,
+    /// The URDF's root link floats (a free joint to the world).
+    #[arg(long)]
+    pub floating: bool,
     /// States CSV (`time`, `q:<coord>`, `v:<coord>`, `a:<coord>`), as `export states` writes.
     /// Required with --urdf/--dh; with a take, replaces the take's own states.
     #[arg(long)]
@@ -235,9 +242,6 @@ pub struct TakeArgs {
     /// Ground contact: none (default), or feet (estimate ground reaction forces).
     #[arg(long)]
     pub contact: Option<String>,
-    /// Scene file (TOML); command-line flags given explicitly override it.
-    #[arg(long)]
-    pub scene: Option<PathBuf>,
 }
 
 /// Computed-torque tracking settings.
@@ -265,10 +269,7 @@ pub struct SimArgs {
 
 impl TakeArgs {
     fn options(&self) -> Result<TakeOptions> {
-        let mut o = match &self.scene {
-            Some(path) => TakeOptions::from_scene_file(path)?,
-            None => TakeOptions::default(),
-        };
+        let mut o = TakeOptions::default();
         o.apply_flags(&pipeline::Flags {
             unit: self.unit.as_deref(),
             stature_m: self.stature,
@@ -291,7 +292,24 @@ impl SourceArgs {
     fn source(&self) -> Result<ModelSource> {
         Ok(match (&self.take, &self.urdf, &self.dh) {
             (Some(t), None, None) => ModelSource::Take(t.clone()),
-            (None, Some(u), None) => ModelSource::Urdf(u.clone()),
+            (None, Some(u), None) => {
+                let mut o = articula::model::urdf::UrdfOptions {
+                    floating: self.floating,
+                    ..Default::default()
+                };
+                if let Some(g) = &self.gravity {
+                    let v: Vec<f64> = g
+                        .split(',')
+                        .map(|x| x.trim().parse::<f64>())
+                        .collect::<Result<_, _>>()
+                        .map_err(|_| anyhow::anyhow!("--gravity {g}: expected x,y,z in m/s²"))?;
+                    let [x, y, z] = v[..] else {
+                        bail!("--gravity {g}: expected three numbers x,y,z in m/s²");
+                    };
+                    o.gravity = nalgebra::Vector3::new(x, y, z);
+                }
+                ModelSource::Urdf(u.clone(), o)
+            }
             (None, None, Some(d)) => ModelSource::Dh(d.clone()),
             _ => bail!("give a take (TAKE.bvh), --urdf FILE or --dh FILE"),
         })
@@ -324,7 +342,11 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         for f in &files {
             need(f)?;
         }
-        articula::tui::run_files(&files).context("terminal UI")?;
+        let initial = files
+            .into_iter()
+            .map(|path| articula::session::Command::Load { path, name: None })
+            .collect();
+        articula::tui::run(initial).context("terminal UI")?;
         return Ok(ExitCode::SUCCESS);
     };
     match cmd {
@@ -451,7 +473,16 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         Cmd::Run { session, out } => {
             need(&session)?;
             let report = articula::session::run_session(&session, &out)?;
-            print!("{report}");
+            for m in &report.messages {
+                println!("{m}");
+            }
+            println!(
+                "{}: {} commands, {} expects passed, {} files written",
+                session.display(),
+                report.commands,
+                report.expects,
+                report.written.len()
+            );
         }
     }
     Ok(ExitCode::SUCCESS)

@@ -425,6 +425,8 @@ pub fn derivatives(model: &Model, q: &[Vec<f64>], dt: f64) -> (Vec<Vec<f64>>, Ve
 #[derive(Debug, Clone)]
 pub enum ModelSource {
     Take(PathBuf),
+    /// A URDF and its options (fixed or floating base, gravity).
+    Urdf(PathBuf, crate::model::urdf::UrdfOptions),
     Dh(PathBuf),
 }
 
@@ -448,6 +450,7 @@ pub fn load_source(
             let t = load_take(p, opts)?;
             (t.model.clone(), Some(t.states.clone()), Some(t))
         }
+        ModelSource::Urdf(p, o) => (crate::model::urdf::read_urdf(p, o)?, None, None),
         ModelSource::Dh(p) => (crate::model::dh::build_dh_model(&crate::io::dh::read(p)?)?, None, None),
     };
     let states = match (states, own) {
@@ -570,6 +573,12 @@ pub fn export_positions(take: &Take, path: &Path) -> Result<(), Error> {
         })
         .collect();
     write_rows(path, header, &rows)
+}
+
+/// `articula export urdf`.
+pub fn export_urdf(take: &Take, path: &Path) -> Result<(), Error> {
+    let text = crate::io::urdf_write::model_to_urdf(&take.model)?;
+    crate::io::write_atomic(path, text.as_bytes())
 }
 
 /// Generalized forces per sample (`nv` each), and optional ground reaction columns.
