@@ -127,17 +127,28 @@ mod tests {
     use crate::dynamics::samples::{arm7, euler_avatar};
 
     #[test]
-    fn times_every_algorithm_and_the_bigger_model_costs_more() {
-        let small = time_algorithms(&arm7(), 3).unwrap();
-        let big = time_algorithms(&euler_avatar(), 3).unwrap();
-        assert_eq!((small.nv, big.nv), (7, 96));
-        for r in [small, big] {
+    fn times_every_algorithm() {
+        // (wall-clock ratios are not asserted: the machine may be loaded)
+        for (model, nv) in [(arm7(), 7), (euler_avatar(), 96)] {
+            let r = time_algorithms(&model, 3).unwrap();
+            assert_eq!(r.nv, nv);
             for ns in [r.rnea_ns, r.crba_ns, r.aba_ns, r.rk4_step_ns] {
                 assert!(ns.is_finite() && ns > 0.0, "{r:?}");
             }
-            // a step is four ABA evaluations and more
-            assert!(r.rk4_step_ns > r.aba_ns, "{r:?}");
         }
-        assert!(big.rnea_ns > 2.0 * small.rnea_ns, "{small:?} {big:?}");
+    }
+
+    #[test]
+    fn a_singular_model_is_an_error_not_a_time() {
+        // a massless chain: D = 0
+        let mut model = arm7();
+        model
+            .inertia
+            .iter_mut()
+            .for_each(|i| *i = crate::spatial::SpatialInertia::ZERO);
+        assert!(matches!(
+            time_algorithms(&model, 1),
+            Err(Error::Numerical(_))
+        ));
     }
 }
