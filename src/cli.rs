@@ -14,7 +14,12 @@ use std::process::ExitCode;
 /// With no subcommand, opens the terminal UI on the given takes (or on the bundled demo take
 /// `data/demo_walk.bvh`).
 #[derive(Debug, Parser)]
-#[command(name = "articula", version, about, args_conflicts_with_subcommands = true)]
+#[command(
+    name = "articula",
+    version,
+    about,
+    args_conflicts_with_subcommands = true
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub cmd: Option<Cmd>,
@@ -384,7 +389,8 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             eprintln!("wrote {}", output.display());
         }
         Cmd::Id { src, opts, output } => {
-            let job = pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
+            let job =
+                pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
             pipeline::write_inverse_dynamics(&job, &output)?;
             eprintln!("wrote {}", output.display());
         }
@@ -394,12 +400,14 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             torques,
             output,
         } => {
-            let job = pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
+            let job =
+                pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
             pipeline::write_forward_dynamics(&job, &torques, &output)?;
             eprintln!("wrote {}", output.display());
         }
         Cmd::MassMatrix { src, opts, output } => {
-            let job = pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
+            let job =
+                pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
             pipeline::write_mass_matrix(&job, &output)?;
             eprintln!("wrote {}", output.display());
         }
@@ -427,8 +435,8 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             }
         }
         Cmd::Bench { src, opts, json } => {
-            let job = pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
-            let r = pipeline::bench(&job)?;
+            let model = pipeline::load_model(&src.source()?, &opts.options()?)?;
+            let r = pipeline::bench(&model)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&r.json())?);
             } else {
@@ -448,11 +456,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 eprintln!("wrote {}", out.display());
             }
         }
-        Cmd::Smooth {
-            take,
-            opts,
-            output,
-        } => {
+        Cmd::Smooth { take, opts, output } => {
             let take = pipeline::load_take(&take, &opts.options()?)?;
             pipeline::export_smoothed_bvh(&take, &output)?;
             eprintln!("wrote {}", output.display());

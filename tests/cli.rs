@@ -5,8 +5,8 @@
 
 mod common;
 
-use assert_cmd::Command;
 use articula::report::csv::read_columns;
+use assert_cmd::Command;
 use std::path::{Path, PathBuf};
 
 fn articula() -> Command {
@@ -38,8 +38,17 @@ fn column<'a>(h: &[String], c: &'a [Vec<f64>], name: &str) -> &'a [f64] {
 fn info_json_has_exactly_the_documented_keys() {
     let dir = tempfile::tempdir().unwrap();
     let take = walk(dir.path(), 1.0);
-    let out = articula().arg("info").arg(&take).arg("--json").output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = articula()
+        .arg("info")
+        .arg(&take)
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let mut keys: Vec<&str> = v.as_object().unwrap().keys().map(|k| k.as_str()).collect();
     keys.sort();
@@ -60,7 +69,10 @@ fn info_json_has_exactly_the_documented_keys() {
     );
     assert_eq!(v["frames"], 60);
     assert_eq!(v["up"], "y");
-    assert!((v["scale_to_m"].as_f64().unwrap() - 0.01).abs() < 1e-12, "{v}");
+    assert!(
+        (v["scale_to_m"].as_f64().unwrap() - 0.01).abs() < 1e-12,
+        "{v}"
+    );
     assert!((v["mass_kg"].as_f64().unwrap() - 75.0).abs() < 1e-9, "{v}");
     assert_eq!(v["gravity"][1].as_f64().unwrap(), -9.81);
     let stature = v["stature_m"].as_f64().unwrap();
@@ -122,7 +134,10 @@ fn robot_inverse_dynamics_matches_pinocchio() {
     for (j, name) in hp.iter().enumerate() {
         let ours = column(&h, &c, name.trim_start_matches("tau:"));
         for (a, b) in ours.iter().zip(&cp[j]) {
-            assert!((a - b).abs() <= 1e-9 * (1.0 + b.abs()), "{name}: {a} vs {b}");
+            assert!(
+                (a - b).abs() <= 1e-9 * (1.0 + b.abs()),
+                "{name}: {a} vs {b}"
+            );
         }
     }
 }
@@ -166,7 +181,10 @@ fn export_states_then_fd_of_id_gives_back_the_accelerations() {
         let want = column(&hs, &cs, name);
         let got = column(&ha, &ca, name);
         for (w, g) in want.iter().zip(got) {
-            assert!((w - g).abs() <= 1e-6 * (1.0 + w.abs()), "{name}: {w} vs {g}");
+            assert!(
+                (w - g).abs() <= 1e-6 * (1.0 + w.abs()),
+                "{name}: {w} vs {g}"
+            );
         }
         n += 1;
     }
@@ -195,7 +213,11 @@ fn mass_matrix_is_symmetric_row_major() {
             let b = column(&h, &c, &format!("M:{j}:{i}"));
             assert_eq!(a, b);
         }
-        assert!(column(&h, &c, &format!("M:{i}:{i}")).iter().all(|&d| d > 0.0));
+        assert!(
+            column(&h, &c, &format!("M:{i}:{i}"))
+                .iter()
+                .all(|&d| d > 0.0)
+        );
     }
 }
 
@@ -209,9 +231,19 @@ fn simulate_json_summary() {
         .args(["--dt", "0.002", "--json"])
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    for k in ["rms_error_rad", "max_error_rad", "steps", "integrator", "dt"] {
+    for k in [
+        "rms_error_rad",
+        "max_error_rad",
+        "steps",
+        "integrator",
+        "dt",
+    ] {
         assert!(v.get(k).is_some(), "{k} missing from {v}");
     }
     assert_eq!(v["integrator"], "rk4");
@@ -230,7 +262,11 @@ fn bench_json_keys() {
         .arg("--json")
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["nv"], 7);
     for k in ["rnea_ns", "crba_ns", "aba_ns", "rk4_step_ns"] {
@@ -249,7 +285,13 @@ fn bad_input_is_a_located_error_and_leaves_outputs_alone() {
     .unwrap();
     let out = dir.path().join("t.csv");
     std::fs::write(&out, "keep me").unwrap();
-    let o = articula().arg("id").arg(&bad).arg("-o").arg(&out).output().unwrap();
+    let o = articula()
+        .arg("id")
+        .arg(&bad)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("bad.bvh:5"), "{err}");
@@ -280,7 +322,10 @@ fn implausible_stature_names_the_options_that_fix_it() {
         .unwrap();
     assert!(o.status.success());
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert!((v["stature_m"].as_f64().unwrap() - 1.80).abs() < 1e-9, "{v}");
+    assert!(
+        (v["stature_m"].as_f64().unwrap() - 1.80).abs() < 1e-9,
+        "{v}"
+    );
 }
 
 #[test]

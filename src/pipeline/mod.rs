@@ -165,7 +165,9 @@ impl TakeOptions {
         }
         for lm in f.link_mass {
             let (name, kg) = lm.split_once('=').ok_or_else(|| {
-                Error::Invalid(format!("--link-mass {lm}: expected JOINT=KG, e.g. LeftLeg=3.5"))
+                Error::Invalid(format!(
+                    "--link-mass {lm}: expected JOINT=KG, e.g. LeftLeg=3.5"
+                ))
             })?;
             let kg: f64 = parse_flag("link-mass", kg.trim())?;
             self.body.link_mass.insert(name.trim().to_string(), kg);
@@ -338,8 +340,9 @@ pub fn unwrap_and_smooth(
             }
             JointKind::Spherical | JointKind::Free => {
                 let off = if matches!(model.joints[i], JointKind::Free) {
-                    let mut cols: Vec<Vec<f64>> =
-                        (0..3).map(|c| q.iter().map(|r| r[iq + c]).collect()).collect();
+                    let mut cols: Vec<Vec<f64>> = (0..3)
+                        .map(|c| q.iter().map(|r| r[iq + c]).collect())
+                        .collect();
                     for c in cols.iter_mut() {
                         smoother.smooth(c);
                     }
@@ -439,6 +442,15 @@ pub struct Job {
     pub take: Option<Take>,
 }
 
+/// Loads only the model of a source (for `bench`).
+pub fn load_model(src: &ModelSource, opts: &TakeOptions) -> Result<Model, Error> {
+    Ok(match src {
+        ModelSource::Take(p) => load_take(p, opts)?.model,
+        ModelSource::Urdf(p, o) => crate::model::urdf::read_urdf(p, o)?,
+        ModelSource::Dh(p) => crate::model::dh::build_dh_model(&crate::io::dh::read(p)?)?,
+    })
+}
+
 /// Loads a model and its states: a take's own states, or a states CSV (required for robots).
 pub fn load_source(
     src: &ModelSource,
@@ -451,7 +463,11 @@ pub fn load_source(
             (t.model.clone(), Some(t.states.clone()), Some(t))
         }
         ModelSource::Urdf(p, o) => (crate::model::urdf::read_urdf(p, o)?, None, None),
-        ModelSource::Dh(p) => (crate::model::dh::build_dh_model(&crate::io::dh::read(p)?)?, None, None),
+        ModelSource::Dh(p) => (
+            crate::model::dh::build_dh_model(&crate::io::dh::read(p)?)?,
+            None,
+            None,
+        ),
     };
     let states = match (states, own) {
         (Some(s), _) => read_states(&model, s)?,
@@ -510,8 +526,8 @@ pub fn read_states(model: &Model, path: &Path) -> Result<States, Error> {
     };
     for (j, name) in model.q_names.iter().enumerate() {
         let c = find(&format!("q:{name}"))?;
-        for k in 0..n {
-            s.q[k][j] = c[k];
+        for (row, x) in s.q.iter_mut().zip(c) {
+            row[j] = *x;
         }
     }
     for (j, name) in model.v_names.iter().enumerate() {
@@ -594,9 +610,16 @@ pub fn inverse_dynamics(model: &Model, states: &States) -> Torques {
     let mut ws = Workspace::new(model);
     let tau = (0..states.len())
         .map(|k| {
-            dynamics::rnea(model, &mut ws, &states.q[k], &states.v[k], &states.a[k], None)
-                .as_slice()
-                .to_vec()
+            dynamics::rnea(
+                model,
+                &mut ws,
+                &states.q[k],
+                &states.v[k],
+                &states.a[k],
+                None,
+            )
+            .as_slice()
+            .to_vec()
         })
         .collect();
     Torques {
@@ -692,13 +715,10 @@ pub fn write_forward_dynamics(job: &Job, torques: &Path, path: &Path) -> Result<
         )));
     }
     let mut ws = Workspace::new(m);
-    let mut tau = vec![0.0; m.nv];
     let mut rows = Vec::with_capacity(n);
-    for k in 0..n {
-        for (j, &c) in idx.iter().enumerate() {
-            tau[j] = cols[c][k];
-        }
-        let s = &job.states;
+    let s = &job.states;
+    let tau_rows = (0..n).map(|k| idx.iter().map(|&c| cols[c][k]).collect::<Vec<f64>>());
+    for (k, tau) in tau_rows.enumerate() {
         let a = dynamics::aba(m, &mut ws, &s.q[k], &s.v[k], &tau, None)?;
         let mut r = vec![s.time[k]];
         r.extend(a.iter());
@@ -815,9 +835,16 @@ impl Info<'_> {
         let _ = writeln!(
             s,
             "model       {} joints, nq {}, nv {}, mass {:.3} kg, smoothing {}",
-            t.options.joints, t.model.nq, t.model.nv, t.model.total_mass(), t.options.smooth
+            t.options.joints,
+            t.model.nq,
+            t.model.nv,
+            t.model.total_mass(),
+            t.options.smooth
         );
-        let _ = writeln!(s, "joints      (name: channels [rotation order] position channels)");
+        let _ = writeln!(
+            s,
+            "joints      (name: channels [rotation order] position channels)"
+        );
         for (j, pos) in b.joints.iter().zip(&t.positions) {
             let chans: Vec<&str> = j.channels.iter().map(|c| c.name()).collect();
             let order = j
@@ -834,4 +861,3 @@ impl Info<'_> {
         s
     }
 }
-

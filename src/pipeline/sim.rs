@@ -1,7 +1,7 @@
 //! Simulation jobs: computed-torque tracking of a take, the `bench` timings and the
 //! speed/accuracy `tradeoff` table.
 
-use super::{Job, States, Take, TakeOptions, load_take, parse_flag, write_rows};
+use super::{States, Take, TakeOptions, load_take, parse_flag, write_rows};
 use crate::dynamics::{self, Workspace};
 use crate::error::Error;
 use crate::model::bvh::JointModel;
@@ -40,7 +40,9 @@ impl SimSettings {
         if let Some(d) = duration_s
             && !(d > 0.0 && d.is_finite())
         {
-            return Err(Error::Invalid(format!("--duration {d}: expected seconds > 0")));
+            return Err(Error::Invalid(format!(
+                "--duration {d}: expected seconds > 0"
+            )));
         }
         let gains = dynamics::control::Gains::scalar(kp, kv);
         gains.validate(1)?;
@@ -176,10 +178,10 @@ impl Bench {
 }
 
 /// `articula bench`.
-pub fn bench(job: &Job) -> Result<Bench, Error> {
+pub fn bench(model: &Model) -> Result<Bench, Error> {
     Ok(Bench {
-        result: dynamics::bench::time_algorithms(&job.model, 7)?,
-        model: job.model.name.clone(),
+        result: dynamics::bench::time_algorithms(model, 7)?,
+        model: model.name.clone(),
     })
 }
 
@@ -220,7 +222,13 @@ pub const TRADEOFF_REFERENCE: (&str, f64) = ("rk4", 0.0001);
 /// `articula tradeoff`: every integrator × step × joint model tracking the first `duration_s`
 /// of the take (Kp 400, Kv 40), timed, and compared with a fine-step RK4 run of the same model.
 pub fn tradeoff(path: &Path, opts: &TakeOptions, duration_s: f64) -> Result<Tradeoff, Error> {
-    tradeoff_grid(path, opts, duration_s, &TRADEOFF_INTEGRATORS, &TRADEOFF_STEPS)
+    tradeoff_grid(
+        path,
+        opts,
+        duration_s,
+        &TRADEOFF_INTEGRATORS,
+        &TRADEOFF_STEPS,
+    )
 }
 
 /// [`tradeoff`] over a chosen grid.
@@ -237,12 +245,13 @@ pub fn tradeoff_grid(
         o.joints = joints;
         let take = load_take(path, &o)?;
         let reference = reference(&take.states, Some(duration_s));
-        let run = |integrator: &str, dt: f64| -> Result<(dynamics::simulate::SimResult, f64), Error> {
-            let s = SimSettings::parse(integrator, dt, 400.0, 40.0, 0.0, None)?;
-            let start = std::time::Instant::now();
-            let r = dynamics::simulate::simulate(&take.model, &reference, &s.options)?;
-            Ok((r, start.elapsed().as_secs_f64()))
-        };
+        let run =
+            |integrator: &str, dt: f64| -> Result<(dynamics::simulate::SimResult, f64), Error> {
+                let s = SimSettings::parse(integrator, dt, 400.0, 40.0, 0.0, None)?;
+                let start = std::time::Instant::now();
+                let r = dynamics::simulate::simulate(&take.model, &reference, &s.options)?;
+                Ok((r, start.elapsed().as_secs_f64()))
+            };
         let (fine, _) = run(TRADEOFF_REFERENCE.0, TRADEOFF_REFERENCE.1)?;
         let fine_end = fine.q.last().cloned().unwrap_or_default();
         let sim_s = reference.time.last().copied().unwrap_or(0.0) - reference.time[0];
@@ -268,8 +277,9 @@ pub fn tradeoff_grid(
                     }
                     Err(e) => row.failure = Some(e.to_string()),
                 }
-                row.energy_drift = passive_energy_drift(&take.model, &take.states, integ, dt, sim_s)
-                    .unwrap_or(f64::INFINITY);
+                row.energy_drift =
+                    passive_energy_drift(&take.model, &take.states, integ, dt, sim_s)
+                        .unwrap_or(f64::INFINITY);
                 rows.push(row);
             }
         }
@@ -379,7 +389,12 @@ impl Tradeoff {
         );
         s.push_str(&format!(
             "{:<6} {:<14} {:>8} {:>14} {:>14} {:>14} {:>12}  pareto\n",
-            "joints", "integrator", "dt (s)", "wall s/sim s", "deviation rad", "tracking rad",
+            "joints",
+            "integrator",
+            "dt (s)",
+            "wall s/sim s",
+            "deviation rad",
+            "tracking rad",
             "energy drift"
         ));
         for r in &self.rows {
@@ -428,4 +443,3 @@ impl Tradeoff {
         crate::io::write_atomic(path, out.as_bytes())
     }
 }
-
