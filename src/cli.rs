@@ -247,6 +247,9 @@ pub struct TakeArgs {
     /// Ground contact: none (default), or feet (estimate ground reaction forces).
     #[arg(long)]
     pub contact: Option<String>,
+    /// Scene file (TOML, see data/scene_example.toml); flags given here override it.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
 }
 
 /// Computed-torque tracking settings.
@@ -274,7 +277,10 @@ pub struct SimArgs {
 
 impl TakeArgs {
     fn options(&self) -> Result<TakeOptions> {
-        let mut o = TakeOptions::default();
+        let mut o = match &self.scene {
+            Some(path) => TakeOptions::from_scene_file(path)?,
+            None => TakeOptions::default(),
+        };
         o.apply_flags(&pipeline::Flags {
             unit: self.unit.as_deref(),
             stature_m: self.stature,

@@ -355,3 +355,68 @@ fn smooth_and_blend_write_takes_that_read_back() {
         assert!(b.frames >= 59, "{}", b.frames);
     }
 }
+
+#[test]
+fn scene_file_sets_the_options_and_flags_override_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 1.0);
+    let scene = dir.path().join("study.toml");
+    std::fs::write(
+        &scene,
+        "takes = [\"walk.bvh\"]\nmass = 60.0\nsex = \"female\"\ncontact = \"feet\"\n",
+    )
+    .unwrap();
+    let info = |extra: &[&str]| {
+        let o = articula()
+            .arg("info")
+            .arg(&take)
+            .arg("--scene")
+            .arg(&scene)
+            .args(extra)
+            .arg("--json")
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
+    };
+    assert!((info(&[])["mass_kg"].as_f64().unwrap() - 60.0).abs() < 1e-9);
+    assert!((info(&["--mass", "80"])["mass_kg"].as_f64().unwrap() - 80.0).abs() < 1e-9);
+    // contact = "feet" from the scene: the torque file gains ground reaction columns
+    let out = dir.path().join("t.csv");
+    articula()
+        .arg("id")
+        .arg(&take)
+        .arg("--scene")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&out)
+        .assert()
+        .success();
+    let (h, c) = read_columns(&out).unwrap();
+    for name in ["grf:left:y", "cop:right:z", "residual:fy", "residual:tz"] {
+        assert!(h.iter().any(|x| x == name), "{name} missing: {h:?}");
+    }
+    // the feet carry load in some frames (the physics of the estimate: tests/contact_*.rs)
+    let loaded = column(&h, &c, "grf:left:y")
+        .iter()
+        .zip(column(&h, &c, "grf:right:y"))
+        .filter(|(l, r)| **l + **r > 100.0)
+        .count();
+    assert!(
+        loaded > c[0].len() / 2,
+        "{loaded} loaded frames of {}",
+        c[0].len()
+    );
+    // a bad scene value is reported with its line
+    std::fs::write(&scene, "takes = [\"walk.bvh\"]\nmass = -3\n").unwrap();
+    let o = articula()
+        .arg("info")
+        .arg(&take)
+        .arg("--scene")
+        .arg(&scene)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("study.toml") && err.contains('2'), "{err}");
+}

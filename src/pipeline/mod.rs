@@ -129,6 +129,35 @@ where
 }
 
 impl TakeOptions {
+    /// Options from a scene file (TOML; see `data/scene_example.toml`).
+    pub fn from_scene_file(path: &Path) -> Result<Self, Error> {
+        Self::from_scene(&crate::io::scene::read(path)?)
+    }
+
+    /// Options from a parsed scene (the takes and gains of the scene are used by the caller).
+    pub fn from_scene(scene: &crate::io::scene::Scene) -> Result<Self, Error> {
+        let mut o = Self {
+            unit: scene.unit,
+            stature_m: scene.stature,
+            up: scene.up,
+            positions: scene.position,
+            lock: scene.lock.clone(),
+            subtree: scene.subtree.clone(),
+            ..Self::default()
+        };
+        o.joints = scene.joints.parse()?;
+        o.body = BodyParams {
+            mass_kg: scene.mass,
+            sex: scene.sex.parse()?,
+            link_mass: scene.link_mass.clone(),
+        };
+        if let Some(sm) = &scene.smooth {
+            o.smooth = parse_flag("smooth", sm)?;
+        }
+        o.contact = scene.contact.parse()?;
+        Ok(o)
+    }
+
     /// Applies user flags over these options.
     pub fn apply_flags(&mut self, f: &Flags) -> Result<(), Error> {
         if let Some(u) = f.unit {
