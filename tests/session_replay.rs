@@ -187,3 +187,38 @@ fn screen_dump_for_the_readme() {
             > 50
     );
 }
+
+#[test]
+fn blend_then_export_bvh_and_urdf_and_reload() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = write(
+        dir.path(),
+        "blend.session",
+        "\
+load demo:walk as a
+load demo:walk as b
+blend a b 1.0:1.5
+expect message contains as a+b (480 frames)
+export bvh blended.bvh
+export urdf walker.urdf
+load out/blended.bvh as again
+expect frames 480
+# a walk blended with itself is the walk
+expect peak LeftLeg.Xrotation angle between 1.0 1.2
+blend a nothing 1.0:1.5
+",
+    );
+    let err = run_session(&s, &dir.path().join("out")).unwrap_err();
+    // everything up to the last line ran; the last fails on the unknown take
+    assert_eq!(err.line(), Some(11), "{err}");
+    assert!(
+        err.to_string().contains("no take called 'nothing'"),
+        "{err}"
+    );
+    let urdf = std::fs::read_to_string(dir.path().join("out/walker.urdf")).unwrap();
+    let doc = roxmltree::Document::parse(&urdf).unwrap();
+    assert!(
+        doc.descendants()
+            .any(|n| n.has_tag_name("joint") && n.attribute("name") == Some("LeftLeg.Xrotation"))
+    );
+}

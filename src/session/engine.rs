@@ -13,6 +13,7 @@ use crate::io::bvh::{
 use crate::model::anthropometry::BodyParams;
 use crate::model::bvh::{BvhModelOptions, build_bvh_model};
 use crate::model::{self, Model};
+use crate::motion::blend::{Align, BlendOptions, TimeMap, WarpWindow};
 use crate::motion::derive;
 use crate::motion::smooth::{SmoothSpec, smooth_columns};
 use crate::motion::take::Trajectory;
@@ -342,10 +343,24 @@ impl Engine for Builtin {
         ))
     }
 
-    fn blend(&self, _a: &Take, _b: &Take, _window: (f64, f64)) -> Result<Take, Error> {
-        Err(Error::Invalid(
-            "blend: motion::blend is not on main yet".into(),
-        ))
+    fn blend(&self, a: &Take, b: &Take, window: (f64, f64)) -> Result<Take, Error> {
+        // motion::blend: C² ramp, shortest-arc slerp per joint, b's root and heading aligned
+        // to a's at the window start
+        let opts = BlendOptions {
+            align: Align::ALL,
+            up_axis: detect_up(&a.bvh).index(),
+            ..BlendOptions::default()
+        };
+        let w = WarpWindow {
+            t0: window.0,
+            t1: window.1,
+        };
+        let bvh = crate::motion::blend::blend(&a.bvh, &b.bvh, w, TimeMap::IDENTITY, &opts)?;
+        Ok(Take {
+            name: format!("{}+{}", a.name, b.name),
+            source: format!("blend {} {} {}:{}", a.name, b.name, window.0, window.1),
+            bvh: Arc::new(bvh),
+        })
     }
 }
 

@@ -18,11 +18,11 @@
 //! | `set KEY VALUE` | change a parameter (below); results recompute on the next use |
 //! | `run id` | inverse dynamics over the active take (RNEA at every frame) |
 //! | `run sim` | computed-torque simulation tracking the active take |
-//! | `blend A B T0:T1` | blend take B into take A over the window T0‥T1 (s); the result becomes active |
+//! | `blend A B T0:T1` | take A until T0, take B from T1, a C² blend between (s; B's root and heading aligned to A's); the result, named `A+B`, becomes active |
 //! | `select JOINT` | select a coordinate (`LeftLeg.Xrotation`) or a joint (its first rotation) |
 //! | `frame N` | go to frame N (0-based) |
 //! | `play`, `pause` | start / stop playback |
-//! | `export csv\|svg\|bvh\|urdf PATH` | write the results (CSV: `time`, `q:`, `v:`, `a:`, `tau:` per coordinate, SI), the angle and torque chart of the selection (the paper's figure 4), the motion or the model |
+//! | `export csv\|svg\|bvh\|urdf PATH` | write the results (CSV: `time`, `q:`, `v:`, `a:`, `tau:` per coordinate, SI), the angle and torque chart of the selection (the paper's figure 4), the active take's motion as BVH (as loaded or blended), the model as URDF |
 //! | `compare weights 60,80,100 [joint J] PATH` | re-run inverse dynamics at each body mass; J's torque (default: the selection) per mass: a chart with the peak/RMS table (`.svg`) or the curves (`.csv`, `t_s`, `tau_<m>kg_Nm`) |
 //! | `report motor PATH` | motor sizing of the selected joint's coordinates (all revolute coordinates of a model with at most 12): torque, speed and power curves and the motor class each needs (SVG, or CSV table for `.csv`) |
 //! | `expect …` | an assertion (below); a failed expect fails the replay |

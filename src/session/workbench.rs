@@ -323,15 +323,24 @@ impl Workbench {
                         .find(|t| t.name == *n)
                         .ok_or_else(|| err(format!("no take called '{n}'")))
                 };
-                let mut t = self.engine.blend(find(a)?, find(b)?, *window)?;
-                t.name = format!("{a}+{b}");
-                self.takes.push(t);
-                self.active = Some(self.takes.len() - 1);
+                let t = self.engine.blend(find(a)?, find(b)?, *window)?;
+                let msg = format!(
+                    "blended {a} into {b} over {}:{} s as {} ({} frames)",
+                    window.0, window.1, t.name, t.bvh.frames
+                );
+                match self.takes.iter().position(|x| x.name == t.name) {
+                    Some(i) => {
+                        self.takes[i] = t;
+                        self.active = Some(i);
+                    }
+                    None => {
+                        self.takes.push(t);
+                        self.active = Some(self.takes.len() - 1);
+                    }
+                }
                 self.results = None;
-                Ok(self.say(format!(
-                    "blended {b} into {a} over {}:{} s",
-                    window.0, window.1
-                )))
+                self.frame = self.frame.min(self.frames().saturating_sub(1));
+                Ok(self.say(msg))
             }
             Command::Select(name) => {
                 let coord = self.resolve_coord(name)?;
@@ -545,15 +554,16 @@ impl Workbench {
                 let svg = selection_svg(&r, &coord)?;
                 crate::report::chart::write_svg(&out, &svg)?;
             }
-            ExportKind::Bvh | ExportKind::Urdf => {
-                return Err(err(format!(
-                    "export {}: this exporter is not on main yet",
-                    if kind == ExportKind::Bvh {
-                        "bvh"
-                    } else {
-                        "urdf"
-                    }
-                )));
+            ExportKind::Bvh => {
+                let take = self
+                    .take()
+                    .ok_or_else(|| err("no take loaded (load PATH first)"))?;
+                crate::io::bvh::write(&take.bvh, &out)?;
+            }
+            ExportKind::Urdf => {
+                let r = self.ensure_results()?;
+                let urdf = crate::io::urdf_write::model_to_urdf(&r.model)?;
+                crate::io::write_atomic(&out, urdf.as_bytes())?;
             }
         }
         let mut o = self.say(format!("wrote {}", out.display()));
