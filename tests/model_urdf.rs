@@ -31,7 +31,12 @@ fn col(header: &[String], name: &str) -> usize {
 }
 
 fn check(fixture: &str, urdf: &str, floating: bool) {
-    check_with(fixture, urdf, floating, nalgebra::Vector3::new(0.0, 0.0, -9.81));
+    check_with(
+        fixture,
+        urdf,
+        floating,
+        nalgebra::Vector3::new(0.0, 0.0, -9.81),
+    );
 }
 
 fn check_with(fixture: &str, urdf: &str, floating: bool, gravity: nalgebra::Vector3<f64>) {
