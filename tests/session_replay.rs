@@ -222,3 +222,26 @@ blend a nothing 1.0:1.5
             .any(|n| n.has_tag_name("joint") && n.attribute("name") == Some("LeftLeg.Xrotation"))
     );
 }
+
+#[test]
+fn ball_joints_and_foot_contact_run_through_the_pipeline() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = write(
+        dir.path(),
+        "m.session",
+        "\
+load demo:walk
+set contact feet
+expect nv 66
+# finite and non-zero (the size of the stance-knee torque with estimated ground reactions is
+# the grf module's business)
+expect peak LeftLeg.Xrotation torque between 1 10000
+set contact none
+set joints ball
+expect nq 87
+expect peak LeftLeg:wx torque between 1 400
+",
+    );
+    let r = run_session(&s, &dir.path().join("out")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(r.expects, 4);
+}

@@ -5,19 +5,13 @@
 //! Every engine call gets a [`Control`]: it reports progress (0‥1) and polls for
 //! cancellation, so that the terminal UI can run it on a worker thread.
 
-use crate::dynamics::{Workspace, rnea};
 use crate::error::Error;
-use crate::io::bvh::{
-    Bvh, PositionMode, check_stature, detect_unit, detect_up, resolve_position_modes,
-};
+use crate::io::bvh::{Bvh, LengthUnit, detect_up};
 use crate::model::anthropometry::BodyParams;
-use crate::model::bvh::{BvhModelOptions, build_bvh_model};
 use crate::model::{self, Model};
 use crate::motion::blend::{Align, BlendOptions, TimeMap, WarpWindow};
-use crate::motion::derive;
-use crate::motion::smooth::{SmoothSpec, smooth_columns};
-use crate::motion::take::Trajectory;
-use crate::motion::unwrap::{AngleUnit, unwrap_angles};
+use crate::motion::smooth::SmoothSpec;
+use crate::pipeline::{self, TakeOptions};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Arc;
@@ -303,37 +297,32 @@ impl Engine for Builtin {
         params: &Params,
         ctl: &Control,
     ) -> Result<Analysis, Error> {
-        let bvh = &take.bvh;
-        let (model, q) = model_and_q(bvh, params, &take.name)?;
-        let dt = bvh.frame_time;
-        let time: Vec<f64> = (0..bvh.frames).map(|k| k as f64 * dt).collect();
+        // the pipeline's stages: axes and unit, model, q, unwrap, smooth, differentiate
+        let opts = take_options(params)?;
+        ctl.check()?;
+        let t = pipeline::take_from_bvh(Path::new(&take.source), (*take.bvh).clone(), &opts)?;
+        ctl.set_progress(0.5);
         ctl.check()?;
 
-        // q → v, a (second-order differences, motion::derive)
-        let (v, a) = differentiate(&q, dt);
-
-        // inverse dynamics frame by frame
-        let frames = bvh.frames;
-        let mut tau = Table::zeros(model.v_names.clone(), frames);
-        let mut ws = Workspace::new(&model);
-        for k in 0..frames {
-            if k % 64 == 0 {
-                ctl.check()?;
-                ctl.set_progress(k as f64 / frames as f64);
-            }
-            let t = rnea(&model, &mut ws, q.row(k), v.row(k), a.row(k), None);
-            tau.row_mut(k).copy_from_slice(t.as_slice());
+        // inverse dynamics, with the estimated ground reactions under `contact feet`
+        let mut torques = pipeline::inverse_dynamics(&t.model, &t.states);
+        if let Some(g) = pipeline::ground_reactions(&t)? {
+            torques.tau = g.tau;
         }
         ctl.set_progress(1.0);
-        let scale = model_scale(bvh, params);
+        let table = |names: &[String], rows: &[Vec<f64>]| Table {
+            names: names.to_vec(),
+            data: rows.concat(),
+        };
+        let s = &t.states;
         Ok(Analysis {
-            model: Arc::new(model),
-            time,
-            q,
-            v,
-            a,
-            tau,
-            scale,
+            q: table(&t.model.q_names, &s.q),
+            v: table(&t.model.v_names, &s.v),
+            a: table(&t.model.v_names, &s.a),
+            tau: table(&t.model.v_names, &torques.tau),
+            time: s.time.clone(),
+            scale: t.scale_to_m,
+            model: Arc::new(t.model),
         })
     }
 
@@ -364,95 +353,30 @@ impl Engine for Builtin {
     }
 }
 
-/// Metres per file unit: `set unit`, else detected from the rest-pose stature
-/// (io::bvh::detect_unit).
-fn model_scale(bvh: &Bvh, params: &Params) -> f64 {
-    params
-        .unit
-        .unwrap_or_else(|| detect_unit(bvh, detect_up(bvh)).0.scale_to_m())
-}
-
-/// The model of a take (model::bvh: de Leva masses and shapes, locks) and its smoothed
-/// configurations per frame: channels → q (motion::take), angles unwrapped
-/// (motion::unwrap), then smoothed column by column (motion::smooth).
-fn model_and_q(bvh: &Bvh, params: &Params, name: &str) -> Result<(Model, Table), Error> {
-    if params.joints == JointModel::Ball {
-        return Err(Error::Invalid(
-            "joints ball: the workbench runs the euler model until the pipeline lands; use \
-             joints euler"
-                .into(),
-        ));
-    }
-    if params.contact == Contact::Feet {
-        return Err(Error::Invalid(
-            "contact feet: ground reactions in the workbench land with the pipeline; use \
-             contact none"
-                .into(),
-        ));
-    }
-    let up = detect_up(bvh);
-    let scale = model_scale(bvh, params);
-    if params.unit.is_none() {
-        check_stature(detect_unit(bvh, up).1)?;
-    }
-    let mut opts = BvhModelOptions::new(
-        name,
-        scale,
-        up,
-        resolve_position_modes(bvh, PositionMode::Auto),
-    );
-    opts.joints = model::bvh::JointModel::Euler;
-    opts.body = BodyParams {
-        mass_kg: params.body_mass,
-        sex: match params.sex {
-            Sex::Male => model::anthropometry::Sex::Male,
-            Sex::Female => model::anthropometry::Sex::Female,
+/// The pipeline's options from the workbench parameters.
+fn take_options(params: &Params) -> Result<TakeOptions, Error> {
+    Ok(TakeOptions {
+        unit: params.unit.map(LengthUnit::Custom),
+        joints: match params.joints {
+            JointModel::Euler => model::bvh::JointModel::Euler,
+            JointModel::Ball => model::bvh::JointModel::Ball,
         },
-        link_mass: params.link_mass.clone(),
-    };
-    opts.lock = params.lock.clone();
-    let (model, map) = build_bvh_model(bvh, &opts)?;
-    let traj = Trajectory::from_bvh(bvh, &model, &map);
-
-    // columns: unwrap the revolute ones, smooth all
-    let mut columns: Vec<Vec<f64>> = (0..model.nq)
-        .map(|j| traj.q.iter().map(|row| row[j]).collect())
-        .collect();
-    for (j, c) in columns.iter_mut().enumerate() {
-        if model.joints[model.body_of_v(j)].name() == "revolute" {
-            unwrap_angles(AngleUnit::Radians, c);
-        }
-    }
-    if params.smooth != Smooth::None {
-        let spec: SmoothSpec = params.smooth.to_string().parse()?;
-        smooth_columns(spec, bvh.frame_time, &mut columns)?;
-    }
-    let mut q = Table::zeros(model.q_names.clone(), bvh.frames);
-    for (j, c) in columns.iter().enumerate() {
-        for (k, x) in c.iter().enumerate() {
-            q.row_mut(k)[j] = *x;
-        }
-    }
-    Ok((model, q))
-}
-
-/// Velocities and accelerations of scalar coordinates (the euler model: q and v have the same
-/// size) by second-order differences at every frame (motion::derive).
-fn differentiate(q: &Table, dt: f64) -> (Table, Table) {
-    let rows = q.rows();
-    let mut v = Table::zeros(q.names.clone(), rows);
-    let mut a = Table::zeros(q.names.clone(), rows);
-    let (mut dv, mut da) = (vec![0.0; rows], vec![0.0; rows]);
-    for j in 0..q.cols() {
-        let x = q.column(j);
-        derive::differentiate(&x, dt, &mut dv);
-        derive::second_derivative(&x, dt, &mut da);
-        for k in 0..rows {
-            v.row_mut(k)[j] = dv[k];
-            a.row_mut(k)[j] = da[k];
-        }
-    }
-    (v, a)
+        body: BodyParams {
+            mass_kg: params.body_mass,
+            sex: match params.sex {
+                Sex::Male => model::anthropometry::Sex::Male,
+                Sex::Female => model::anthropometry::Sex::Female,
+            },
+            link_mass: params.link_mass.clone(),
+        },
+        smooth: params.smooth.to_string().parse::<SmoothSpec>()?,
+        lock: params.lock.clone(),
+        contact: match params.contact {
+            Contact::None => pipeline::Contact::None,
+            Contact::Feet => pipeline::Contact::Feet,
+        },
+        ..TakeOptions::default()
+    })
 }
 
 #[cfg(test)]

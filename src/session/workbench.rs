@@ -761,7 +761,11 @@ impl Workbench {
                 })?;
                 let x = table.column(j);
                 let value = statistic(*stat, &x);
-                let name = format!("{stat:?} {coord} {quantity:?}").to_lowercase();
+                let name = format!(
+                    "{} {coord} {}",
+                    format!("{stat:?}").to_lowercase(),
+                    format!("{quantity:?}").to_lowercase()
+                );
                 if !within(value, *lo, *hi) {
                     return fail(format!("{name} is {value} {unit}, expected {lo}‥{hi}"));
                 }
