@@ -1,0 +1,210 @@
+//! Ground reactions of BVH takes that need no capture data:
+//! - the project's generated walk (`io::generate::walk`, Winter-shaped joint curves, the
+//!   lowest foot point on the floor every frame): a foot is always down, with double supports;
+//!   over whole strides the force the motion needs averages body weight (the centre of mass
+//!   neither rises nor sinks) and the feet carry it, except in the frames where the generated
+//!   root height (which follows the lowest foot point, corners included) would need the floor
+//!   to pull: those stay at the root, so the mean ground force exceeds body weight by a few
+//!   per cent and the root force drops by less than on captured walks; the stance knee is
+//!   loaded;
+//! - feet across naming schemes, placed through the channel map: a Daz-style foot without a
+//!   toe joint takes its toe point from its End Site, a Bandai-style one from its toe joint.
+
+use articula::dynamics::grf::estimate_ground_reactions_with_feet;
+use articula::io::bvh::{self, PositionMode, UpAxis};
+use articula::io::generate::{WalkParams, walk};
+use articula::model::bvh::{BvhModelOptions, build_bvh_model};
+use articula::motion::contact::{ContactParams, feet_of_bvh};
+use articula::motion::derive::differentiate_columns;
+use articula::motion::smooth::{SmoothSpec, smooth_columns};
+use articula::motion::take::Trajectory;
+use nalgebra::Vector3;
+use std::path::Path;
+
+const G: f64 = 9.81;
+
+#[test]
+fn the_generated_walk_is_carried_by_its_feet() {
+    // four whole strides at 120 fps
+    let params = WalkParams {
+        duration_s: 4.4,
+        cycle_s: 1.1,
+        ..WalkParams::default()
+    };
+    let take = walk(&params);
+    let positions = bvh::resolve_position_modes(&take, PositionMode::Auto);
+    let opts = BvhModelOptions::new("walk", 0.01, UpAxis::Y, positions);
+    let (model, map) = build_bvh_model(&take, &opts).unwrap();
+    let traj = Trajectory::from_bvh(&take, &model, &map);
+    let rows = |c: &[Vec<f64>]| -> Vec<Vec<f64>> {
+        (0..c[0].len())
+            .map(|k| c.iter().map(|x| x[k]).collect())
+            .collect()
+    };
+    // the pipeline's low-pass (Winter's 6 Hz Butterworth): the root height follows the lowest
+    // foot point, which has corners
+    let n = traj.q.len();
+    let dt = take.frame_time;
+    let mut cols: Vec<Vec<f64>> = (0..model.nq)
+        .map(|j| traj.q.iter().map(|q| q[j]).collect())
+        .collect();
+    let spec = SmoothSpec::Butterworth {
+        cutoff_hz: 6.0,
+        order: 2,
+    };
+    smooth_columns(spec, dt, &mut cols).unwrap();
+    let q = rows(&cols);
+    let mut vc = vec![vec![0.0; n]; model.nv];
+    differentiate_columns(&cols, dt, &mut vc);
+    let mut ac = vec![vec![0.0; n]; model.nv];
+    differentiate_columns(&vc, dt, &mut ac);
+    let (v, a) = (rows(&vc), rows(&ac));
+
+    let feet = feet_of_bvh(&take, &map, &model);
+    let joints: Vec<&str> = feet.iter().map(|f| f.joint.as_str()).collect();
+    assert_eq!(joints, ["LeftFoot", "RightFoot"]);
+    let gr = estimate_ground_reactions_with_feet(
+        &model,
+        &feet,
+        &traj.time,
+        &q,
+        &v,
+        &a,
+        1,
+        &ContactParams::default(),
+    )
+    .unwrap();
+
+    let weight = model.total_mass() * G;
+    let mean = gr
+        .grf
+        .iter()
+        .map(|f| f.iter().map(|x| x.y).sum::<f64>())
+        .sum::<f64>()
+        / n as f64
+        / weight;
+    let rms = |w: &[[f64; 6]]| {
+        (w.iter()
+            .map(|x| x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
+            .sum::<f64>()
+            / n as f64)
+            .sqrt()
+    };
+    let (none, with) = (rms(&gr.wrench), rms(&gr.residual));
+    let needed = gr.wrench.iter().map(|w| w[1]).sum::<f64>() / n as f64 / weight;
+    println!("generated walk: mean needed vertical force {needed:.4} BW");
+    let both = gr.contact.iter().filter(|c| c[0] && c[1]).count();
+    println!(
+        "generated walk: mean vertical GRF {mean:.4} BW; root force rms {none:.1} N top-down, \
+         {with:.2} N with the feet; double support in {both} of {n} frames"
+    );
+    let pulls = gr.wrench.iter().filter(|w| w[1] < 0.0).count();
+    println!("generated walk: the floor would have to pull in {pulls} of {n} frames");
+    assert!((needed - 1.0).abs() < 0.01, "{needed}");
+    assert!((mean - 1.0).abs() < 0.06, "{mean}");
+    assert!(
+        gr.contact.iter().all(|c| c[0] || c[1]),
+        "a walk has no flight"
+    );
+    assert!(both > n / 40, "double support {both}/{n}");
+    assert!(with < none / 5.0, "{with} vs {none}");
+
+    // the stance knee carries body weight: tens of N·m, where hanging it holds a few
+    let knee = model.v_index("LeftLeg.Xrotation").unwrap();
+    let peak = (0..n)
+        .filter(|&k| gr.contact[k][0])
+        .map(|k| gr.tau[k][knee].abs())
+        .fold(0.0, f64::max);
+    println!(
+        "generated walk: left stance knee peak {peak:.1} N·m ({:.2} N·m/kg)",
+        peak / model.total_mass()
+    );
+    assert!(peak / model.total_mass() > 0.3, "{peak}");
+}
+
+/// A lower body in centimetres, Y up, with the given foot and toe names; `toe: None` gives the
+/// foot an End Site instead of a toe joint.
+fn legs(hips: &str, side: [(&str, &str, &str, Option<&str>); 2]) -> String {
+    let mut s = format!(
+        "HIERARCHY\nROOT {hips}\n{{\n OFFSET 0 90 0\n CHANNELS 6 Xposition Yposition \
+         Zposition Zrotation Xrotation Yrotation\n"
+    );
+    for (x, (thigh, shin, foot, toe)) in [10.0, -10.0].iter().zip(side) {
+        s += &format!(
+            " JOINT {thigh}\n {{\n  OFFSET {x} -5 0\n  CHANNELS 3 Zrotation Xrotation \
+             Yrotation\n  JOINT {shin}\n  {{\n   OFFSET 0 -40 0\n   CHANNELS 3 Zrotation \
+             Xrotation Yrotation\n   JOINT {foot}\n   {{\n    OFFSET 0 -40 0\n    CHANNELS 3 \
+             Zrotation Xrotation Yrotation\n"
+        );
+        match toe {
+            Some(t) => {
+                s += &format!(
+                    "    JOINT {t}\n    {{\n     OFFSET 0 -7 12\n     CHANNELS 3 Zrotation \
+                     Xrotation Yrotation\n     End Site\n     {{\n      OFFSET 0 0 5\n     \
+                     }}\n    }}\n"
+                )
+            }
+            None => s += "    End Site\n    {\n     OFFSET 0 -7 17\n    }\n",
+        }
+        s += "   }\n  }\n }\n";
+    }
+    s += "}\nMOTION\nFrames: 1\nFrame Time: 0.01\n";
+    let channels = s.matches("CHANNELS 3").count() * 3 + 6;
+    s += &vec!["0"; channels].join(" ");
+    s.push('\n');
+    s
+}
+
+#[test]
+fn feet_are_placed_through_the_channel_map_across_naming_schemes() {
+    let daz = legs(
+        "hip",
+        [
+            ("lThigh", "lShin", "lFoot", None),
+            ("rThigh", "rShin", "rFoot", None),
+        ],
+    );
+    let bandai = legs(
+        "Hips",
+        [
+            ("UpperLeg_L", "LowerLeg_L", "Foot_L", Some("Toes_L")),
+            ("UpperLeg_R", "LowerLeg_R", "Foot_R", Some("Toes_R")),
+        ],
+    );
+    for (text, foot, toe_at) in [
+        (daz, "lFoot", Vector3::new(0.0, -0.07, 0.17)),
+        (bandai, "Foot_L", Vector3::new(0.0, -0.07, 0.12)),
+    ] {
+        let take = bvh::parse_str(&text, Path::new("legs.bvh")).unwrap();
+        let positions = bvh::resolve_position_modes(&take, PositionMode::Auto);
+        let opts = BvhModelOptions::new("legs", 0.01, UpAxis::Y, positions);
+        let (model, map) = build_bvh_model(&take, &opts).unwrap();
+        let feet = feet_of_bvh(&take, &map, &model);
+        assert_eq!(feet.len(), 2, "{foot}");
+        assert_eq!(feet[0].joint, foot);
+        assert_eq!(feet[0].name, "left");
+        // in the rest pose every frame is aligned with the world: toe = ankle + offset
+        let rest = |body: usize| {
+            let mut i = body;
+            let mut x = articula::spatial::SpatialTransform::IDENTITY;
+            while i > 0 {
+                x = model.placement[i].compose(&x);
+                i = model.parent[i];
+            }
+            x
+        };
+        let ankle = rest(feet[0].ankle_body).transform_point(&feet[0].ankle_point);
+        let toe = rest(feet[0].toe_body).transform_point(&feet[0].toe_point);
+        assert!(
+            (toe - ankle - toe_at).norm() < 1e-12,
+            "{foot}: {}",
+            toe - ankle
+        );
+        // the heel lies under the ankle, at the toe's height
+        let heel = rest(feet[0].ankle_body).transform_point(&feet[0].heel_point);
+        assert!(
+            (heel - ankle - Vector3::new(0.0, toe_at.y, 0.0)).norm() < 1e-12,
+            "{heel}"
+        );
+    }
+}
