@@ -245,3 +245,25 @@ expect peak LeftLeg:wx torque between 1 400
     let r = run_session(&s, &dir.path().join("out")).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(r.expects, 4);
 }
+
+#[test]
+fn run_sim_tracks_the_take_and_reports_its_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let walk = articula::io::generate::walk(&articula::io::generate::WalkParams {
+        duration_s: 0.5,
+        ..Default::default()
+    });
+    articula::io::bvh::write(&walk, &dir.path().join("w.bvh")).unwrap();
+    let s = write(
+        dir.path(),
+        "sim.session",
+        "load w.bvh\nset integrator rk4\nset dt 0.002\nrun sim\nexpect message contains tracking error RMS\n",
+    );
+    let r = run_session(&s, &dir.path().join("out")).unwrap_or_else(|e| panic!("{e}"));
+    let msg = r
+        .messages
+        .iter()
+        .find(|m| m.starts_with("simulation"))
+        .unwrap();
+    assert!(msg.contains("nv 66"), "{msg}");
+}

@@ -245,6 +245,8 @@ pub struct Analysis {
     pub tau: Table,
     /// Metres per file unit used for the take.
     pub scale: f64,
+    /// A one-line summary for messages (a simulation's tracking error), or empty.
+    pub note: String,
 }
 
 /// The computations behind the workbench. Implementations must be deterministic.
@@ -322,14 +324,56 @@ impl Engine for Builtin {
             tau: table(&t.model.v_names, &torques.tau),
             time: s.time.clone(),
             scale: t.scale_to_m,
+            note: String::new(),
             model: Arc::new(t.model),
         })
     }
 
-    fn simulate(&self, _take: &Take, _params: &Params, _ctl: &Control) -> Result<Analysis, Error> {
-        Err(Error::Invalid(
-            "run sim: direct dynamics (dynamics::simulate) is not on main yet".into(),
-        ))
+    fn simulate(&self, take: &Take, params: &Params, ctl: &Control) -> Result<Analysis, Error> {
+        // computed-torque tracking of the take's (smoothed) motion (pipeline::simulate)
+        let opts = take_options(params)?;
+        let t = pipeline::take_from_bvh(Path::new(&take.source), (*take.bvh).clone(), &opts)?;
+        ctl.check()?;
+        let settings = pipeline::SimSettings::parse(
+            &params.integrator,
+            params.dt,
+            params.kp,
+            params.kv,
+            0.0,
+            None,
+        )?;
+        let summary = pipeline::simulate(&t, &settings, None)?;
+        ctl.set_progress(1.0);
+        let r = summary.result;
+        let table = |names: &[String], rows: &[Vec<f64>]| Table {
+            names: names.to_vec(),
+            data: rows.concat(),
+        };
+        // accelerations are not recorded: differentiate the simulated velocities
+        let dt = r.time.get(1).map_or(params.dt, |t1| t1 - r.time[0]);
+        let mut a = Table::zeros(t.model.v_names.clone(), r.time.len());
+        let mut da = vec![0.0; r.time.len()];
+        for j in 0..t.model.nv {
+            let vj: Vec<f64> = r.v.iter().map(|row| row[j]).collect();
+            crate::motion::derive::differentiate(&vj, dt, &mut da);
+            for (k, x) in da.iter().enumerate() {
+                a.row_mut(k)[j] = *x;
+            }
+        }
+        Ok(Analysis {
+            q: table(&t.model.q_names, &r.q),
+            v: table(&t.model.v_names, &r.v),
+            a,
+            tau: table(&t.model.v_names, &r.tau),
+            time: r.time.clone(),
+            scale: t.scale_to_m,
+            note: format!(
+                "tracking error RMS {:.3e} rad, max {:.3e} rad",
+                r.rms_error_rad(),
+                r.max_error_rad()
+            ),
+            model: Arc::new(t.model),
+        })
     }
 
     fn blend(&self, a: &Take, b: &Take, window: (f64, f64)) -> Result<Take, Error> {

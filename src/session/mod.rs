@@ -17,7 +17,7 @@
 //! | `scene PATH` | read a TOML scene (takes and parameters) |
 //! | `set KEY VALUE` | change a parameter (below); results recompute on the next use |
 //! | `run id` | inverse dynamics over the active take (RNEA at every frame) |
-//! | `run sim` | computed-torque simulation tracking the active take |
+//! | `run sim` | computed-torque simulation tracking the active take (`kp`, `kv`, `integrator`, `dt`); the message gives the tracking error |
 //! | `blend A B T0:T1` | take A until T0, take B from T1, a C² blend between (s; B's root and heading aligned to A's); the result, named `A+B`, becomes active |
 //! | `select JOINT` | select a coordinate (`LeftLeg.Xrotation`) or a joint (its first rotation) |
 //! | `frame N` | go to frame N (0-based) |

@@ -215,7 +215,7 @@ impl Workbench {
             return Ok(self.say(format!("dropped results for {}", done.take)));
         }
         let r = Arc::new(done.result?);
-        let msg = format!(
+        let mut msg = format!(
             "{}: {} frames, nv {}, {:.1} kg",
             match done.kind {
                 RunKind::Id => "inverse dynamics",
@@ -225,6 +225,9 @@ impl Workbench {
             r.model.nv,
             r.model.total_mass()
         );
+        if !r.note.is_empty() {
+            msg = format!("{msg}, {}", r.note);
+        }
         if self
             .selection
             .as_ref()
