@@ -1,4 +1,4 @@
-//! Takes made by the project itself: a parametric walk on a standard 23-joint skeleton.
+//! Takes made by the project itself: a parametric walk on a standard 21-joint skeleton.
 //!
 //! The demo take in `data/` is generated here (`articula generate walk`), never copied from a
 //! capture. Joint angles are smooth periodic curves shaped like the normative sagittal gait
