@@ -94,5 +94,10 @@ fn take_through_rnea(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, algorithms, take_through_rnea);
+criterion_group! {
+    name = benches;
+    // no plots: the machines this runs on may have no fonts for criterion's plotters backend
+    config = Criterion::default().without_plots();
+    targets = algorithms, take_through_rnea
+}
 criterion_main!(benches);
