@@ -267,3 +267,25 @@ fn run_sim_tracks_the_take_and_reports_its_error() {
         .unwrap();
     assert!(msg.contains("nv 66"), "{msg}");
 }
+
+#[test]
+fn a_scene_sets_the_parameters_and_loads_its_takes() {
+    let dir = tempfile::tempdir().unwrap();
+    let walk = articula::io::generate::walk(&articula::io::generate::WalkParams {
+        duration_s: 0.5,
+        ..Default::default()
+    });
+    articula::io::bvh::write(&walk, &dir.path().join("w.bvh")).unwrap();
+    write(
+        dir.path(),
+        "study.toml",
+        "takes = [\"w.bvh\"]\nmass = 60\nsex = \"female\"\nsmooth = \"none\"\nlock = [\"LeftHand\", \"RightHand\"]\n",
+    );
+    let s = write(
+        dir.path(),
+        "s.session",
+        "scene study.toml\nexpect frames 60\nexpect mass between 59.999 60.001\nexpect nv 60\n",
+    );
+    let r = run_session(&s, &dir.path().join("out")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(r.expects, 3);
+}

@@ -14,7 +14,7 @@
 //! | command | effect |
 //! |---|---|
 //! | `load PATH [as NAME]` | load a BVH take and make it active (`demo:walk`: the generated demo walk) |
-//! | `scene PATH` | read a TOML scene (takes and parameters) |
+//! | `scene PATH` | read a TOML scene (io::scene): its mass, sex, unit, joints, smooth, contact, link masses and locks become the parameters, its takes are loaded (the first active) |
 //! | `set KEY VALUE` | change a parameter (below); results recompute on the next use |
 //! | `run id` | inverse dynamics over the active take (RNEA at every frame) |
 //! | `run sim` | computed-torque simulation tracking the active take (`kp`, `kv`, `integrator`, `dt`); the message gives the tracking error |

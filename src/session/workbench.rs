@@ -306,10 +306,7 @@ impl Workbench {
                 self.sim = None;
                 Ok(self.say(msg))
             }
-            Command::Scene { path } => Err(err(format!(
-                "scene {}: scene files (io::scene) are not on main yet",
-                path.display()
-            ))),
+            Command::Scene { path } => self.scene(path),
             Command::Set { key, value } => {
                 self.set(key, value)?;
                 Ok(self.say(format!("{key} = {value}")))
@@ -388,6 +385,74 @@ impl Workbench {
                 ..Outcome::default()
             }),
         }
+    }
+
+    /// Reads a scene (io::scene): its parameters replace the current ones, its takes are
+    /// loaded (the first becomes active). `stature`, `up`, `position` and `subtree` are not
+    /// parameters of the workbench yet; the message says when a scene sets them.
+    fn scene(&mut self, path: &Path) -> Result<Outcome, SessionError> {
+        let file = self.in_path(path);
+        let sc = crate::io::scene::read(&file)?;
+        let smooth = match &sc.smooth {
+            Some(s) => s
+                .parse::<Smooth>()
+                .map_err(|e| err(format!("{}: smooth: {e}", file.display())))?,
+            None => self.params.smooth,
+        };
+        self.params = Params {
+            body_mass: sc.mass,
+            sex: if sc.sex == "female" {
+                Sex::Female
+            } else {
+                Sex::Male
+            },
+            unit: sc.unit.map(|u| u.scale_to_m()),
+            joints: if sc.joints == "ball" {
+                JointModel::Ball
+            } else {
+                JointModel::Euler
+            },
+            smooth,
+            contact: if sc.contact == "feet" {
+                Contact::Feet
+            } else {
+                Contact::None
+            },
+            link_mass: sc.link_mass.clone(),
+            lock: sc.lock.clone(),
+            ..self.params.clone()
+        };
+        let first = self.takes.len();
+        for t in &sc.takes {
+            self.apply(&Command::Load {
+                path: t.clone(),
+                name: None,
+            })?;
+        }
+        if first < self.takes.len() {
+            self.active = Some(first);
+        }
+        let ignored: Vec<&str> = [
+            ("stature", sc.stature.is_some()),
+            ("up", sc.up.is_some()),
+            ("subtree", sc.subtree.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(n, set)| set.then_some(n))
+        .collect();
+        let mut msg = format!(
+            "scene {}: {} take(s), {} kg",
+            file.display(),
+            sc.takes.len(),
+            sc.mass
+        );
+        if !ignored.is_empty() {
+            msg.push_str(&format!(
+                " (not applied by the workbench: {})",
+                ignored.join(", ")
+            ));
+        }
+        Ok(self.say(msg))
     }
 
     fn set(&mut self, key: &str, value: &str) -> Result<(), SessionError> {
