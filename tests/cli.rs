@@ -420,3 +420,34 @@ fn scene_file_sets_the_options_and_flags_override_it() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("study.toml") && err.contains('2'), "{err}");
 }
+
+#[test]
+fn export_positions_are_world_joint_positions_in_metres() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.5);
+    let out = dir.path().join("pos.csv");
+    articula()
+        .args(["export", "positions"])
+        .arg(&take)
+        .arg("-o")
+        .arg(&out)
+        .assert()
+        .success();
+    let (h, c) = read_columns(&out).unwrap();
+    let bvh = articula::io::bvh::read(&take).unwrap();
+    assert_eq!(h.len(), 1 + 3 * bvh.joints.len());
+    assert_eq!(&h[1..4], ["Hips.x", "Hips.y", "Hips.z"]);
+    // the hips at frame 0 are where the root channels put them (cm → m, add mode)
+    let f0 = bvh.frame(0);
+    for (k, axis) in ["x", "y", "z"].iter().enumerate() {
+        let p = column(&h, &c, &format!("Hips.{axis}"))[0];
+        assert!((p - (bvh.joints[0].offset[k] + f0[k]) * 0.01).abs() < 1e-12);
+    }
+    // a foot is near the floor (y = 0) at some frame, the head well above it
+    let foot_min = column(&h, &c, "LeftToeBase.y")
+        .iter()
+        .cloned()
+        .fold(f64::MAX, f64::min);
+    let head = column(&h, &c, "Head.y")[0];
+    assert!(foot_min < 0.1 && head > 1.4, "toe {foot_min} head {head}");
+}

@@ -332,6 +332,7 @@ pub fn take_states(
     let traj = crate::motion::take::Trajectory::from_bvh(bvh, model, map);
     let dt = bvh.frame_time;
     let mut q = traj.q;
+    make_euler_triples_continuous(bvh, map, &mut q);
     unwrap_and_smooth(model, &mut q, dt, smooth)?;
     let (v, a) = derivatives(model, &q, dt);
     Ok(States {
@@ -340,6 +341,34 @@ pub fn take_states(
         v,
         a,
     })
+}
+
+/// Euler model: where a joint's three rotation channels flip to the other Tait–Bryan branch
+/// near a singularity (or jump by whole turns), re-picks for every frame the equivalent triple
+/// nearest the previous frame (`motion::unwrap::make_euler_continuous`). The rotation of every
+/// frame is unchanged; only its coordinates become continuous.
+pub fn make_euler_triples_continuous(bvh: &Bvh, map: &BvhMap, q: &mut [Vec<f64>]) {
+    let mut frames: Vec<[f64; 3]> = Vec::with_capacity(q.len());
+    for (joint, jm) in bvh.joints.iter().zip(&map.joints) {
+        let (Some(order), None) = (joint.euler_order(), jm.quat_q) else {
+            continue;
+        };
+        let idx: Vec<usize> = jm
+            .channels
+            .iter()
+            .filter(|c| c.channel.is_rotation())
+            .filter_map(|c| c.q)
+            .collect();
+        let [i0, i1, i2] = idx[..] else {
+            continue; // a locked or partial rotation: nothing to re-pick
+        };
+        frames.clear();
+        frames.extend(q.iter().map(|r| [r[i0], r[i1], r[i2]]));
+        crate::motion::unwrap::make_euler_continuous(order, &mut frames);
+        for (r, f) in q.iter_mut().zip(&frames) {
+            (r[i0], r[i1], r[i2]) = (f[0], f[1], f[2]);
+        }
+    }
 }
 
 /// Unwraps revolute coordinates (±2π jumps) and smooths every coordinate: scalar coordinates

@@ -1,0 +1,73 @@
+//! A take whose Euler triples flip branch near the singularity (as exporters write them, from
+//! `matrix_to_euler` frame by frame) gives continuous q in the euler model, with every frame's
+//! rotation unchanged.
+
+use articula::io::bvh::parse_str;
+use articula::motion::smooth::SmoothSpec;
+use articula::pipeline::{TakeOptions, take_from_bvh};
+use articula::rotation::{EulerOrder, euler_to_matrix, matrix_to_euler};
+use std::path::Path;
+
+#[test]
+fn euler_branch_flips_are_repicked_and_rotations_kept() {
+    // the arm pitches through X = 90° (the ZXY singularity) while yawing: the canonical
+    // extraction jumps to the other branch (±180° on Z and Y) after the pole
+    let n = 60;
+    let mut motion = String::new();
+    let mut raw = vec![];
+    for k in 0..n {
+        let t = k as f64 / (n - 1) as f64;
+        let r = euler_to_matrix(
+            EulerOrder::ZXY,
+            [0.3 * t, (60.0 + 60.0 * t).to_radians(), 0.2],
+        );
+        let a = matrix_to_euler(EulerOrder::ZXY, &r).map(f64::to_degrees);
+        raw.push(a);
+        motion.push_str(&format!(
+            "0 0 0 0 0 0 {} {} {} 0 0 0 0 0 0\n",
+            a[0], a[1], a[2]
+        ));
+    }
+    let jumps = raw.windows(2).any(|w| (w[1][0] - w[0][0]).abs() > 90.0);
+    assert!(jumps, "the test take must contain a branch flip");
+    let text = format!(
+        "HIERARCHY\nROOT Hips\n{{\n OFFSET 0 0 0\n CHANNELS 6 Xposition Yposition Zposition \
+         Zrotation Xrotation Yrotation\n JOINT Spine\n {{\n  OFFSET 0 100 0\n  CHANNELS 3 \
+         Zrotation Xrotation Yrotation\n  JOINT Head\n  {{\n   OFFSET 0 70 0\n   CHANNELS 3 \
+         Zrotation Xrotation Yrotation\n   End Site\n   {{\n    OFFSET 0 20 0\n   }}\n  }}\n }}\n \
+         JOINT Leg\n {{\n  OFFSET 0 -90 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  End \
+         Site\n  {{\n   OFFSET 0 -10 0\n  }}\n }}\n}}\nMOTION\nFrames: {n}\nFrame Time: 0.01\n{motion}"
+    );
+    // the flip is on the Spine (the root stays upright)
+    let bvh = parse_str(&text, Path::new("flip.bvh")).unwrap();
+    let opts = TakeOptions {
+        smooth: SmoothSpec::None,
+        stature_m: Some(1.75),
+        ..TakeOptions::default()
+    };
+    let take = take_from_bvh(Path::new("flip.bvh"), bvh, &opts).unwrap();
+    let m = &take.model;
+    let iz = m
+        .q_names
+        .iter()
+        .position(|n| n == "Spine.Zrotation")
+        .unwrap();
+    let s = &take.states;
+    for k in 1..n {
+        for j in iz..iz + 3 {
+            let d = (s.q[k][j] - s.q[k - 1][j]).abs();
+            assert!(
+                d < 0.2,
+                "frame {k} coordinate {}: jump {d} rad",
+                m.q_names[j]
+            );
+        }
+        // same rotation as written
+        let ours = euler_to_matrix(
+            EulerOrder::ZXY,
+            [s.q[k][iz], s.q[k][iz + 1], s.q[k][iz + 2]],
+        );
+        let file = euler_to_matrix(EulerOrder::ZXY, raw[k].map(f64::to_radians));
+        assert!((ours - file).norm() < 1e-9, "frame {k}");
+    }
+}
