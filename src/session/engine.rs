@@ -164,7 +164,7 @@ impl Default for Params {
             sex: Sex::Male,
             unit: None,
             joints: JointModel::Euler,
-            smooth: Smooth::Gaussian { width_s: 0.02 },
+            smooth: Smooth::Butterworth { cutoff_hz: 6.0 },
             contact: Contact::None,
             kp: 400.0,
             kv: 40.0,

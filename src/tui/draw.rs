@@ -181,7 +181,8 @@ fn draw_view(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         .max_by(|&a, &b| up[a].abs().total_cmp(&up[b].abs()))
         .unwrap_or(1);
     let (h1, h2) = ((up_axis + 1) % 3, (up_axis + 2) % 3);
-    let root = pos.get(1).copied().unwrap_or_default();
+    // the centroid of the bodies (in the euler model body 1 is only the root's x slider)
+    let root = pos.iter().skip(1).sum::<nalgebra::Vector3<f64>>() / (pos.len().max(2) - 1) as f64;
     let (sy, cy) = ui.yaw.sin_cos();
     let (sp, cp) = ui.pitch.sin_cos();
     let project = |p: &nalgebra::Vector3<f64>| -> (f64, f64) {
