@@ -468,15 +468,16 @@ pub fn derivatives(model: &Model, q: &[Vec<f64>], dt: f64) -> (Vec<Vec<f64>>, Ve
             }
         }
     }
+    // a: the same second-order differences on each v column (motion::derive)
+    let mut col = vec![0.0; n];
+    let mut d = vec![0.0; n];
     for j in 0..nv {
-        for k in 0..n {
-            a[k][j] = if k == 0 {
-                (-3.0 * v[0][j] + 4.0 * v[1][j] - v[2][j]) / (2.0 * dt)
-            } else if k == n - 1 {
-                (3.0 * v[n - 1][j] - 4.0 * v[n - 2][j] + v[n - 3][j]) / (2.0 * dt)
-            } else {
-                (v[k + 1][j] - v[k - 1][j]) / (2.0 * dt)
-            };
+        for (c, row) in col.iter_mut().zip(&v) {
+            *c = row[j];
+        }
+        crate::motion::derive::differentiate(&col, dt, &mut d);
+        for (row, x) in a.iter_mut().zip(&d) {
+            row[j] = *x;
         }
     }
     (v, a)
