@@ -7,8 +7,8 @@
 
 use crate::error::Error;
 use crate::io::bvh::{Bvh, LengthUnit, detect_up};
+use crate::model::Model;
 use crate::model::anthropometry::BodyParams;
-use crate::model::{self, Model};
 use crate::motion::blend::{Align, BlendOptions, TimeMap, WarpWindow};
 use crate::motion::smooth::SmoothSpec;
 use crate::pipeline::{self, TakeOptions};
@@ -53,31 +53,10 @@ impl Control {
     }
 }
 
-/// Joint model of a BVH take.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum JointModel {
-    /// One revolute joint per rotation channel, one prismatic per position channel (the
-    /// paper's).
-    Euler,
-    /// One spherical joint per BVH joint, a free root.
-    Ball,
-}
-
-/// Body sex for the anthropometric tables.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Sex {
-    Female,
-    Male,
-}
-
-/// Ground contact model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Contact {
-    /// The avatar hangs from its root (top-down inverse dynamics).
-    None,
-    /// Ground reactions estimated at the feet.
-    Feet,
-}
+// the joint model, sex and contact model are the pipeline's own types
+pub use crate::model::anthropometry::Sex;
+pub use crate::model::bvh::JointModel;
+pub use crate::pipeline::Contact;
 
 /// Smoothing applied to q before differentiation.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -401,24 +380,15 @@ impl Engine for Builtin {
 fn take_options(params: &Params) -> Result<TakeOptions, Error> {
     Ok(TakeOptions {
         unit: params.unit.map(LengthUnit::Custom),
-        joints: match params.joints {
-            JointModel::Euler => model::bvh::JointModel::Euler,
-            JointModel::Ball => model::bvh::JointModel::Ball,
-        },
+        joints: params.joints,
         body: BodyParams {
             mass_kg: params.body_mass,
-            sex: match params.sex {
-                Sex::Male => model::anthropometry::Sex::Male,
-                Sex::Female => model::anthropometry::Sex::Female,
-            },
+            sex: params.sex,
             link_mass: params.link_mass.clone(),
         },
         smooth: params.smooth.to_string().parse::<SmoothSpec>()?,
         lock: params.lock.clone(),
-        contact: match params.contact {
-            Contact::None => pipeline::Contact::None,
-            Contact::Feet => pipeline::Contact::Feet,
-        },
+        contact: params.contact,
         ..TakeOptions::default()
     })
 }
