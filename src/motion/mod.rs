@@ -4,6 +4,7 @@
 pub mod blend;
 pub mod contact;
 pub mod derive;
+pub mod fold;
 pub mod ramp;
 pub mod smooth;
 pub mod take;

@@ -254,6 +254,8 @@ pub struct Take {
     pub map: BvhMap,
     /// q, v, a after unwrapping, smoothing and differentiation.
     pub states: States,
+    /// What the loader changed on its own, for `info` (e.g. a folded helper root).
+    pub notes: Vec<String>,
 }
 
 /// Stages 1–7 of the module doc.
@@ -264,7 +266,7 @@ pub fn load_take(path: &Path, opts: &TakeOptions) -> Result<Take, Error> {
 }
 
 /// Stages 2–7 on an already parsed take.
-pub fn take_from_bvh(path: &Path, bvh: Bvh, opts: &TakeOptions) -> Result<Take, Error> {
+pub fn take_from_bvh(path: &Path, mut bvh: Bvh, opts: &TakeOptions) -> Result<Take, Error> {
     // axes and unit
     let up = opts.up.unwrap_or_else(|| bvh::detect_up(&bvh));
     let (unit, scale_to_m) = match (opts.stature_m, opts.unit) {
@@ -296,7 +298,28 @@ pub fn take_from_bvh(path: &Path, bvh: Bvh, opts: &TakeOptions) -> Result<Take, 
         lock: opts.lock.clone(),
         subtree: opts.subtree.clone(),
     };
-    let (model, map) = build_bvh_model(&bvh, &mopts).map_err(|e| at_file(path, e))?;
+    let (mut model, mut map) = build_bvh_model(&bvh, &mopts).map_err(|e| at_file(path, e))?;
+
+    // a massless helper root whose only child has six channels of its own (Bandai's
+    // `joint_Root` above `Hips`) duplicates the child's coordinates and makes D(q) singular:
+    // fold its motion into the child and weld it (`motion::fold`)
+    let mut notes = vec![];
+    if let Some(c) = crate::motion::fold::redundant_root_child(&bvh) {
+        let root_body = map.joints[0].body;
+        let root = bvh.joints[0].name.clone();
+        let overridden = opts.body.link_mass.contains_key(&root);
+        if root_body != 0 && model.inertia[root_body].mass == 0.0 && !overridden {
+            crate::motion::fold::fold_root_into_child(&mut bvh, &positions, c);
+            let mut welded = mopts.clone();
+            welded.lock.push(root.clone());
+            (model, map) = build_bvh_model(&bvh, &welded).map_err(|e| at_file(path, e))?;
+            notes.push(format!(
+                "root `{root}` is massless and `{}` has six channels of its own: its motion \
+                 was folded into `{}` and it was welded (its coordinates were redundant)",
+                bvh.joints[c].name, bvh.joints[c].name
+            ));
+        }
+    }
 
     // q, smooth, v, a
     let states = take_states(&bvh, &model, &map, &opts.smooth)?;
@@ -312,6 +335,7 @@ pub fn take_from_bvh(path: &Path, bvh: Bvh, opts: &TakeOptions) -> Result<Take, 
         model,
         map,
         states,
+        notes,
     })
 }
 
@@ -916,6 +940,9 @@ impl Info<'_> {
                 ResolvedPosition::Replace => " positions: replace".into(),
             };
             let _ = writeln!(s, "  {}: {}{order}{p}", j.name, chans.join(" "));
+        }
+        for n in &t.notes {
+            let _ = writeln!(s, "note        {n}");
         }
         s
     }
