@@ -20,7 +20,8 @@
 //!    support and the first of the leading foot's (Ren et al.'s smooth transition; their shape
 //!    is an exponential decay, ours a polynomial that reaches exactly 0 and 1); double supports
 //!    that are not a step (standing, landing on both feet) share by the lever rule, in
-//!    proportion to how close `p` lies to each ankle; in flight the feet carry nothing;
+//!    proportion to how close `p` lies to each ankle; in flight the feet carry nothing,
+//!    except within the estimator's spread of a contact (below);
 //! 4. each foot's force acts at `p` shifted by the foot's offset from the load-weighted ankle
 //!    centre (so the shares together still reproduce `W`), kept inside the foot's support
 //!    region (the heel–toe segment widened by [`ContactParams::cop_margin`]), pushing only
@@ -29,6 +30,21 @@
 //! 5. RNEA again with the foot wrenches as external forces; the root's six generalized forces
 //!    that remain are the **residual**, the part of the motion the feet cannot explain (capture
 //!    noise, mass model errors, a missed contact).
+//!
+//! The spread of the estimate. The accelerations at a frame are a weighted average of the true
+//! ones over ±[`ContactParams::spread_s`] (smoothing, then central differences:
+//! [`acceleration_spread_s`], ±0.09–0.1 s with the default 6 Hz Butterworth), so the force of a
+//! landing appears in the needed wrench before the foot touches down, and a push-off's after it
+//! has left, while the body is in the air. Measured on the running take (30 fps) and the
+//! jumps of CMU 01_01 (120 fps), that is where the root residual was: 0.5–1.2 body weights in
+//! the 2–10 frames before each touch-down, nothing in stance; without smoothing the run shows
+//! the same (at 30 fps the differences alone spread a frame each side). Such flight frames are
+//! carried by the foot of the nearer contact, as long as the needed force presses on the floor
+//! ([`carry_across_spread`]); the reported ground force is then the estimator's view of the
+//! impact, spread in time as the accelerations are. Frames further from contact are flight and
+//! carry nothing.
+//!
+//! [`acceleration_spread_s`]: crate::motion::contact::acceleration_spread_s
 
 use super::{Workspace, forward_kinematics, rnea};
 use crate::error::Error;
@@ -49,6 +65,10 @@ pub struct GroundReactions {
     pub floor: f64,
     /// `[frame][foot]`: the foot is in contact.
     pub contact: Vec<Vec<bool>>,
+    /// `[frame][foot]`: the foot carries load: it is in contact, or the frame is a flight frame
+    /// within [`ContactParams::spread_s`] of the foot's contact phase, where the smoothed
+    /// estimate still needs a pressing force (see [`carry_across_spread`]).
+    pub loaded: Vec<Vec<bool>>,
     /// `[frame][foot]`: force of the ground on the foot (N, world axes); zero off the floor.
     pub grf: Vec<Vec<Vector3<f64>>>,
     /// `[frame][foot]`: centre of pressure of that force on the floor (m, world); for an
@@ -163,11 +183,23 @@ pub fn estimate_ground_reactions_with_feet(
         .collect();
     let steps = step_transitions(&contact, time);
 
+    // the whole-body wrench each frame needs (world axes, about the world origin)
+    let mut needed = Vec::with_capacity(n);
+    for k in 0..n {
+        forward_kinematics(model, &mut ws, &q[k]);
+        rnea(model, &mut ws, &q[k], &v[k], &a[k], None);
+        needed.push(root_wrench(model, &ws));
+    }
+    let up_force: Vec<f64> = needed.iter().map(|w| w.lin[up]).collect();
+    let spread = (params.spread_s / dt).round() as usize;
+    let loaded = carry_across_spread(&contact, &up_force, spread);
+
     let nf = feet.len();
     let mut out = GroundReactions {
         feet: feet.iter().map(|f| f.name.clone()).collect(),
         floor,
         contact,
+        loaded,
         grf: vec![vec![Vector3::zeros(); nf]; n],
         cop: vec![vec![Vector3::zeros(); nf]; n],
         free_moment: vec![vec![0.0; nf]; n],
@@ -183,8 +215,7 @@ pub fn estimate_ground_reactions_with_feet(
     for k in 0..n {
         // whole-body wrench the motion needs (world axes, about the world origin)
         forward_kinematics(model, &mut ws, &q[k]);
-        rnea(model, &mut ws, &q[k], &v[k], &a[k], None);
-        let w = root_wrench(model, &ws);
+        let w = needed[k];
         let pelvis = ws.o_x_i[root].trans;
         out.wrench[k] = about(&w, &pelvis);
 
@@ -192,7 +223,7 @@ pub fn estimate_ground_reactions_with_feet(
         for (s, f) in support.iter_mut().zip(&feet) {
             *s = Support::new(f, &ws.o_x_i, up, floor);
         }
-        let c = &out.contact[k];
+        let c = &out.loaded[k];
         assign_to_feet(
             &w, &support, c, steps[k], up, floor, params, &mut share, &mut loads,
         );
@@ -377,6 +408,66 @@ fn step_transitions(contact: &[Vec<bool>], time: &[f64]) -> Vec<Option<Step>> {
         }
     }
     steps
+}
+
+/// Which feet carry the needed wrench in each frame: the feet in contact; and in a frame of
+/// flight (no foot in contact) that lies within `spread` frames of the contact before or after
+/// it, the feet of that contact (the nearer one), as long as the needed vertical force
+/// `up_force` (N) still presses on the floor from that contact to the frame.
+///
+/// Why: the estimated accelerations at a frame average the true ones over
+/// ±[`ContactParams::spread_s`] ([`acceleration_spread_s`]), so the force of a landing shows
+/// up to that long before touch-down, and a push-off's after lift-off, while the body is in
+/// the air. That force is the stance's, spread by the estimator: it belongs to the foot that
+/// is about to land (or has just left), not to the root. Frames further from contact, or where
+/// the needed force pulls, are flight and carry nothing.
+///
+/// [`acceleration_spread_s`]: crate::motion::contact::acceleration_spread_s
+pub fn carry_across_spread(
+    contact: &[Vec<bool>],
+    up_force: &[f64],
+    spread: usize,
+) -> Vec<Vec<bool>> {
+    let n = contact.len();
+    let mut loaded = contact.to_vec();
+    let flight = |k: usize| contact[k].iter().all(|c| !c);
+    let mut k = 0;
+    while k < n {
+        if !flight(k) {
+            k += 1;
+            continue;
+        }
+        let s = k;
+        while k < n && flight(k) {
+            k += 1;
+        }
+        // frames s..k are flight; distance (in frames) from the contact before and after
+        let reach = |range: &mut dyn Iterator<Item = usize>| -> Vec<usize> {
+            range
+                .take(spread)
+                .take_while(|&j| up_force[j] > 0.0)
+                .collect()
+        };
+        let after = if s > 0 { reach(&mut (s..k)) } else { vec![] };
+        let before = if k < n {
+            reach(&mut (s..k).rev())
+        } else {
+            vec![]
+        };
+        for &j in &after {
+            let nearer_next = k < n && before.contains(&j) && k - j < j + 1 - s;
+            if !nearer_next {
+                loaded[j].clone_from(&contact[s - 1]);
+            }
+        }
+        for &j in &before {
+            let nearer_prev = s > 0 && after.contains(&j) && j + 1 - s <= k - j;
+            if !nearer_prev {
+                loaded[j].clone_from(&contact[k]);
+            }
+        }
+    }
+    loaded
 }
 
 /// A foot's support region on the floor: its ankle and toe projected.
@@ -576,6 +667,25 @@ mod tests {
         // symmetric about the middle of the double support
         assert!((shares[0] + shares[3] - 1.0).abs() < 1e-12);
         assert!(shares[0] > 0.8 && shares[3] < 0.2);
+    }
+
+    #[test]
+    fn flight_frames_near_contact_carry_the_spread_force_of_the_nearer_foot() {
+        // left stance 0..3, flight 3..9, right stance 9..12; spread 2 frames
+        let contact: Vec<Vec<bool>> = (0..12).map(|k| vec![k < 3, k >= 9]).collect();
+        let mut up = vec![500.0; 12];
+        // the needed force pulls at frame 4 (free fall noise): the push-off's reach ends there
+        up[4] = -10.0;
+        let loaded = carry_across_spread(&contact, &up, 2);
+        let want: Vec<Vec<bool>> = (0..12).map(|k| vec![k < 4, k >= 7]).collect();
+        assert_eq!(loaded, want);
+        // a short flight: each frame goes to the nearer contact (a tie to the earlier one)
+        let contact: Vec<Vec<bool>> = (0..8).map(|k| vec![k < 3, k >= 6]).collect();
+        let loaded = carry_across_spread(&contact, &[100.0; 8], 3);
+        let want: Vec<Vec<bool>> = (0..8).map(|k| vec![k < 5, k >= 5]).collect();
+        assert_eq!(loaded, want);
+        // spread 0: only the contact
+        assert_eq!(carry_across_spread(&contact, &[100.0; 8], 0), contact);
     }
 
     #[test]

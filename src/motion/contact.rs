@@ -17,9 +17,12 @@
 //! point is measured against its own floor level ([`detect_floor`] over both feet), and a foot
 //! that never comes down stays above that level.
 
+use crate::error::Error;
 use crate::io::bvh::Bvh;
 use crate::model::Model;
 use crate::model::bvh::BvhMap;
+use crate::motion::derive::differentiate;
+use crate::motion::smooth::{SmoothSpec, Smoother};
 use nalgebra::Vector3;
 
 /// Thresholds of contact detection and of the ground reaction estimate
@@ -55,6 +58,23 @@ pub struct ContactParams {
     /// required coefficient of friction during walking", *Gait & Posture*), so the bound only
     /// removes noise spikes, which stay in the residual.
     pub friction: f64,
+    /// Half-width (s) of the window over which the estimated accelerations average the true
+    /// ones ([`acceleration_spread_s`] of the take's smoothing and frame time). Frames of flight
+    /// within it of a contact phase carry, on the foot of that contact, the part of the needed
+    /// wrench that the smoothing and differencing moved out of the stance (while it presses on
+    /// the floor). Default 0: no such frames; [`ContactParams::for_take`] sets it.
+    pub spread_s: f64,
+}
+
+impl ContactParams {
+    /// The default thresholds, with [`spread_s`](Self::spread_s) set for a take sampled every
+    /// `dt` seconds and smoothed by `smooth` (what `--contact feet` uses).
+    pub fn for_take(smooth: &SmoothSpec, dt: f64) -> Result<Self, Error> {
+        Ok(Self {
+            spread_s: acceleration_spread_s(smooth, dt)?,
+            ..Self::default()
+        })
+    }
 }
 
 impl Default for ContactParams {
@@ -67,6 +87,7 @@ impl Default for ContactParams {
             min_phase_s: 0.04,
             cop_margin: 0.05,
             friction: 1.0,
+            spread_s: 0.0,
         }
     }
 }
@@ -143,7 +164,17 @@ pub fn contact_phases(
         .collect()
 }
 
-/// The planted state of one point over time (hysteresis on height above `level` and speed).
+/// The planted state of one point over time: hysteresis on height above `level` and speed,
+/// run forward and backward in time and the two results joined.
+///
+/// A Schmitt trigger run forward enters late and leaves late: a landing foot still moving at
+/// `speed_on` when it touches down (a heel strike, a landing from a run or a jump, sampled at
+/// 30 fps: the central-difference speed of the touch-down frame spans the end of the descent)
+/// enters contact a frame or more after it touched, while the push-off is followed to the
+/// exit thresholds. Run backward it does the opposite. Joining both (a zero-lag trigger, as the
+/// forward-backward pass makes a filter zero-lag) treats touch-down and lift-off alike: a
+/// point is planted from the first frame after which it is continuously within the exit
+/// thresholds up to a frame within the entry thresholds, to the last such frame after.
 fn planted(
     p: &[Vector3<f64>],
     up: usize,
@@ -152,24 +183,69 @@ fn planted(
     params: &ContactParams,
 ) -> Vec<bool> {
     let n = p.len();
+    let test = |k: usize| {
+        let (a, b) = (k.saturating_sub(1), (k + 1).min(n - 1));
+        let speed = if b > a {
+            (p[b] - p[a]).norm() / ((b - a) as f64 * dt)
+        } else {
+            0.0
+        };
+        let h = p[k][up] - level;
+        (
+            h < params.height_on && speed < params.speed_on,
+            h <= params.height_off && speed <= params.speed_off,
+        )
+    };
+    let tests: Vec<(bool, bool)> = (0..n).map(test).collect();
+    let trigger = |state: &mut bool, (enter, stay): (bool, bool)| {
+        *state = if *state { stay } else { enter };
+        *state
+    };
     let mut state = false;
-    (0..n)
-        .map(|k| {
-            let (a, b) = (k.saturating_sub(1), (k + 1).min(n - 1));
-            let speed = if b > a {
-                (p[b] - p[a]).norm() / ((b - a) as f64 * dt)
-            } else {
-                0.0
-            };
-            let h = p[k][up] - level;
-            state = if state {
-                h <= params.height_off && speed <= params.speed_off
-            } else {
-                h < params.height_on && speed < params.speed_on
-            };
-            state
-        })
-        .collect()
+    let mut out: Vec<bool> = tests.iter().map(|t| trigger(&mut state, *t)).collect();
+    state = false;
+    for (o, t) in out.iter_mut().zip(&tests).rev() {
+        *o |= trigger(&mut state, *t);
+    }
+    out
+}
+
+/// The half-width (s) of the window of true accelerations that the pipeline's estimate of an
+/// acceleration at one frame averages: the smallest `h` such that the estimator's impulse
+/// response (smoothing `smooth`, then second-order central differences twice, as
+/// `pipeline::take_states` does) has 95 % of its absolute area within `±h`.
+///
+/// Computed, not tabulated: a unit velocity step at the centre of a 4 s ramp (`x = max(0, t)`,
+/// whose true acceleration is a unit impulse) goes through the same [`Smoother`] and
+/// [`differentiate`] as a take; the result is the estimator's kernel. Without smoothing it is
+/// `[¼, ½, ¼]/dt` (one frame each side: 33 ms at 30 fps, 8 ms at 120 fps); the 6 Hz
+/// Butterworth widens it to ±0.07 s (0.067 s at 120 fps, 0.1 s at 30 fps).
+///
+/// A force the ground applies between `t₀` and `t₁` therefore shows in the estimated whole-body
+/// wrench over `[t₀ − h, t₁ + h]`: a landing appears before the foot touches down
+/// ([`crate::dynamics::grf`] lets the landing foot carry it).
+///
+/// [`Smoother`]: crate::motion::smooth::Smoother
+/// [`differentiate`]: crate::motion::derive::differentiate
+pub fn acceleration_spread_s(smooth: &SmoothSpec, dt: f64) -> Result<f64, Error> {
+    let mut smoother = Smoother::new(*smooth, dt)?;
+    let half = (2.0 / dt).ceil() as usize;
+    let n = 2 * half + 1;
+    let mut x: Vec<f64> = (0..n)
+        .map(|k| (k as f64 - half as f64).max(0.0) * dt)
+        .collect();
+    smoother.smooth(&mut x);
+    let (mut v, mut a) = (vec![0.0; n], vec![0.0; n]);
+    differentiate(&x, dt, &mut v);
+    differentiate(&v, dt, &mut a);
+    let total: f64 = a.iter().map(|x| x.abs()).sum();
+    let mut inside = a[half].abs();
+    let mut h = 0;
+    while inside < 0.95 * total && h < half {
+        h += 1;
+        inside += a[half - h].abs() + a[half + h].abs();
+    }
+    Ok(h as f64 * dt)
 }
 
 /// Flips runs of equal states shorter than `min_frames` that have neighbours on both sides:
@@ -552,6 +628,60 @@ mod tests {
         let f = detect_floor(&h);
         assert!((0.03..0.06).contains(&f), "{f}");
         assert_eq!(detect_floor(&[]), 0.0);
+    }
+
+    #[test]
+    fn the_acceleration_spread_is_the_kernel_of_differences_and_smoothing() {
+        // no smoothing: a = (x[k+2] − 2x[k] + x[k−2]) / 4dt² is [¼, ½, ¼]/dt on an impulse:
+        // one frame each side
+        for dt in [1.0 / 30.0, 1.0 / 120.0] {
+            let h = acceleration_spread_s(&SmoothSpec::None, dt).unwrap();
+            assert!((h - dt).abs() < 1e-12, "{h}");
+        }
+        // a low-pass widens it in time, roughly as 1/cutoff, not as the frame rate
+        let bw = |hz: f64, dt: f64| {
+            let spec = SmoothSpec::Butterworth {
+                cutoff_hz: hz,
+                order: 2,
+            };
+            acceleration_spread_s(&spec, dt).unwrap()
+        };
+        let (h6, h12) = (bw(6.0, 1.0 / 120.0), bw(12.0, 1.0 / 120.0));
+        assert!((0.05..0.12).contains(&h6), "{h6}");
+        assert!((h6 / h12 - 2.0).abs() < 0.3, "{h6} {h12}");
+        assert!((bw(6.0, 1.0 / 30.0) - h6).abs() < 0.04);
+        // a cutoff above Nyquist is an error, not a panic
+        assert!(
+            acceleration_spread_s(
+                &SmoothSpec::Butterworth {
+                    cutoff_hz: 20.0,
+                    order: 2
+                },
+                1.0 / 30.0
+            )
+            .is_err()
+        );
+    }
+
+    #[test]
+    fn a_landing_enters_contact_on_its_touch_down_frame() {
+        // a point falls at 2 m/s onto the floor, touching down at frame 10, and stays there;
+        // at 30 fps the central-difference speed of frame 10 is 1 m/s, over the 0.8 m/s entry
+        // speed: a forward trigger enters one frame late (11), the backward one holds contact
+        // back to frame 10 (speed ≤ 1.2 m/s) and not to 9 (6.7 cm up, 2 m/s)
+        let dt = 1.0 / 30.0;
+        let p: Vec<Vector3<f64>> = (0..20)
+            .map(|k| Vector3::new(0.0, (10.0 - k as f64).max(0.0) * 2.0 * dt, 0.0))
+            .collect();
+        let c = planted(&p, 1, 0.0, dt, &ContactParams::default());
+        let first = c.iter().position(|x| *x).unwrap();
+        assert_eq!(first, 10, "{c:?}");
+        assert!(c[first..].iter().all(|x| *x));
+        // and the mirror image, a lift-off, leaves symmetrically
+        let rev: Vec<Vector3<f64>> = p.iter().rev().copied().collect();
+        let r = planted(&rev, 1, 0.0, dt, &ContactParams::default());
+        let back: Vec<bool> = c.iter().rev().copied().collect();
+        assert_eq!(r, back);
     }
 
     #[test]

@@ -719,17 +719,31 @@ pub fn ground_reactions(
     if take.options.contact == Contact::None {
         return Ok(None);
     }
+    estimate_take_ground_reactions(take).map(Some)
+}
+
+/// Ground reactions of a take whatever its `contact` option: the feet found through the BVH
+/// skeleton ([`feet_of_bvh`](crate::motion::contact::feet_of_bvh)), the contact thresholds
+/// with the spread of the take's own smoothing and frame time
+/// ([`ContactParams::for_take`](crate::motion::contact::ContactParams::for_take)).
+pub fn estimate_take_ground_reactions(
+    take: &Take,
+) -> Result<crate::dynamics::grf::GroundReactions, Error> {
+    use crate::motion::contact::{ContactParams, feet_of_bvh};
     let s = &take.states;
-    crate::dynamics::grf::estimate_ground_reactions(
+    let params = ContactParams::for_take(&take.options.smooth, take.bvh.frame_time)
+        .map_err(|e| at_file(&take.path, e))?;
+    let feet = feet_of_bvh(&take.bvh, &take.map, &take.model);
+    crate::dynamics::grf::estimate_ground_reactions_with_feet(
         &take.model,
+        &feet,
         &s.time,
         &s.q,
         &s.v,
         &s.a,
         take.up.index(),
-        &crate::motion::contact::ContactParams::default(),
+        &params,
     )
-    .map(Some)
     .map_err(|e| at_file(&take.path, e))
 }
 
