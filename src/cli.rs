@@ -247,6 +247,9 @@ pub struct TakeArgs {
     /// Ground contact: none (default), or feet (estimate ground reaction forces).
     #[arg(long)]
     pub contact: Option<String>,
+    /// Keep frame 0 even when it is a rest pose before the motion (dropped by default).
+    #[arg(long)]
+    pub keep_first_frame: bool,
     /// Scene file (TOML, see data/scene_example.toml); flags given here override it.
     #[arg(long)]
     pub scene: Option<PathBuf>,
@@ -294,6 +297,7 @@ impl TakeArgs {
             lock: &self.lock,
             subtree: self.subtree.as_deref(),
             contact: self.contact.as_deref(),
+            keep_first_frame: self.keep_first_frame,
         })?;
         Ok(o)
     }

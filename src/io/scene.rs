@@ -13,6 +13,7 @@
 //! subtree = "RightUpLeg"
 //! smooth = "butterworth:6hz"
 //! contact = "feet"                # or "none"
+//! keep_first_frame = false        # true keeps a rest pose stored as frame 0
 //! [link_mass]
 //! LeftUpLeg = 9.5
 //! [gains]
@@ -79,6 +80,10 @@ pub struct Scene {
     /// Ground contact: `"none"` (default: the avatar hangs from its root) or `"feet"`.
     #[serde(default = "default_contact", deserialize_with = "contact")]
     pub contact: String,
+    /// Keep frame 0 of the takes even when it is a rest pose before the motion (default
+    /// false: such a frame is dropped, as `--keep-first-frame` keeps it).
+    #[serde(default)]
+    pub keep_first_frame: bool,
     /// Per-link mass overrides (kg, ≥ 0) by BVH joint name.
     #[serde(default, deserialize_with = "masses")]
     pub link_mass: BTreeMap<String, f64>,

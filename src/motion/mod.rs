@@ -8,4 +8,5 @@ pub mod fold;
 pub mod ramp;
 pub mod smooth;
 pub mod take;
+pub mod trim;
 pub mod unwrap;

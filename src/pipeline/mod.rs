@@ -58,6 +58,9 @@ pub struct TakeOptions {
     pub subtree: Option<String>,
     /// Ground contact model.
     pub contact: Contact,
+    /// Keep frame 0 even when it is a rest pose before the motion (`motion::trim`); by
+    /// default [`load_take`] drops it.
+    pub keep_first_frame: bool,
 }
 
 /// Ground contact model of a scene.
@@ -98,6 +101,7 @@ impl Default for TakeOptions {
             lock: vec![],
             subtree: None,
             contact: Contact::None,
+            keep_first_frame: false,
         }
     }
 }
@@ -117,6 +121,8 @@ pub struct Flags<'a> {
     pub lock: &'a [String],
     pub subtree: Option<&'a str>,
     pub contact: Option<&'a str>,
+    /// `--keep-first-frame` (false leaves the option unchanged).
+    pub keep_first_frame: bool,
 }
 
 pub(crate) fn parse_flag<T: FromStr>(flag: &str, value: &str) -> Result<T, Error>
@@ -155,6 +161,7 @@ impl TakeOptions {
             o.smooth = parse_flag("smooth", sm)?;
         }
         o.contact = scene.contact.parse()?;
+        o.keep_first_frame = scene.keep_first_frame;
         Ok(o)
     }
 
@@ -213,6 +220,9 @@ impl TakeOptions {
         if let Some(c) = f.contact {
             self.contact = parse_flag("contact", c)?;
         }
+        if f.keep_first_frame {
+            self.keep_first_frame = true;
+        }
         Ok(())
     }
 }
@@ -260,9 +270,29 @@ pub struct Take {
 
 /// Stages 1–7 of the module doc.
 pub fn load_take(path: &Path, opts: &TakeOptions) -> Result<Take, Error> {
-    // read
-    let bvh = bvh::read(path)?;
-    take_from_bvh(path, bvh, opts)
+    // read; a rest pose stored as frame 0 (CMU conversions) is dropped
+    let (bvh, note) = read_take(path, opts.keep_first_frame)?;
+    let mut take = take_from_bvh(path, bvh, opts)?;
+    take.notes.extend(note);
+    Ok(take)
+}
+
+/// Stage 1: parses a BVH and, unless `keep_first_frame`, drops its frame 0 when that is a rest
+/// pose before the motion (`motion::trim`); the note says so, for `info`.
+pub fn read_take(path: &Path, keep_first_frame: bool) -> Result<(Bvh, Option<String>), Error> {
+    let mut bvh = bvh::read(path)?;
+    if keep_first_frame {
+        return Ok((bvh, None));
+    }
+    let note = crate::motion::trim::trim_rest_first_frame(&mut bvh).map(|r| {
+        format!(
+            "frame 0 was dropped: a rest pose, not part of the motion (its step to frame 1 is \
+             {:.0}× the median frame-to-frame step of the rotations, {:.0}× of the root \
+             position); --keep-first-frame keeps it",
+            r.rotation_ratio, r.position_ratio
+        )
+    });
+    Ok((bvh, note))
 }
 
 /// Stages 2–7 on an already parsed take.

@@ -258,7 +258,10 @@ impl Engine for Builtin {
         let bvh = if source == DEMO_WALK {
             crate::io::generate::walk(&crate::io::generate::WalkParams::default())
         } else {
-            crate::io::bvh::read(path)?
+            // as `pipeline::load_take`: a rest pose stored as frame 0 is dropped
+            let mut bvh = crate::io::bvh::read(path)?;
+            crate::motion::trim::trim_rest_first_frame(&mut bvh);
+            bvh
         };
         let name = path
             .file_stem()
