@@ -4,9 +4,25 @@
 //! SVG and CSV carry every joint.
 
 use articula::report::motor::{
-    JointMotion, MOTOR_CLASSES, MOTOR_TABLE_HEADER, MotorSpec, choose_class, class_name,
-    motor_current, motor_curves_csv, motor_svg, motor_table_csv, size_motor, size_motors,
+    JointLoad, JointMotion, MOTOR_TABLE_HEADER, MotorClass, MotorSpec, choose_class, class_name,
+    default_catalogue, motor_current, motor_curves_csv, motor_svg, motor_table_csv,
+    parse_catalogue,
 };
+
+fn classes() -> Vec<MotorClass> {
+    default_catalogue().unwrap()
+}
+
+fn size_motor(m: &JointMotion, s: &MotorSpec) -> Result<JointLoad, articula::error::Error> {
+    articula::report::motor::size_motor(m, s, &classes())
+}
+
+fn size_motors(
+    m: &[JointMotion],
+    s: &[MotorSpec],
+) -> Result<Vec<JointLoad>, articula::error::Error> {
+    articula::report::motor::size_motors(m, s, &classes())
+}
 
 fn spec(km: f64, n: f64, eta: Option<f64>) -> MotorSpec {
     MotorSpec {
@@ -64,36 +80,29 @@ fn joint_load_by_hand() {
 
 #[test]
 fn class_limits_are_inclusive_and_all_three_count() {
-    let c0 = &MOTOR_CLASSES[0];
+    let all = classes();
+    let c0 = &all[0];
     let exact = choose_class(
-        MOTOR_CLASSES,
+        &all,
         c0.rated_torque_nm,
         c0.peak_torque_nm,
         c0.rated_speed_rad_s,
     );
-    assert_eq!(exact.map(|c| c.name), Some(c0.name));
+    assert_eq!(exact.map(|c| &c.name), Some(&c0.name));
     let up = |x: f64| f64::from_bits(x.to_bits() + 1);
     // a hair over any one limit moves to the next class (or to none for speed: bigger motors
     // are slower)
-    let over_rms = choose_class(MOTOR_CLASSES, up(c0.rated_torque_nm), 0.0, 0.0);
-    assert_eq!(over_rms.map(|c| c.name), Some(MOTOR_CLASSES[1].name));
-    let over_peak = choose_class(MOTOR_CLASSES, 0.0, up(c0.peak_torque_nm), 0.0);
-    assert_eq!(over_peak.map(|c| c.name), Some(MOTOR_CLASSES[1].name));
-    assert!(choose_class(MOTOR_CLASSES, 0.0, 0.0, up(c0.rated_speed_rad_s)).is_none());
+    let over_rms = choose_class(&all, up(c0.rated_torque_nm), 0.0, 0.0);
+    assert_eq!(over_rms.map(|c| &c.name), Some(&all[1].name));
+    let over_peak = choose_class(&all, 0.0, up(c0.peak_torque_nm), 0.0);
+    assert_eq!(over_peak.map(|c| &c.name), Some(&all[1].name));
+    assert!(choose_class(&all, 0.0, 0.0, up(c0.rated_speed_rad_s)).is_none());
     // torque of class 3 with more speed than class 3 has: none
-    let c2 = &MOTOR_CLASSES[2];
-    assert!(
-        choose_class(
-            MOTOR_CLASSES,
-            c2.rated_torque_nm,
-            0.0,
-            up(c2.rated_speed_rad_s)
-        )
-        .is_none()
-    );
+    let c2 = &all[2];
+    assert!(choose_class(&all, c2.rated_torque_nm, 0.0, up(c2.rated_speed_rad_s)).is_none());
     // beyond the largest class: none
-    let last = MOTOR_CLASSES.last().unwrap();
-    assert!(choose_class(MOTOR_CLASSES, up(last.rated_torque_nm), 0.0, 0.0).is_none());
+    let last = all.last().unwrap();
+    assert!(choose_class(&all, up(last.rated_torque_nm), 0.0, 0.0).is_none());
 }
 
 #[test]
@@ -102,13 +111,13 @@ fn sizing_picks_the_class_at_its_boundary() {
     // rated torque), 100 rad/s → 400 rad/s
     let l = size_motor(&constant("wrist", 0.08, 100.0), &spec(0.01, 4.0, None)).unwrap();
     assert_eq!(l.motor_rms_torque_nm, 0.02);
-    assert_eq!(class_name(&l), MOTOR_CLASSES[0].name);
+    assert_eq!(class_name(&l), classes()[0].name);
     let l = size_motor(
         &constant("wrist", f64::from_bits(0.08f64.to_bits() + 1), 100.0),
         &spec(0.01, 4.0, None),
     )
     .unwrap();
-    assert_eq!(class_name(&l), MOTOR_CLASSES[1].name);
+    assert_eq!(class_name(&l), classes()[1].name);
     // too fast for every class
     let l = size_motor(&constant("wrist", 0.08, 1000.0), &spec(0.01, 4.0, None)).unwrap();
     assert!(l.class.is_none());
@@ -117,7 +126,7 @@ fn sizing_picks_the_class_at_its_boundary() {
 
 #[test]
 fn catalogue_is_ordered_smallest_first() {
-    for w in MOTOR_CLASSES.windows(2) {
+    for w in classes().windows(2) {
         assert!(w[0].rated_torque_nm < w[1].rated_torque_nm);
         assert!(w[0].peak_torque_nm < w[1].peak_torque_nm);
         assert!(w[0].rated_speed_rad_s >= w[1].rated_speed_rad_s);
@@ -167,14 +176,11 @@ fn arm() -> Vec<JointMotion> {
 }
 
 #[test]
-fn report_svg_has_three_panels_every_joint_and_the_table() {
+fn report_svg_has_four_panels_every_joint_and_the_table() {
     let joints = arm();
-    let loads = size_motors(
-        &joints,
-        &[spec(0.05, 100.0, None), spec(0.05, 50.0, Some(0.9))],
-    )
-    .unwrap();
-    let svg = motor_svg(&joints, &loads).unwrap();
+    let specs = [spec(0.05, 100.0, None), spec(0.05, 50.0, Some(0.9))];
+    let loads = size_motors(&joints, &specs).unwrap();
+    let svg = motor_svg(&joints, &specs, &loads).unwrap();
     let doc = roxmltree::Document::parse(&svg).expect("well-formed");
     let texts: Vec<String> = doc
         .descendants()
@@ -188,26 +194,29 @@ fn report_svg_has_three_panels_every_joint_and_the_table() {
         "torque (N·m)",
         "speed (rad/s)",
         "power (W)",
+        "Motor current I = τ/(Km·N·η)",
+        "current (A)",
         "peak I (A)",
         "class",
     ] {
         assert!(texts.iter().any(|t| t == want), "no {want:?}");
     }
-    // each joint: a legend entry in each of the three panels plus its table row
+    // each joint: a legend entry in each of the four panels plus its table row
     for j in ["shoulder", "elbow"] {
-        assert_eq!(texts.iter().filter(|t| *t == j).count(), 4, "{j}");
+        assert_eq!(texts.iter().filter(|t| *t == j).count(), 5, "{j}");
     }
     for l in &loads {
         assert!(texts.iter().any(|t| t == class_name(l)));
     }
-    // 2 joints × 3 panels × (min + max)
+    // 2 joints × 4 panels × (min + max)
     assert_eq!(
         doc.descendants()
             .filter(|n| n.has_tag_name("circle"))
             .count(),
-        12
+        16
     );
-    assert_eq!(svg, motor_svg(&joints, &loads).unwrap());
+    assert_eq!(svg, motor_svg(&joints, &specs, &loads).unwrap());
+    assert!(motor_svg(&joints, &specs[..1], &loads).is_err());
 }
 
 #[test]
@@ -226,13 +235,18 @@ fn table_csv_has_a_row_per_joint() {
         assert_eq!(&r[0], l.joint);
         assert_eq!(r[8].parse::<f64>().unwrap(), l.peak_current_a);
         assert_eq!(&r[10], class_name(l));
+        // the drive it was sized with
+        assert_eq!(r[11].parse::<f64>().unwrap(), l.spec.km_nm_per_a);
+        assert_eq!(r[12].parse::<f64>().unwrap(), l.spec.gear_ratio);
+        assert_eq!(r[13].parse::<f64>().unwrap(), 1.0);
     }
 }
 
 #[test]
-fn curves_csv_holds_torque_speed_and_power() {
+fn curves_csv_holds_torque_speed_power_and_current() {
     let joints = arm();
-    let text = motor_curves_csv(&joints).unwrap();
+    let specs = [spec(0.05, 100.0, None), spec(0.2, 50.0, Some(0.5))];
+    let text = motor_curves_csv(&joints, &specs).unwrap();
     let (h, cols) =
         articula::report::csv::parse_columns(&text, std::path::Path::new("m.csv")).unwrap();
     assert_eq!(
@@ -244,7 +258,37 @@ fn curves_csv_holds_torque_speed_and_power() {
             "shoulder_power_W"
         ]
     );
-    assert_eq!(h.len(), 7);
+    assert_eq!(h.len(), 9);
+    assert_eq!(h[8], "elbow_current_A");
     assert_eq!(cols[1], joints[0].tau);
-    assert_eq!(cols[6][50], joints[1].tau[50] * joints[1].qd[50]);
+    assert_eq!(cols[7][50], joints[1].tau[50] * joints[1].qd[50]);
+    // I = τ / (Km·N·η) = τ / (0.2·50·0.5) = τ / 5
+    assert_eq!(cols[8][50], joints[1].tau[50] / 5.0);
+    assert!(motor_curves_csv(&joints, &specs[..1]).is_err());
+}
+
+#[test]
+fn the_bundled_catalogue_is_the_data_file_and_bad_catalogues_are_errors() {
+    let all = classes();
+    assert_eq!(all.len(), 8);
+    assert_eq!(all[3].name, "BLDC-60 (200 W)");
+    // 5000 rpm = 5000·π/30 rad/s
+    assert_eq!(
+        all[3].rated_speed_rad_s,
+        5000.0 * std::f64::consts::PI / 30.0
+    );
+    let p = std::path::Path::new("c.toml");
+    let one = "[[class]]\nname = \"M\"\nrated_torque_nm = 1.0\npeak_torque_nm = 3.0\nrated_speed_rpm = 3000\n";
+    let c = parse_catalogue(one, p).unwrap();
+    assert_eq!(c[0].peak_torque_nm, 3.0);
+    for bad in [
+        "",
+        "[[class]]\nname = \"M\"\n",
+        &one.replace("3.0", "0.5"),
+        &one.replace("3000", "-1"),
+        &one.replace("name", "nom"),
+    ] {
+        let e = parse_catalogue(bad, p).unwrap_err().to_string();
+        assert!(e.starts_with("c.toml"), "{e}");
+    }
 }

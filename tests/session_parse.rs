@@ -192,6 +192,57 @@ fn every_command_parses() {
             "report motor motors.svg",
             Command::ReportMotor {
                 path: p("motors.svg"),
+                curves: false,
+            },
+        ),
+        (
+            "report motor curves c.csv",
+            Command::ReportMotor {
+                path: p("c.csv"),
+                curves: true,
+            },
+        ),
+        (
+            "export bvh sim s.bvh",
+            Command::Export {
+                kind: ExportKind::BvhSim,
+                path: p("s.bvh"),
+            },
+        ),
+        (
+            "trajectory 0,pi/4 -pi/2,0.5 over 1.5 at 200",
+            Command::Trajectory {
+                poses: vec![
+                    vec![0.0, std::f64::consts::FRAC_PI_4],
+                    vec![-std::f64::consts::FRAC_PI_2, 0.5],
+                ],
+                duration_s: 1.5,
+                rate_hz: 200.0,
+            },
+        ),
+        (
+            "trajectory 3pi/4,0.5*pi over 2s",
+            Command::Trajectory {
+                poses: vec![vec![
+                    3.0 * std::f64::consts::PI / 4.0,
+                    0.5 * std::f64::consts::PI,
+                ]],
+                duration_s: 2.0,
+                rate_hz: 500.0,
+            },
+        ),
+        (
+            "set motor.j2.gear 107.815",
+            Command::Set {
+                key: "motor.j2.gear".into(),
+                value: "107.815".into(),
+            },
+        ),
+        (
+            "set motor.LeftLeg.Xrotation.km 0.2",
+            Command::Set {
+                key: "motor.LeftLeg.Xrotation.km".into(),
+                value: "0.2".into(),
             },
         ),
         ("expect nv 69", Command::Expect(Expectation::Nv(69))),
@@ -285,7 +336,28 @@ fn malformed_lines_name_their_line_and_what_was_expected() {
         ),
         ("compare weights 60,-5 k.csv", "must be positive"),
         ("compare heights 1,2 k.csv", "usage: compare weights"),
-        ("report torque a.svg", "usage: report motor PATH"),
+        ("report torque a.svg", "usage: report motor [curves] PATH"),
+        (
+            "report motor table a.csv",
+            "usage: report motor [curves] PATH",
+        ),
+        (
+            "export bvh simulated a.bvh",
+            "usage: export csv|svg|bvh|urdf PATH",
+        ),
+        ("set motor.j1.speed 3", "unknown setting 'motor.j1.speed'"),
+        ("set motor..km 3", "unknown setting"),
+        ("trajectory 0,0 1,1", "usage: trajectory POSE"),
+        ("trajectory over 2", "usage: trajectory POSE"),
+        ("trajectory 0,x over 2", "'x' in pose '0,x' is not a number"),
+        ("trajectory 0,0 1 over 2", "the same number of values"),
+        ("trajectory 0 1 over -2", "must be positive"),
+        ("trajectory 0 1 over 2 at", "usage: trajectory POSE"),
+        ("trajectory 0 1 over 0.001 at 10", "2 to 10 million samples"),
+        (
+            "expect now j1 power between 1 2",
+            "expected angle, velocity",
+        ),
         ("expect", "usage: expect"),
         ("expect nv many", "expected nv"),
         (

@@ -155,7 +155,7 @@ fn a_bvh_file_next_to_the_session_loads_by_relative_path() {
     let s = write(
         dir.path(),
         "s.session",
-        "load \"short walk.bvh\" as w\nexpect frames 120\nselect RightLeg\nexpect selected RightLeg.Zrotation\nexpect rms RightLeg.Xrotation torque between 0.1 500\n",
+        "load \"short walk.bvh\" as w\nexpect frames 120\nselect RightLeg\n# a joint selects its largest range of motion: knee flexion\nexpect selected RightLeg.Xrotation\nexpect rms RightLeg.Xrotation torque between 0.1 500\n",
     );
     let r = run_session(&s, &dir.path().join("out")).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(r.expects, 3);

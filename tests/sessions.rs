@@ -67,3 +67,57 @@ fn knee_load_session_compares_three_body_masses_in_one_svg() {
         );
     }
 }
+
+#[test]
+fn motor_sizing_session_sizes_every_puma_joint_with_its_own_drive() {
+    let out = tempfile::tempdir().unwrap();
+    run_session(&common::repo("sessions/motor_sizing.session"), out.path()).unwrap();
+    // the table: one row per joint, I = τ / (Km·N·η) with each joint's own drive
+    let table = std::fs::read_to_string(out.path().join("puma_motors.csv")).unwrap();
+    let mut rdr = csv::Reader::from_reader(table.as_bytes());
+    let h: Vec<String> = rdr.headers().unwrap().iter().map(String::from).collect();
+    let col = |name: &str| h.iter().position(|x| x == name).unwrap();
+    let rows: Vec<csv::StringRecord> = rdr.records().map(Result::unwrap).collect();
+    assert_eq!(rows.len(), 6);
+    let gears = [62.6111, 107.815, 53.7063, 76.0364, 71.923, 76.686];
+    for (r, n) in rows.iter().zip(gears) {
+        let f = |c: &str| r[col(c)].parse::<f64>().unwrap();
+        assert_eq!(f("gear_ratio"), n);
+        assert_eq!(f("efficiency"), 0.9);
+        let i = f("peak_tau_Nm") / (f("km_Nm_per_A") * n * 0.9);
+        assert!((f("peak_current_A") - i).abs() <= 1e-12 * i.abs().max(1.0));
+    }
+    assert_eq!(&rows[1][col("class")], "BLDC-80 (600 W)");
+    // the curves: t_s and four columns per joint, current = τ/(Km·N·η) sample by sample
+    let text = std::fs::read_to_string(out.path().join("puma_motor_curves.csv")).unwrap();
+    let (h, cols) =
+        articula::report::csv::parse_columns(&text, std::path::Path::new("c.csv")).unwrap();
+    assert_eq!(h.len(), 1 + 6 * 4);
+    let (tau, cur) = (
+        h.iter().position(|x| x == "j2_tau_Nm").unwrap(),
+        h.iter().position(|x| x == "j2_current_A").unwrap(),
+    );
+    assert_eq!(cols[0].len(), 2251);
+    for k in [0, 700, 2250] {
+        let want = cols[tau][k] / (0.26 * 107.815 * 0.9);
+        assert!((cols[cur][k] - want).abs() < 1e-12, "{k}");
+    }
+    // the chart: four panels and the table
+    let svg = std::fs::read_to_string(out.path().join("puma_motors.svg")).unwrap();
+    let doc = roxmltree::Document::parse(&svg).expect("valid SVG XML");
+    let texts: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.is_text())
+        .filter_map(|n| n.text())
+        .collect();
+    for want in [
+        "Joint torque",
+        "Joint speed",
+        "Mechanical power τ·q̇",
+        "Motor current I = τ/(Km·N·η)",
+        "BLDC-80 (600 W)",
+        "j6",
+    ] {
+        assert!(texts.iter().any(|t| t.trim() == want), "no {want:?}");
+    }
+}

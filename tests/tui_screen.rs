@@ -41,9 +41,12 @@ fn the_demo_screen_shows_tree_sparklines_timeline_and_status() {
     // after loading, inverse dynamics ran and a rotation coordinate is selected
     assert_eq!(wb.selection.as_deref(), Some("Hips.Zrotation"));
     // down the tree to LeftUpLeg's child LeftLeg: select it from the command line
+    // a joint selects its coordinate with the largest range of motion: knee flexion
     press(&mut ui, &mut wb, ":select LeftLeg<Enter>");
+    assert_eq!(wb.selection.as_deref(), Some("LeftLeg.Xrotation"));
+    // ← and → step through the joint's coordinates (channel order Z X Y)
+    press(&mut ui, &mut wb, "h");
     assert_eq!(wb.selection.as_deref(), Some("LeftLeg.Zrotation"));
-    // its flexion coordinate with → (Z → X)
     press(&mut ui, &mut wb, "l");
     assert_eq!(wb.selection.as_deref(), Some("LeftLeg.Xrotation"));
     press(&mut ui, &mut wb, "}}}");
@@ -78,15 +81,20 @@ fn the_demo_screen_shows_tree_sparklines_timeline_and_status() {
 fn tree_navigation_parameters_and_help() {
     let (mut ui, mut wb) = demo(100, 30);
     press(&mut ui, &mut wb, "jj");
-    assert_eq!(wb.selection.as_deref(), Some("Spine1.Zrotation"));
+    let largest = |wb: &Workbench, joint: &str| {
+        articula::session::workbench::best_coordinate(wb.latest_results().unwrap(), joint)
+    };
+    assert_eq!(wb.selection, largest(&wb, "Spine1"));
+    assert!(wb.selection.as_deref().unwrap().starts_with("Spine1."));
     press(&mut ui, &mut wb, "k");
-    assert_eq!(wb.selection.as_deref(), Some("Spine.Zrotation"));
+    assert_eq!(wb.selection, largest(&wb, "Spine"));
+    let spine = wb.selection.clone();
     // parameters: Tab twice, → raises the body mass by 5 kg and recomputes
     press(&mut ui, &mut wb, "<Tab><Tab>");
     assert_eq!(ui.focus, Focus::Params);
     let before = wb.fresh_results().unwrap().clone();
     press(&mut ui, &mut wb, "<Right>");
-    assert_eq!(wb.params.body_mass, 80.0);
+    assert_eq!(wb.params.take.body.mass_kg, 80.0);
     let after = wb.fresh_results().unwrap().clone();
     assert!((after.model.total_mass() - 80.0).abs() < 1e-9);
     assert_ne!(before.tau, after.tau);
@@ -101,7 +109,7 @@ fn tree_navigation_parameters_and_help() {
     // a bad command shows an error in the status line and changes nothing
     press(&mut ui, &mut wb, ":select Tail<Enter>");
     assert!(screen(&ui, &wb, 100, 30).contains("error: no joint called 'Tail'"));
-    assert_eq!(wb.selection.as_deref(), Some("Spine.Zrotation"));
+    assert_eq!(wb.selection, spine);
     // history brings the last command back
     press(&mut ui, &mut wb, ":<Up>");
     assert_eq!(ui.cmdline.as_deref(), Some("select Tail"));
@@ -115,7 +123,8 @@ fn tab_completes_commands_and_joint_names() {
     press(&mut ui, &mut wb, ":sel<Tab>LeftU<Tab>");
     assert_eq!(ui.cmdline.as_deref(), Some("select LeftUpLeg "));
     press(&mut ui, &mut wb, "<Enter>");
-    assert_eq!(wb.selection.as_deref(), Some("LeftUpLeg.Zrotation"));
+    // the hip's largest range of motion is flexion (Xrotation)
+    assert_eq!(wb.selection.as_deref(), Some("LeftUpLeg.Xrotation"));
     press(&mut ui, &mut wb, ":se<Tab>");
     assert_eq!(ui.completions, ["set", "select"]);
     press(&mut ui, &mut wb, "t<Tab>bo<Tab>");
@@ -156,4 +165,88 @@ fn resize_from_large_to_tiny_and_back() {
             assert!(s.contains("needs at least"), "{w}×{h}:\n{s}");
         }
     }
+}
+
+/// Regression: with the ball joint model the angle sparkline was empty (q columns are `:qx`…,
+/// the selection a velocity coordinate `:wx`); it now shows the rotation-vector component.
+#[test]
+fn ball_joints_show_a_rotation_vector_angle_sparkline() {
+    let (mut ui, mut wb) = demo(100, 30);
+    press(
+        &mut ui,
+        &mut wb,
+        ":set joints ball<Enter>:select LeftLeg<Enter>",
+    );
+    assert!(ui.error.is_none(), "{:?}", ui.error);
+    // the knee's largest range of motion is about its x axis
+    assert_eq!(wb.selection.as_deref(), Some("LeftLeg:wx"));
+    press(&mut ui, &mut wb, "}}}}}}");
+    let s = screen(&ui, &wb, 100, 30);
+    assert!(s.contains("LeftLeg:wx angle [deg]"), "{s}");
+    assert!(!s.contains("angle: no results"), "{s}");
+    let r = wb.fresh_results().unwrap();
+    let angle = articula::session::workbench::angle_series(r, "LeftLeg:wx").unwrap();
+    let deg: Vec<f64> = angle.iter().map(|x| x.to_degrees()).collect();
+    let (min, max, now) = draw::running_stats(&deg, 60).unwrap();
+    let label = format!("min {min:.1}  max {max:.1}  now {now:.1}");
+    assert!(s.contains(&label), "missing {label:?} in\n{s}");
+    // a knee flexes by tens of degrees: the series is not flat
+    let range =
+        deg.iter().copied().fold(f64::MIN, f64::max) - deg.iter().copied().fold(f64::MAX, f64::min);
+    assert!(range > 20.0, "{range}");
+    // and it is the euler flexion angle, nearly: both describe the same knee motion
+    press(&mut ui, &mut wb, ":set joints euler<Enter>");
+    let e = wb.fresh_results().unwrap();
+    let flex = e.q.column(e.q.col_index("LeftLeg.Xrotation").unwrap());
+    let worst = flex
+        .iter()
+        .zip(&angle)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        worst < 0.1,
+        "ball x-component and euler flexion differ by {worst} rad"
+    );
+}
+
+#[test]
+fn an_explicit_channel_is_kept_and_a_robot_shows_its_joints() {
+    let (mut ui, mut wb) = demo(100, 30);
+    press(&mut ui, &mut wb, ":select LeftLeg.Yrotation<Enter>");
+    assert_eq!(wb.selection.as_deref(), Some("LeftLeg.Yrotation"));
+    // a DH arm with a generated move: its joint tree, sparklines and links drawn, no panic
+    let dh = concat!(env!("CARGO_MANIFEST_DIR"), "/data/puma560.toml");
+    press(
+        &mut ui,
+        &mut wb,
+        &format!(
+            ":load {dh} as puma<Enter>:trajectory 0,0,0,0,0,0 0,pi/4,pi,0,pi/4,0 over 1 at 100<Enter>:select j2<Enter>}}}}}}"
+        ),
+    );
+    assert!(ui.error.is_none(), "{:?}", ui.error);
+    let s = screen(&ui, &wb, 100, 30);
+    for want in [
+        "j1",
+        "j6",
+        "j2 angle [deg]",
+        "j2 torque [N·m]",
+        "robot (DH table)",
+        "frame 30/100",
+    ] {
+        assert!(s.contains(want), "missing {want:?} in\n{s}");
+    }
+    assert!(
+        s.chars()
+            .filter(|c| ('\u{2801}'..='\u{28FF}').contains(c))
+            .count()
+            > 10,
+        "the arm's links are drawn:\n{s}"
+    );
+    // every key on the robot: nothing panics
+    press(
+        &mut ui,
+        &mut wb,
+        "jjjkhl<Tab><Tab><Right><Left><Enter><Esc><Tab>[]{}gG",
+    );
+    let _ = screen(&ui, &wb, 80, 24);
 }

@@ -160,6 +160,21 @@ pub fn simulate(
     reference: &Reference,
     opts: &SimOptions,
 ) -> Result<SimResult, Error> {
+    simulate_with(model, reference, opts, &mut |_| true)
+}
+
+/// Steps between two calls of the progress callback of [`simulate_with`].
+pub const PROGRESS_EVERY: usize = 256;
+
+/// [`simulate`] that reports its progress (0‥1) to `keep_going` every [`PROGRESS_EVERY`]
+/// steps and stops with `Error::Invalid("cancelled")` when it returns false (for a user
+/// interface's worker thread; the callback is called by reference, nothing is allocated).
+pub fn simulate_with(
+    model: &Model,
+    reference: &Reference,
+    opts: &SimOptions,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<SimResult, Error> {
     reference.validate(model)?;
     if !(opts.dt > 0.0 && opts.dt.is_finite()) {
         return Err(Error::Invalid(format!(
@@ -208,6 +223,9 @@ pub fn simulate(
     };
     let mut next_sample = 0;
     for n in 0..=steps {
+        if n % PROGRESS_EVERY == 0 && !keep_going(n as f64 / (steps + 1) as f64) {
+            return Err(Error::Invalid("cancelled".into()));
+        }
         let t = t0 + n as f64 * opts.dt;
         let context = |e: Error| match e {
             Error::Numerical(m) => Error::Numerical(format!(

@@ -20,7 +20,7 @@ mod sim;
 pub use edit::{blend_files, export_smoothed_bvh};
 pub use sim::{
     Bench, SimSettings, SimSummary, Tradeoff, TradeoffRow, bench, passive_energy_drift, reference,
-    simulate, tradeoff, tradeoff_grid,
+    simulate, simulate_states, tradeoff, tradeoff_grid,
 };
 
 use crate::dynamics::{self, Workspace};
@@ -720,21 +720,37 @@ pub struct Torques {
 
 /// Inverse dynamics over every sample of a job.
 pub fn inverse_dynamics(model: &Model, states: &States) -> Torques {
+    inverse_dynamics_with(model, states, &mut |_| true)
+}
+
+/// Samples between two calls of a progress callback.
+pub const PROGRESS_EVERY: usize = 64;
+
+/// [`inverse_dynamics`] that reports its progress (0‥1) to `keep_going` every
+/// [`PROGRESS_EVERY`] samples and stops when it returns false: then `tau` holds only the
+/// samples computed so far (fewer than `states.len()`).
+pub fn inverse_dynamics_with(
+    model: &Model,
+    states: &States,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Torques {
     let mut ws = Workspace::new(model);
-    let tau = (0..states.len())
-        .map(|k| {
-            dynamics::rnea(
-                model,
-                &mut ws,
-                &states.q[k],
-                &states.v[k],
-                &states.a[k],
-                None,
-            )
-            .as_slice()
-            .to_vec()
-        })
-        .collect();
+    let n = states.len();
+    let mut tau = Vec::with_capacity(n);
+    for k in 0..n {
+        if k % PROGRESS_EVERY == 0 && !keep_going(k as f64 / n as f64) {
+            break;
+        }
+        let t = dynamics::rnea(
+            model,
+            &mut ws,
+            &states.q[k],
+            &states.v[k],
+            &states.a[k],
+            None,
+        );
+        tau.push(t.as_slice().to_vec());
+    }
     Torques {
         time: states.time.clone(),
         names: model.v_names.clone(),

@@ -147,6 +147,21 @@ pub fn simulate(
     Ok(SimSummary { result })
 }
 
+/// Computed-torque tracking of any model's states (a take's or a robot's motion), whole
+/// length, reporting progress (0‥1) to `keep_going` and stopping with an error
+/// (`cancelled`) when it returns false (`dynamics::simulate::simulate_with`).
+pub fn simulate_states(
+    model: &crate::model::Model,
+    states: &States,
+    settings: &SimSettings,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<SimSummary, Error> {
+    let reference = reference(states, settings.duration_s);
+    let result =
+        dynamics::simulate::simulate_with(model, &reference, &settings.options, keep_going)?;
+    Ok(SimSummary { result })
+}
+
 /// What `articula bench` prints.
 #[derive(Debug, Clone)]
 pub struct Bench {

@@ -15,9 +15,13 @@
 //!
 //! Peaks are `max |·|` over the samples; RMS values are time-weighted (trapezoid rule, see
 //! [`crate::report::knee`]), which is what a motor's continuous (thermal) rating is compared
-//! with. A joint needs the first class of [`MOTOR_CLASSES`] whose rated continuous torque is at
+//! with. A joint needs the first class of the catalogue whose rated continuous torque is at
 //! least the RMS motor torque, whose peak torque is at least the peak motor torque, and whose
 //! rated speed is at least the peak motor speed (all inclusive).
+//!
+//! The catalogue is a TOML file of `[[class]]` tables, `name`, `rated_torque_nm`,
+//! `peak_torque_nm`, `rated_speed_rpm` (motor shaft values); the bundled one is
+//! `data/motor_classes.toml` ([`default_catalogue`]), another is read by [`read_catalogue`].
 
 use crate::error::Error;
 use crate::report::chart::{Panel, Series, Table, fmt_value, stacked_svg};
@@ -35,9 +39,9 @@ pub struct MotorSpec {
 }
 
 /// One class of a motor catalogue (values on the motor shaft).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct MotorClass {
-    pub name: &'static str,
+    pub name: String,
     /// Rated continuous torque (N·m), compared with the RMS motor torque.
     pub rated_torque_nm: f64,
     /// Peak (intermittent) torque (N·m), compared with the peak motor torque.
@@ -46,66 +50,83 @@ pub struct MotorClass {
     pub rated_speed_rad_s: f64,
 }
 
-/// rpm → rad/s, for the catalogue below (rated speeds are quoted in rpm by vendors).
-const fn rpm(x: f64) -> f64 {
+/// rpm → rad/s (rated speeds are quoted in rpm by vendors and in the catalogue file).
+pub fn rpm(x: f64) -> f64 {
     x * std::f64::consts::PI / 30.0
 }
 
-/// An illustrative catalogue of brushless DC servo motor classes, smallest first, by frame size
-/// and rated power (`rated torque × rated speed`). The figures are round values of the order of
-/// magnitude found in vendors' catalogues of BLDC servo motors; they are not any vendor's data
-/// and only illustrate the selection. Every column grows with the class except the rated speed,
-/// which falls as motors get larger.
-pub const MOTOR_CLASSES: &[MotorClass] = &[
-    MotorClass {
-        name: "BLDC-22 (20 W)",
-        rated_torque_nm: 0.02,
-        peak_torque_nm: 0.1,
-        rated_speed_rad_s: rpm(10000.0),
-    },
-    MotorClass {
-        name: "BLDC-32 (50 W)",
-        rated_torque_nm: 0.06,
-        peak_torque_nm: 0.3,
-        rated_speed_rad_s: rpm(8000.0),
-    },
-    MotorClass {
-        name: "BLDC-42 (75 W)",
-        rated_torque_nm: 0.12,
-        peak_torque_nm: 0.6,
-        rated_speed_rad_s: rpm(6000.0),
-    },
-    MotorClass {
-        name: "BLDC-60 (200 W)",
-        rated_torque_nm: 0.4,
-        peak_torque_nm: 2.0,
-        rated_speed_rad_s: rpm(5000.0),
-    },
-    MotorClass {
-        name: "BLDC-80 (600 W)",
-        rated_torque_nm: 1.3,
-        peak_torque_nm: 5.0,
-        rated_speed_rad_s: rpm(4500.0),
-    },
-    MotorClass {
-        name: "BLDC-110 (1.1 kW)",
-        rated_torque_nm: 3.5,
-        peak_torque_nm: 12.0,
-        rated_speed_rad_s: rpm(3000.0),
-    },
-    MotorClass {
-        name: "BLDC-130 (2.6 kW)",
-        rated_torque_nm: 10.0,
-        peak_torque_nm: 30.0,
-        rated_speed_rad_s: rpm(2500.0),
-    },
-    MotorClass {
-        name: "BLDC-180 (7.3 kW)",
-        rated_torque_nm: 35.0,
-        peak_torque_nm: 90.0,
-        rated_speed_rad_s: rpm(2000.0),
-    },
-];
+/// The bundled catalogue file (`data/motor_classes.toml`).
+pub const DEFAULT_CATALOGUE: &str = include_str!("../../data/motor_classes.toml");
+
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CatalogueFile {
+    class: Vec<ClassRow>,
+}
+
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ClassRow {
+    name: String,
+    rated_torque_nm: f64,
+    peak_torque_nm: f64,
+    rated_speed_rpm: f64,
+}
+
+/// Parses a catalogue (the format of `data/motor_classes.toml`); `path` names it in errors.
+/// Every number must be positive and a class's peak torque at least its rated torque.
+pub fn parse_catalogue(text: &str, path: &std::path::Path) -> Result<Vec<MotorClass>, Error> {
+    let file: CatalogueFile = toml::from_str(text).map_err(|e| {
+        Error::Invalid(format!(
+            "{}: {e}expected [[class]] tables with name, rated_torque_nm, peak_torque_nm, \
+             rated_speed_rpm",
+            path.display()
+        ))
+    })?;
+    if file.class.is_empty() {
+        return Err(Error::Invalid(format!(
+            "{}: no [[class]] in the catalogue",
+            path.display()
+        )));
+    }
+    file.class
+        .into_iter()
+        .map(|c| {
+            let pos = |x: f64| x.is_finite() && x > 0.0;
+            if !(pos(c.rated_torque_nm) && pos(c.peak_torque_nm) && pos(c.rated_speed_rpm))
+                || c.peak_torque_nm < c.rated_torque_nm
+            {
+                return Err(Error::Invalid(format!(
+                    "{}: class {:?}: torques and speed must be positive, the peak torque at \
+                     least the rated one",
+                    path.display(),
+                    c.name
+                )));
+            }
+            Ok(MotorClass {
+                name: c.name,
+                rated_torque_nm: c.rated_torque_nm,
+                peak_torque_nm: c.peak_torque_nm,
+                rated_speed_rad_s: rpm(c.rated_speed_rpm),
+            })
+        })
+        .collect()
+}
+
+/// Reads a catalogue file.
+pub fn read_catalogue(path: &std::path::Path) -> Result<Vec<MotorClass>, Error> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    parse_catalogue(&text, path)
+}
+
+/// The bundled catalogue, [`DEFAULT_CATALOGUE`]: brushless DC servo motor classes, smallest
+/// first. Its figures are illustrative round values (see the file), not any vendor's data.
+pub fn default_catalogue() -> Result<Vec<MotorClass>, Error> {
+    parse_catalogue(
+        DEFAULT_CATALOGUE,
+        std::path::Path::new("data/motor_classes.toml"),
+    )
+}
 
 /// One joint's trajectory: torque and speed over time.
 #[derive(Debug, Clone, PartialEq)]
@@ -142,9 +163,11 @@ pub struct JointLoad {
     pub peak_current_a: f64,
     /// RMS current `rms(τ) / (Km·N·η)` (A).
     pub rms_current_a: f64,
-    /// The smallest class of [`MOTOR_CLASSES`] that carries the load; `None` when none does
-    /// (lower the torque with a larger gear ratio, or the speed with a smaller one).
-    pub class: Option<&'static MotorClass>,
+    /// The drive it was sized with.
+    pub spec: MotorSpec,
+    /// The first class of the catalogue that carries the load; `None` when none does (lower
+    /// the torque with a larger gear ratio, or the speed with a smaller one).
+    pub class: Option<MotorClass>,
 }
 
 impl MotorSpec {
@@ -185,11 +208,11 @@ pub fn motor_current(tau_nm: f64, spec: &MotorSpec) -> f64 {
 /// The smallest class of `catalogue` (ordered smallest first) carrying an RMS motor torque,
 /// a peak motor torque and a peak motor speed; limits are inclusive.
 pub fn choose_class(
-    catalogue: &'static [MotorClass],
+    catalogue: &[MotorClass],
     rms_torque_nm: f64,
     peak_torque_nm: f64,
     peak_speed_rad_s: f64,
-) -> Option<&'static MotorClass> {
+) -> Option<&MotorClass> {
     catalogue.iter().find(|c| {
         c.rated_torque_nm >= rms_torque_nm
             && c.peak_torque_nm >= peak_torque_nm
@@ -197,8 +220,13 @@ pub fn choose_class(
     })
 }
 
-/// Sizes the motor of one joint (see the module documentation for the formulas).
-pub fn size_motor(m: &JointMotion, spec: &MotorSpec) -> Result<JointLoad, Error> {
+/// Sizes the motor of one joint (see the module documentation for the formulas), choosing
+/// from `catalogue` (ordered smallest first).
+pub fn size_motor(
+    m: &JointMotion,
+    spec: &MotorSpec,
+    catalogue: &[MotorClass],
+) -> Result<JointLoad, Error> {
     spec.validate()
         .map_err(|e| Error::Invalid(format!("motor sizing of {:?}: {e}", m.joint)))?;
     check_series(
@@ -232,17 +260,23 @@ pub fn size_motor(m: &JointMotion, spec: &MotorSpec) -> Result<JointLoad, Error>
         motor_peak_speed_rad_s,
         peak_current_a: motor_current(peak_torque_nm, spec),
         rms_current_a: motor_current(rms_torque_nm, spec),
+        spec: *spec,
         class: choose_class(
-            MOTOR_CLASSES,
+            catalogue,
             motor_rms_torque_nm,
             motor_peak_torque_nm,
             motor_peak_speed_rad_s,
-        ),
+        )
+        .cloned(),
     })
 }
 
 /// [`size_motor`] for every joint, `specs[k]` driving `joints[k]`.
-pub fn size_motors(joints: &[JointMotion], specs: &[MotorSpec]) -> Result<Vec<JointLoad>, Error> {
+pub fn size_motors(
+    joints: &[JointMotion],
+    specs: &[MotorSpec],
+    catalogue: &[MotorClass],
+) -> Result<Vec<JointLoad>, Error> {
     if joints.len() != specs.len() {
         return Err(Error::Invalid(format!(
             "motor sizing: {} joints but {} motor specs; give one per joint",
@@ -253,18 +287,21 @@ pub fn size_motors(joints: &[JointMotion], specs: &[MotorSpec]) -> Result<Vec<Jo
     joints
         .iter()
         .zip(specs)
-        .map(|(m, s)| size_motor(m, s))
+        .map(|(m, s)| size_motor(m, s, catalogue))
         .collect()
 }
 
 /// Name of a class for tables, `"none in catalogue"` when no class fits.
-pub fn class_name(load: &JointLoad) -> &'static str {
-    load.class.map_or("none in catalogue", |c| c.name)
+pub fn class_name(load: &JointLoad) -> &str {
+    load.class
+        .as_ref()
+        .map_or("none in catalogue", |c| c.name.as_str())
 }
 
 /// Header of [`motor_table_csv`].
 pub const MOTOR_TABLE_HEADER: &str = "joint,peak_tau_Nm,rms_tau_Nm,peak_qd_rad_s,peak_power_W,\
-motor_peak_tau_Nm,motor_rms_tau_Nm,motor_peak_speed_rad_s,peak_current_A,rms_current_A,class";
+motor_peak_tau_Nm,motor_rms_tau_Nm,motor_peak_speed_rad_s,peak_current_A,rms_current_A,class,\
+km_Nm_per_A,gear_ratio,efficiency";
 
 /// The sizing table as CSV ([`MOTOR_TABLE_HEADER`], numbers shortest round-trip).
 pub fn motor_table_csv(loads: &[JointLoad]) -> String {
@@ -288,6 +325,10 @@ pub fn motor_table_csv(loads: &[JointLoad]) -> String {
         }
         out.push(',');
         out.push_str(&csv_field(class_name(l)));
+        for v in [l.spec.km_nm_per_a, l.spec.gear_ratio, l.spec.eta()] {
+            out.push(',');
+            out.push_str(b.format(v));
+        }
         out.push('\n');
     }
     out
@@ -302,11 +343,23 @@ fn csv_field(s: &str) -> String {
     }
 }
 
-/// Torque, speed and power curves (one panel each, one curve per joint, min/max marked),
-/// followed by the sizing table of `loads`.
-pub fn motor_svg(joints: &[JointMotion], loads: &[JointLoad]) -> Result<String, Error> {
+/// Torque, speed, power and motor current curves (one panel each, one curve per joint,
+/// min/max marked; the current `I = τ / (Km·N·η)` with `specs[k]` for `joints[k]`), followed by
+/// the sizing table of `loads`.
+pub fn motor_svg(
+    joints: &[JointMotion],
+    specs: &[MotorSpec],
+    loads: &[JointLoad],
+) -> Result<String, Error> {
     if joints.is_empty() {
         return Err(Error::Invalid("motor report: no joint to plot".into()));
+    }
+    if specs.len() != joints.len() {
+        return Err(Error::Invalid(format!(
+            "motor report: {} joints but {} motor specs",
+            joints.len(),
+            specs.len()
+        )));
     }
     for m in joints {
         check_series(
@@ -324,6 +377,14 @@ pub fn motor_svg(joints: &[JointMotion], loads: &[JointLoad]) -> Result<String, 
     let torque = curves(&|m| m.tau.clone());
     let speed = curves(&|m| m.qd.clone());
     let power = curves(&|m| m.tau.iter().zip(&m.qd).map(|(t, w)| t * w).collect());
+    let current: Vec<Series> = joints
+        .iter()
+        .zip(specs)
+        .map(|(m, s)| {
+            let i = m.tau.iter().map(|t| motor_current(*t, s)).collect();
+            Series::new(m.joint.clone(), m.t.clone(), i)
+        })
+        .collect();
     let panel = |title, y_label, series| Panel {
         title,
         x_label: "time (s)",
@@ -363,16 +424,25 @@ pub fn motor_svg(joints: &[JointMotion], loads: &[JointLoad]) -> Result<String, 
             panel("Joint torque", "torque (N·m)", &torque),
             panel("Joint speed", "speed (rad/s)", &speed),
             panel("Mechanical power τ·q̇", "power (W)", &power),
+            panel("Motor current I = τ/(Km·N·η)", "current (A)", &current),
         ],
         Some(&table),
     )
 }
 
 /// The plotted curves as CSV: `t_s`, then per joint `<joint>_tau_Nm`, `<joint>_qd_rad_s`,
-/// `<joint>_power_W`. The joints must share their sample times.
-pub fn motor_curves_csv(joints: &[JointMotion]) -> Result<String, Error> {
-    let mut series = Vec::with_capacity(3 * joints.len());
-    for m in joints {
+/// `<joint>_power_W`, `<joint>_current_A` (with `specs[k]` for `joints[k]`). The joints must
+/// share their sample times.
+pub fn motor_curves_csv(joints: &[JointMotion], specs: &[MotorSpec]) -> Result<String, Error> {
+    if specs.len() != joints.len() {
+        return Err(Error::Invalid(format!(
+            "motor export: {} joints but {} motor specs",
+            joints.len(),
+            specs.len()
+        )));
+    }
+    let mut series = Vec::with_capacity(4 * joints.len());
+    for (m, spec) in joints.iter().zip(specs) {
         check_series(
             &format!("motor export of {:?}", m.joint),
             &m.t,
@@ -390,6 +460,12 @@ pub fn motor_curves_csv(joints: &[JointMotion]) -> Result<String, Error> {
             m.qd.clone(),
         ));
         series.push(Series::new(format!("{}_power_W", m.joint), m.t.clone(), p));
+        let i = m.tau.iter().map(|t| motor_current(*t, spec)).collect();
+        series.push(Series::new(
+            format!("{}_current_A", m.joint),
+            m.t.clone(),
+            i,
+        ));
     }
     crate::report::chart::series_csv("t_s", &series)
 }

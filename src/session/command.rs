@@ -12,8 +12,10 @@ pub enum ExportKind {
     Csv,
     /// Angle and torque curves of the selected coordinate (report chart).
     Svg,
-    /// The (smoothed, blended or simulated) motion as a BVH take.
+    /// The active take's motion as the user sees it (blended, smoothed) as a BVH take.
     Bvh,
+    /// The motion of the last `run sim` as a BVH take.
+    BvhSim,
     /// The current model as URDF.
     Urdf,
 }
@@ -50,6 +52,8 @@ pub enum Statistic {
     Mean,
     /// sqrt(mean x²).
     Rms,
+    /// The value at the current frame.
+    Now,
 }
 
 /// An assertion on the state or the results. Numbers are SI (rad, m, N·m, kg).
@@ -84,8 +88,17 @@ pub enum Expectation {
 /// One command of the session language.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Command {
-    /// `load PATH [as NAME]`: a BVH take (or `demo:walk`, the generated walk).
+    /// `load PATH [as NAME]`: a BVH take (or `demo:walk`, the generated walk), a DH table
+    /// (`.toml`), a URDF (`.urdf`), or a states CSV (`.csv`) as the active robot's motion.
     Load { path: PathBuf, name: Option<String> },
+    /// `trajectory POSE [POSE …] over T [at HZ]`: the active robot's motion, quintic
+    /// point-to-point moves of T seconds between the poses (rad or m, comma separated, one
+    /// value per coordinate), sampled at HZ (default 500).
+    Trajectory {
+        poses: Vec<Vec<f64>>,
+        duration_s: f64,
+        rate_hz: f64,
+    },
     /// `scene PATH`: a TOML scene.
     Scene { path: PathBuf },
     /// `set KEY VALUE`.
@@ -114,8 +127,9 @@ pub enum Command {
         joint: Option<String>,
         path: PathBuf,
     },
-    /// `report motor PATH`.
-    ReportMotor { path: PathBuf },
+    /// `report motor [curves] PATH`: the sizing (SVG chart and table, or the CSV table), or
+    /// with `curves` the plotted curves as CSV.
+    ReportMotor { path: PathBuf, curves: bool },
     /// `expect …`.
     Expect(Expectation),
     /// `screen PATH`: write the current screen as text.
@@ -128,15 +142,34 @@ pub enum Command {
 
 /// Every command word, for completion and error messages.
 pub const COMMAND_WORDS: &[&str] = &[
-    "load", "scene", "set", "run", "blend", "select", "frame", "play", "pause", "export",
-    "compare", "report", "expect", "screen", "key", "quit",
+    "load",
+    "scene",
+    "set",
+    "run",
+    "trajectory",
+    "blend",
+    "select",
+    "frame",
+    "play",
+    "pause",
+    "export",
+    "compare",
+    "report",
+    "expect",
+    "screen",
+    "key",
+    "quit",
 ];
 
-/// Every `set` key (`link.<name>.mass` stands for any link).
+/// Every `set` key (`link.<name>.mass` and `motor.<joint>.…` stand for any joint).
 pub const SET_KEYS: &[&str] = &[
     "body.mass",
     "body.sex",
     "unit",
+    "stature",
+    "up",
+    "positions",
+    "subtree",
     "joints",
     "smooth",
     "contact",
@@ -150,7 +183,45 @@ pub const SET_KEYS: &[&str] = &[
     "motor.km",
     "motor.gear",
     "motor.efficiency",
+    "motor.<joint>.km",
+    "motor.<joint>.gear",
+    "motor.<joint>.efficiency",
+    "motor.catalogue",
 ];
+
+/// True for a `set` key of the language (a listed key, `link.<joint>.mass` or
+/// `motor.<joint>.km|gear|efficiency`).
+pub fn is_set_key(key: &str) -> bool {
+    let per_joint = |prefix: &str, fields: &[&str]| {
+        key.strip_prefix(prefix)
+            .and_then(|k| k.rsplit_once('.'))
+            .is_some_and(|(j, f)| !j.is_empty() && fields.contains(&f))
+    };
+    (SET_KEYS.contains(&key) && !key.contains('<'))
+        || per_joint("link.", &["mass"])
+        || per_joint("motor.", &["km", "gear", "efficiency"])
+}
+
+/// A joint value of a pose: a number, or a multiple of π (`pi`, `-pi/2`, `3pi/4`, `0.5*pi`).
+pub fn parse_angle(w: &str) -> Option<f64> {
+    let x = match w.split_once("pi") {
+        None => w.parse::<f64>().ok()?,
+        Some((coef, den)) => {
+            let coef = coef.trim_end_matches('*');
+            let c = match coef {
+                "" => 1.0,
+                "-" => -1.0,
+                c => c.parse::<f64>().ok()?,
+            };
+            let d = match den {
+                "" => 1.0,
+                d => d.strip_prefix('/')?.parse::<f64>().ok()?,
+            };
+            c * std::f64::consts::PI / d
+        }
+    };
+    x.is_finite().then_some(x)
+}
 
 /// Splits a line into words: whitespace separated, `"…"` quotes a word with spaces.
 fn words(line: &str, lineno: usize) -> Result<Vec<String>, SessionError> {
@@ -266,9 +337,7 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
                 return Err(syntax(lineno, "usage: set KEY VALUE"));
             }
             let key = args[0].clone();
-            let known = SET_KEYS.contains(&key.as_str())
-                || (key.starts_with("link.") && key.ends_with(".mass") && key.len() > 10);
-            if !known {
+            if !is_set_key(&key) {
                 return Err(syntax(
                     lineno,
                     format!(
@@ -295,6 +364,7 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
                 }
             }
         }
+        "trajectory" => parse_trajectory(args, lineno)?,
         "blend" => {
             arity(&[3], "blend A B WINDOW (t0:t1 in seconds)")?;
             Command::Blend {
@@ -324,10 +394,15 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
             Command::Quit
         }
         "export" => {
-            arity(&[2], "export csv|svg|bvh|urdf PATH")?;
+            let usage = "export csv|svg|bvh|urdf PATH, or export bvh sim PATH";
+            arity(&[2, 3], usage)?;
+            if args.len() == 3 && (args[0] != "bvh" || args[1] != "sim") {
+                return Err(syntax(lineno, format!("usage: {usage}")));
+            }
             let kind = match args[0].as_str() {
                 "csv" => ExportKind::Csv,
                 "svg" => ExportKind::Svg,
+                "bvh" if args.len() == 3 => ExportKind::BvhSim,
                 "bvh" => ExportKind::Bvh,
                 "urdf" => ExportKind::Urdf,
                 o => {
@@ -339,7 +414,7 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
             };
             Command::Export {
                 kind,
-                path: PathBuf::from(&args[1]),
+                path: PathBuf::from(args.last().map(String::as_str).unwrap_or_default()),
             }
         }
         "compare" => {
@@ -362,12 +437,14 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
             }
         }
         "report" => {
-            arity(&[2], "report motor PATH")?;
-            if args[0] != "motor" {
-                return Err(syntax(lineno, "usage: report motor PATH"));
+            let usage = "usage: report motor [curves] PATH";
+            arity(&[2, 3], usage)?;
+            if args[0] != "motor" || (args.len() == 3 && args[1] != "curves") {
+                return Err(syntax(lineno, usage));
             }
             Command::ReportMotor {
-                path: PathBuf::from(&args[1]),
+                path: PathBuf::from(args.last().map(String::as_str).unwrap_or_default()),
+                curves: args.len() == 3,
             }
         }
         "expect" => Command::Expect(parse_expect(args, lineno)?),
@@ -391,8 +468,71 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
     Ok(Some(cmd))
 }
 
+const TRAJECTORY_USAGE: &str = "usage: trajectory POSE [POSE …] over T [at HZ] (a pose: one \
+     value per coordinate, comma separated, rad or m, e.g. 0,pi/4,pi,0,pi/4,0)";
+
+/// `trajectory POSE [POSE …] over T [at HZ]`.
+fn parse_trajectory(args: &[String], lineno: usize) -> Result<Command, SessionError> {
+    let usage = || syntax(lineno, TRAJECTORY_USAGE);
+    let over = args.iter().position(|w| w == "over").ok_or_else(usage)?;
+    if over == 0 {
+        return Err(usage());
+    }
+    let poses = args[..over]
+        .iter()
+        .map(|p| {
+            p.split(',')
+                .map(|x| {
+                    parse_angle(x.trim()).ok_or_else(|| {
+                        syntax(
+                            lineno,
+                            format!("trajectory: '{x}' in pose '{p}' is not a number"),
+                        )
+                    })
+                })
+                .collect::<Result<Vec<f64>, _>>()
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    if poses.iter().any(|p| p.len() != poses[0].len()) {
+        return Err(syntax(
+            lineno,
+            "trajectory: every pose needs the same number of values",
+        ));
+    }
+    let rest = &args[over + 1..];
+    let (duration_s, rate_hz) = match rest {
+        [t] => (number(t.trim_end_matches('s'), lineno, "T (s)")?, 500.0),
+        [t, at, hz] if at == "at" => (
+            number(t.trim_end_matches('s'), lineno, "T (s)")?,
+            number(
+                hz.trim_end_matches("hz").trim_end_matches("Hz"),
+                lineno,
+                "a rate (Hz)",
+            )?,
+        ),
+        _ => return Err(usage()),
+    };
+    if duration_s <= 0.0 || rate_hz <= 0.0 {
+        return Err(syntax(
+            lineno,
+            "trajectory: the move time and the rate must be positive",
+        ));
+    }
+    if duration_s * rate_hz < 2.0 || duration_s * rate_hz * poses.len() as f64 > 1e7 {
+        return Err(syntax(
+            lineno,
+            "trajectory: T × HZ must give 2 to 10 million samples",
+        ));
+    }
+    Ok(Command::Trajectory {
+        poses,
+        duration_s,
+        rate_hz,
+    })
+}
+
 const EXPECT_USAGE: &str = "expect nv N | nq N | frames N | frame N | selected NAME | \
-     mass between LO HI | peak|min|max|mean|rms COORD angle|velocity|acceleration|torque \
+     mass between LO HI | peak|min|max|mean|rms|now COORD angle|velocity|acceleration|torque \
      between LO HI | screen contains TEXT | message contains TEXT";
 
 fn parse_expect(args: &[String], lineno: usize) -> Result<Expectation, SessionError> {
@@ -435,7 +575,7 @@ fn parse_expect(args: &[String], lineno: usize) -> Result<Expectation, SessionEr
                 Expectation::MessageContains(text)
             }
         }
-        "peak" | "min" | "max" | "mean" | "rms" => {
+        "peak" | "min" | "max" | "mean" | "rms" | "now" => {
             if rest.len() != 5 {
                 return Err(usage());
             }
@@ -444,6 +584,7 @@ fn parse_expect(args: &[String], lineno: usize) -> Result<Expectation, SessionEr
                 "min" => Statistic::Min,
                 "max" => Statistic::Max,
                 "mean" => Statistic::Mean,
+                "now" => Statistic::Now,
                 _ => Statistic::Rms,
             };
             let quantity = match rest[1].as_str() {

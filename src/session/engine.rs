@@ -6,11 +6,9 @@
 //! cancellation, so that the terminal UI can run it on a worker thread.
 
 use crate::error::Error;
-use crate::io::bvh::{Bvh, LengthUnit, detect_up};
+use crate::io::bvh::{Bvh, detect_up};
 use crate::model::Model;
-use crate::model::anthropometry::BodyParams;
 use crate::motion::blend::{Align, BlendOptions, TimeMap, WarpWindow};
-use crate::motion::smooth::SmoothSpec;
 use crate::pipeline::{self, TakeOptions};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -53,68 +51,33 @@ impl Control {
     }
 }
 
-// the joint model, sex and contact model are the pipeline's own types
+// the joint model, sex, contact model and smoothing are the pipeline's own types
 pub use crate::model::anthropometry::Sex;
 pub use crate::model::bvh::JointModel;
-pub use crate::pipeline::Contact;
+pub use crate::motion::smooth::SmoothSpec;
+pub use crate::pipeline::{Contact, States};
+pub use crate::report::motor::MotorSpec;
 
-/// Smoothing applied to q before differentiation.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Smooth {
-    None,
-    /// The paper's Gaussian kernel, standard deviation in seconds.
-    Gaussian {
-        width_s: f64,
-    },
-    /// Zero-lag Butterworth low-pass, cutoff in Hz.
-    Butterworth {
-        cutoff_hz: f64,
-    },
-}
-
-impl std::str::FromStr for Smooth {
-    type Err = String;
-    /// `none`, `gaussian:W` (seconds), `butterworth:F` or `butterworth:Fhz` (Hz).
-    fn from_str(s: &str) -> Result<Self, String> {
-        let bad = || format!("expected none, gaussian:W (s) or butterworth:F (Hz), found '{s}'");
-        if s == "none" {
-            return Ok(Smooth::None);
-        }
-        let (kind, x) = s.split_once(':').ok_or_else(bad)?;
-        let x = x.trim_end_matches("hz").trim_end_matches("Hz");
-        let x: f64 = x.parse().map_err(|_| bad())?;
-        if !(x.is_finite() && x > 0.0) {
-            return Err(format!("{s}: the parameter must be positive"));
-        }
-        match kind {
-            "gaussian" => Ok(Smooth::Gaussian { width_s: x }),
-            "butterworth" => Ok(Smooth::Butterworth { cutoff_hz: x }),
-            _ => Err(bad()),
-        }
-    }
-}
-
-impl std::fmt::Display for Smooth {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Smooth::None => write!(f, "none"),
-            Smooth::Gaussian { width_s } => write!(f, "gaussian:{width_s}"),
-            Smooth::Butterworth { cutoff_hz } => write!(f, "butterworth:{cutoff_hz}hz"),
-        }
-    }
+/// Per-joint changes to the drive of [`Params::motor`] (`set motor.<joint>.km …`); what is not
+/// given comes from the common drive.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct MotorOverride {
+    /// Torque constant Km (N·m/A).
+    pub km: Option<f64>,
+    /// Gear ratio N (motor turns per joint turn).
+    pub gear: Option<f64>,
+    /// Gearbox efficiency η in (0, 1].
+    pub efficiency: Option<f64>,
 }
 
 /// Everything the computations depend on besides the take. SI units.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Params {
-    /// Total body mass (kg).
-    pub body_mass: f64,
-    pub sex: Sex,
-    /// Length unit of the take in metres per file unit; `None` = detect from the stature.
-    pub unit: Option<f64>,
-    pub joints: JointModel,
-    pub smooth: Smooth,
-    pub contact: Contact,
+    /// How a BVH take becomes a model and states: the pipeline's own options (unit, stature,
+    /// up, position semantics, joint model, body mass and sex, link masses, smoothing, locks,
+    /// subtree, contact), exactly what the CLI's flags and `--scene` set. Robot models (DH,
+    /// URDF) carry their own masses and use none of these.
+    pub take: TakeOptions,
     /// Computed-torque gains (1/s², 1/s).
     pub kp: f64,
     pub kv: f64,
@@ -122,50 +85,158 @@ pub struct Params {
     pub integrator: String,
     /// Simulation step (s).
     pub dt: f64,
-    /// Per-link mass overrides (kg), by BVH joint name.
-    pub link_mass: BTreeMap<String, f64>,
-    /// BVH joints whose coordinates are locked at the rest pose.
-    pub lock: Vec<String>,
     /// Default blend window length (s).
     pub blend_window: f64,
-    /// Motor torque constant Km (N·m/A) for `report motor`.
-    pub motor_km: f64,
-    /// Gear ratio N (motor turns per joint turn) for `report motor`.
-    pub motor_gear: f64,
-    /// Gearbox efficiency η in (0, 1] for `report motor`.
-    pub motor_efficiency: f64,
+    /// The drive of every joint for `report motor` (`set motor.km|gear|efficiency`).
+    pub motor: MotorSpec,
+    /// Per-joint drives, by coordinate name (`set motor.<joint>.km|gear|efficiency`).
+    pub motor_joint: BTreeMap<String, MotorOverride>,
+    /// Motor catalogue (TOML, see `data/motor_classes.toml`); `None`: the bundled one.
+    pub motor_catalogue: Option<std::path::PathBuf>,
 }
 
 impl Default for Params {
     fn default() -> Self {
         Self {
-            body_mass: 75.0,
-            sex: Sex::Male,
-            unit: None,
-            joints: JointModel::Euler,
-            smooth: Smooth::Butterworth { cutoff_hz: 6.0 },
-            contact: Contact::None,
+            // the CLI's defaults: 75 kg male, euler joints, butterworth:6hz, no contact
+            take: TakeOptions::default(),
             kp: 400.0,
             kv: 40.0,
             integrator: "rk4".into(),
             dt: 0.001,
-            link_mass: BTreeMap::new(),
-            lock: vec![],
             blend_window: 0.5,
-            motor_km: 0.1,
-            motor_gear: 100.0,
-            motor_efficiency: 1.0,
+            motor: MotorSpec {
+                km_nm_per_a: 0.1,
+                gear_ratio: 100.0,
+                efficiency: Some(1.0),
+            },
+            motor_joint: BTreeMap::new(),
+            motor_catalogue: None,
         }
     }
 }
 
-/// A loaded take: the plain BVH description and a short name.
+impl Params {
+    /// True when results computed under `other` are valid under `self` (the motor drives and
+    /// the blend window do not change inverse dynamics or a simulation).
+    pub fn same_results(&self, other: &Params) -> bool {
+        self.take == other.take
+            && self.kp == other.kp
+            && self.kv == other.kv
+            && self.integrator == other.integrator
+            && self.dt == other.dt
+    }
+
+    /// The drive of coordinate `joint`: its overrides over the common drive.
+    pub fn motor_of(&self, joint: &str) -> MotorSpec {
+        let o = self.motor_joint.get(joint).copied().unwrap_or_default();
+        MotorSpec {
+            km_nm_per_a: o.km.unwrap_or(self.motor.km_nm_per_a),
+            gear_ratio: o.gear.unwrap_or(self.motor.gear_ratio),
+            efficiency: o.efficiency.or(self.motor.efficiency),
+        }
+    }
+}
+
+/// A robot arm (DH table or URDF) and the motion it is analysed over.
+#[derive(Debug, Clone)]
+pub struct Robot {
+    pub model: Arc<Model>,
+    /// `DH table` or `URDF`.
+    pub kind: &'static str,
+    /// Joint-space motion (a states CSV or a generated trajectory); `None` until given.
+    pub motion: Option<Arc<States>>,
+    /// Where the motion came from, for messages.
+    pub motion_source: String,
+}
+
+/// What a loaded take holds: a motion-capture take, or a robot model with its motion.
+#[derive(Debug, Clone)]
+pub enum TakeData {
+    Bvh(Arc<Bvh>),
+    Robot(Robot),
+}
+
+/// A loaded take: a short name, its source and its data.
 #[derive(Debug, Clone)]
 pub struct Take {
     pub name: String,
     /// Where it came from (a path, or `demo:walk`).
     pub source: String,
-    pub bvh: Arc<Bvh>,
+    pub data: TakeData,
+}
+
+impl Take {
+    /// The BVH take, if this is one.
+    pub fn bvh(&self) -> Option<&Bvh> {
+        match &self.data {
+            TakeData::Bvh(b) => Some(b),
+            TakeData::Robot(_) => None,
+        }
+    }
+    /// The robot, if this is one.
+    pub fn robot(&self) -> Option<&Robot> {
+        match &self.data {
+            TakeData::Robot(r) => Some(r),
+            TakeData::Bvh(_) => None,
+        }
+    }
+    /// Number of frames (samples of a robot's motion; 0 without one).
+    pub fn frames(&self) -> usize {
+        match &self.data {
+            TakeData::Bvh(b) => b.frames,
+            TakeData::Robot(r) => r.motion.as_ref().map_or(0, |m| m.len()),
+        }
+    }
+    /// Time between frames (s); a robot's first sampling interval (1 without a motion).
+    pub fn frame_time(&self) -> f64 {
+        match &self.data {
+            TakeData::Bvh(b) => b.frame_time,
+            TakeData::Robot(r) => r
+                .motion
+                .as_ref()
+                .and_then(|m| Some(m.time.get(1)? - m.time.first()?))
+                .filter(|dt| *dt > 0.0)
+                .unwrap_or(1.0),
+        }
+    }
+    /// The joints in tree order with their depths: BVH joints, or the robot's joints.
+    pub fn joint_tree(&self) -> Vec<(String, usize)> {
+        match &self.data {
+            TakeData::Bvh(b) => {
+                let mut depth = vec![0usize; b.joints.len()];
+                b.joints
+                    .iter()
+                    .enumerate()
+                    .map(|(i, j)| {
+                        depth[i] = j.parent.map_or(0, |p| depth[p] + 1);
+                        (j.name.clone(), depth[i])
+                    })
+                    .collect()
+            }
+            TakeData::Robot(r) => {
+                // joints that move (fixed URDF joints have no coordinate), depth counted in
+                // moving ancestors
+                let m = &r.model;
+                let mut depth = vec![0usize; m.nbodies()];
+                let mut out = vec![];
+                for i in 1..m.nbodies() {
+                    let p = m.parent[i];
+                    let moving = m.joints[i].nv() > 0;
+                    let below = if p > 0 && m.joints[p].nv() > 0 {
+                        depth[p] + 1
+                    } else {
+                        depth[p]
+                    };
+                    depth[i] = below;
+                    if moving {
+                        out.push((m.joint_names[i].clone(), below));
+                    }
+                }
+                out
+            }
+        }
+    }
 }
 
 /// A per-frame table: `frames × names.len()` values, row-major.
@@ -230,8 +301,12 @@ pub struct Analysis {
 
 /// The computations behind the workbench. Implementations must be deterministic.
 pub trait Engine: Send + Sync {
-    /// Reads a take. `demo:walk` is the generated walk of [`crate::io::generate`].
-    fn load(&self, path: &Path) -> Result<Take, Error>;
+    /// Reads a take: a BVH file (`demo:walk` is the generated walk of
+    /// [`crate::io::generate`]; frame 0 dropped when it is a rest pose, unless
+    /// `params.take.keep_first_frame`), a DH table (`.toml`) or a URDF (`.urdf`, fixed base, z up).
+    fn load(&self, path: &Path, params: &Params) -> Result<Take, Error>;
+    /// Reads a states CSV (`articula export states` format) for `model`.
+    fn load_motion(&self, model: &Model, path: &Path) -> Result<States, Error>;
     /// Model, smoothed q, v, a and inverse-dynamics torques of `take` under `params`.
     fn inverse_dynamics(
         &self,
@@ -243,6 +318,16 @@ pub trait Engine: Send + Sync {
     fn simulate(&self, take: &Take, params: &Params, ctl: &Control) -> Result<Analysis, Error>;
     /// Take `b` blended into take `a` over `window` (s).
     fn blend(&self, a: &Take, b: &Take, window: (f64, f64)) -> Result<Take, Error>;
+    /// Writes a BVH take's motion as the user sees it: the smoothed q of `params` (the
+    /// pipeline's `articula smooth`), or with `motion`, those configurations (a simulation of
+    /// the take, one row per frame).
+    fn export_bvh(
+        &self,
+        take: &Take,
+        params: &Params,
+        motion: Option<&Analysis>,
+        path: &Path,
+    ) -> Result<(), Error>;
 }
 
 /// The engine over the library's stage functions.
@@ -252,27 +337,75 @@ pub struct Builtin;
 /// The built-in demo take (`demo:walk`).
 pub const DEMO_WALK: &str = "demo:walk";
 
+/// Rows as one row-major [`Table`].
+fn table(names: &[String], rows: &[Vec<f64>]) -> Table {
+    Table {
+        names: names.to_vec(),
+        data: rows.concat(),
+    }
+}
+
+/// A progress callback for the pipeline loops: maps their 0‥1 onto `from‥to` of `ctl` and
+/// stops them once `ctl` is cancelled.
+fn stage<'a>(ctl: &'a Control, from: f64, to: f64) -> impl FnMut(f64) -> bool + 'a {
+    move |f| {
+        ctl.set_progress(from + (to - from) * f);
+        !ctl.is_cancelled()
+    }
+}
+
+fn cancelled() -> Error {
+    Error::Invalid("cancelled".into())
+}
+
 impl Engine for Builtin {
-    fn load(&self, path: &Path) -> Result<Take, Error> {
+    fn load(&self, path: &Path, params: &Params) -> Result<Take, Error> {
         let source = path.to_string_lossy().into_owned();
-        let bvh = if source == DEMO_WALK {
-            crate::io::generate::walk(&crate::io::generate::WalkParams::default())
-        } else {
-            // as `pipeline::load_take`: a rest pose stored as frame 0 is dropped
-            let mut bvh = crate::io::bvh::read(path)?;
-            crate::motion::trim::trim_rest_first_frame(&mut bvh);
-            bvh
-        };
         let name = path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| source.clone())
             .replace("demo:", "");
-        Ok(Take {
-            name,
-            source,
-            bvh: Arc::new(bvh),
-        })
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        let robot = |model: Model, kind| {
+            TakeData::Robot(Robot {
+                model: Arc::new(model),
+                kind,
+                motion: None,
+                motion_source: String::new(),
+            })
+        };
+        let data = if source == DEMO_WALK {
+            TakeData::Bvh(Arc::new(crate::io::generate::walk(
+                &crate::io::generate::WalkParams::default(),
+            )))
+        } else if ext == "toml" {
+            let table = crate::io::dh::read(path)?;
+            robot(crate::model::dh::build_dh_model(&table)?, "DH table")
+        } else if ext == "urdf" {
+            let opts = crate::model::urdf::UrdfOptions::default();
+            robot(crate::model::urdf::read_urdf(path, &opts)?, "URDF")
+        } else {
+            // as `pipeline::load_take`: a rest pose stored as frame 0 is dropped unless kept
+            let (bvh, _) = pipeline::read_take(path, params.take.keep_first_frame)?;
+            TakeData::Bvh(Arc::new(bvh))
+        };
+        Ok(Take { name, source, data })
+    }
+
+    fn load_motion(&self, model: &Model, path: &Path) -> Result<States, Error> {
+        let s = pipeline::read_states(model, path)?;
+        if s.len() < 2 {
+            return Err(Error::Invalid(format!(
+                "{}: {} sample(s); a motion needs two or more",
+                path.display(),
+                s.len()
+            )));
+        }
+        Ok(s)
     }
 
     fn inverse_dynamics(
@@ -281,40 +414,70 @@ impl Engine for Builtin {
         params: &Params,
         ctl: &Control,
     ) -> Result<Analysis, Error> {
-        // the pipeline's stages: axes and unit, model, q, unwrap, smooth, differentiate
-        let opts = take_options(params)?;
         ctl.check()?;
-        let t = pipeline::take_from_bvh(Path::new(&take.source), (*take.bvh).clone(), &opts)?;
-        ctl.set_progress(0.5);
-        ctl.check()?;
-
-        // inverse dynamics, with the estimated ground reactions under `contact feet`
-        let mut torques = pipeline::inverse_dynamics(&t.model, &t.states);
-        if let Some(g) = pipeline::ground_reactions(&t)? {
-            torques.tau = g.tau;
-        }
-        ctl.set_progress(1.0);
-        let table = |names: &[String], rows: &[Vec<f64>]| Table {
-            names: names.to_vec(),
-            data: rows.concat(),
+        let (model, states, scale, grf) = match &take.data {
+            TakeData::Bvh(bvh) => {
+                // the pipeline's stages: axes and unit, model, q, unwrap, smooth, differentiate
+                let t = pipeline::take_from_bvh(
+                    Path::new(&take.source),
+                    (**bvh).clone(),
+                    &params.take,
+                )?;
+                ctl.set_progress(0.2);
+                ctl.check()?;
+                let scale = t.scale_to_m;
+                // with `contact feet`: the torques with the estimated ground reactions
+                let grf = pipeline::ground_reactions(&t)?.map(|g| g.tau);
+                ctl.check()?;
+                (Arc::new(t.model), Arc::new(t.states), scale, grf)
+            }
+            TakeData::Robot(r) => {
+                let m = r.motion.clone().ok_or_else(|| no_motion(take))?;
+                (r.model.clone(), m, 1.0, None)
+            }
         };
-        let s = &t.states;
+        // inverse dynamics (RNEA) frame by frame, with progress and cancel
+        let tau = match grf {
+            Some(tau) => tau,
+            None => {
+                let t = pipeline::inverse_dynamics_with(&model, &states, &mut stage(ctl, 0.2, 1.0));
+                if t.tau.len() < states.len() {
+                    return Err(cancelled());
+                }
+                t.tau
+            }
+        };
+        ctl.set_progress(1.0);
         Ok(Analysis {
-            q: table(&t.model.q_names, &s.q),
-            v: table(&t.model.v_names, &s.v),
-            a: table(&t.model.v_names, &s.a),
-            tau: table(&t.model.v_names, &torques.tau),
-            time: s.time.clone(),
-            scale: t.scale_to_m,
+            q: table(&model.q_names, &states.q),
+            v: table(&model.v_names, &states.v),
+            a: table(&model.v_names, &states.a),
+            tau: table(&model.v_names, &tau),
+            time: states.time.clone(),
+            scale,
             note: String::new(),
-            model: Arc::new(t.model),
+            model,
         })
     }
 
     fn simulate(&self, take: &Take, params: &Params, ctl: &Control) -> Result<Analysis, Error> {
-        // computed-torque tracking of the take's (smoothed) motion (pipeline::simulate)
-        let opts = take_options(params)?;
-        let t = pipeline::take_from_bvh(Path::new(&take.source), (*take.bvh).clone(), &opts)?;
+        // computed-torque tracking of the take's (smoothed) motion, or of a robot's motion
+        ctl.check()?;
+        let (model, states, scale) = match &take.data {
+            TakeData::Bvh(bvh) => {
+                let t = pipeline::take_from_bvh(
+                    Path::new(&take.source),
+                    (**bvh).clone(),
+                    &params.take,
+                )?;
+                (Arc::new(t.model), Arc::new(t.states), t.scale_to_m)
+            }
+            TakeData::Robot(r) => {
+                let m = r.motion.clone().ok_or_else(|| no_motion(take))?;
+                (r.model.clone(), m, 1.0)
+            }
+        };
+        ctl.set_progress(0.05);
         ctl.check()?;
         let settings = pipeline::SimSettings::parse(
             &params.integrator,
@@ -324,76 +487,105 @@ impl Engine for Builtin {
             0.0,
             None,
         )?;
-        let summary = pipeline::simulate(&t, &settings, None)?;
+        let r = pipeline::simulate_states(&model, &states, &settings, &mut stage(ctl, 0.05, 1.0))?
+            .result;
         ctl.set_progress(1.0);
-        let r = summary.result;
-        let table = |names: &[String], rows: &[Vec<f64>]| Table {
-            names: names.to_vec(),
-            data: rows.concat(),
-        };
         // accelerations are not recorded: differentiate the simulated velocities
         let dt = r.time.get(1).map_or(params.dt, |t1| t1 - r.time[0]);
-        let mut a = Table::zeros(t.model.v_names.clone(), r.time.len());
+        let mut a = Table::zeros(model.v_names.clone(), r.time.len());
         let mut da = vec![0.0; r.time.len()];
-        for j in 0..t.model.nv {
-            let vj: Vec<f64> = r.v.iter().map(|row| row[j]).collect();
+        let mut vj = vec![0.0; r.time.len()];
+        for j in 0..model.nv {
+            for (x, row) in vj.iter_mut().zip(&r.v) {
+                *x = row[j];
+            }
             crate::motion::derive::differentiate(&vj, dt, &mut da);
             for (k, x) in da.iter().enumerate() {
                 a.row_mut(k)[j] = *x;
             }
         }
         Ok(Analysis {
-            q: table(&t.model.q_names, &r.q),
-            v: table(&t.model.v_names, &r.v),
+            q: table(&model.q_names, &r.q),
+            v: table(&model.v_names, &r.v),
             a,
-            tau: table(&t.model.v_names, &r.tau),
+            tau: table(&model.v_names, &r.tau),
             time: r.time.clone(),
-            scale: t.scale_to_m,
+            scale,
             note: format!(
                 "tracking error RMS {:.3e} rad, max {:.3e} rad",
                 r.rms_error_rad(),
                 r.max_error_rad()
             ),
-            model: Arc::new(t.model),
+            model,
         })
     }
 
     fn blend(&self, a: &Take, b: &Take, window: (f64, f64)) -> Result<Take, Error> {
+        let (Some(ba), Some(bb)) = (a.bvh(), b.bvh()) else {
+            return Err(Error::Invalid(format!(
+                "blend {} {}: only BVH takes blend (a robot's motion is a trajectory)",
+                a.name, b.name
+            )));
+        };
         // motion::blend: C² ramp, shortest-arc slerp per joint, b's root and heading aligned
         // to a's at the window start
         let opts = BlendOptions {
             align: Align::ALL,
-            up_axis: detect_up(&a.bvh).index(),
+            up_axis: detect_up(ba).index(),
             ..BlendOptions::default()
         };
         let w = WarpWindow {
             t0: window.0,
             t1: window.1,
         };
-        let bvh = crate::motion::blend::blend(&a.bvh, &b.bvh, w, TimeMap::IDENTITY, &opts)?;
+        let bvh = crate::motion::blend::blend(ba, bb, w, TimeMap::IDENTITY, &opts)?;
         Ok(Take {
             name: format!("{}+{}", a.name, b.name),
             source: format!("blend {} {} {}:{}", a.name, b.name, window.0, window.1),
-            bvh: Arc::new(bvh),
+            data: TakeData::Bvh(Arc::new(bvh)),
         })
+    }
+
+    fn export_bvh(
+        &self,
+        take: &Take,
+        params: &Params,
+        motion: Option<&Analysis>,
+        path: &Path,
+    ) -> Result<(), Error> {
+        let bvh = take.bvh().ok_or_else(|| {
+            Error::Invalid(format!(
+                "export bvh: {} is a robot model, not a BVH take (export csv writes its motion)",
+                take.name
+            ))
+        })?;
+        // the pipeline's take under the current options: its q are what the user sees
+        let mut t = pipeline::take_from_bvh(Path::new(&take.source), bvh.clone(), &params.take)?;
+        if let Some(m) = motion {
+            if m.q.rows() != t.states.len() || m.q.names != t.model.q_names {
+                return Err(Error::Invalid(format!(
+                    "export bvh sim: the simulation has {} rows of {} coordinates, the take {} \
+                     frames of {}; run sim again",
+                    m.q.rows(),
+                    m.q.cols(),
+                    t.states.len(),
+                    t.model.nq
+                )));
+            }
+            for (k, row) in t.states.q.iter_mut().enumerate() {
+                row.copy_from_slice(m.q.row(k));
+            }
+        }
+        pipeline::export_smoothed_bvh(&t, path)
     }
 }
 
-/// The pipeline's options from the workbench parameters.
-fn take_options(params: &Params) -> Result<TakeOptions, Error> {
-    Ok(TakeOptions {
-        unit: params.unit.map(LengthUnit::Custom),
-        joints: params.joints,
-        body: BodyParams {
-            mass_kg: params.body_mass,
-            sex: params.sex,
-            link_mass: params.link_mass.clone(),
-        },
-        smooth: params.smooth.to_string().parse::<SmoothSpec>()?,
-        lock: params.lock.clone(),
-        contact: params.contact,
-        ..TakeOptions::default()
-    })
+fn no_motion(take: &Take) -> Error {
+    Error::Invalid(format!(
+        "{} has no motion yet: `load STATES.csv` (articula export states format) or \
+         `trajectory POSE POSE … over T` first",
+        take.name
+    ))
 }
 
 #[cfg(test)]
@@ -402,7 +594,9 @@ mod tests {
 
     #[test]
     fn demo_walk_has_the_paper_euler_model_and_body_mass() {
-        let take = Builtin.load(Path::new(DEMO_WALK)).unwrap();
+        let take = Builtin
+            .load(Path::new(DEMO_WALK), &Params::default())
+            .unwrap();
         let params = Params::default();
         let r = Builtin
             .inverse_dynamics(&take, &params, &Control::default())
@@ -416,24 +610,36 @@ mod tests {
 
     #[test]
     fn smoothing_width_changes_the_torques_and_none_keeps_the_raw_angles() {
-        let take = Builtin.load(Path::new(DEMO_WALK)).unwrap();
+        let take = Builtin
+            .load(Path::new(DEMO_WALK), &Params::default())
+            .unwrap();
+        let bvh = take.bvh().unwrap();
         let ctl = Control::default();
-        let raw = Params {
-            smooth: Smooth::None,
-            ..Params::default()
-        };
+        let mut raw = Params::default();
+        raw.take.smooth = SmoothSpec::None;
         let r0 = Builtin.inverse_dynamics(&take, &raw, &ctl).unwrap();
         // unsmoothed: q is the channel value in radians
         let j = r0.q.col_index("LeftLeg.Xrotation").unwrap();
-        let c = take.bvh.joints[take.bvh.joint_index("LeftLeg").unwrap()].first_channel + 1;
+        let c = bvh.joints[bvh.joint_index("LeftLeg").unwrap()].first_channel + 1;
         for k in [0, 100, 479] {
-            assert!((r0.q.row(k)[j] - take.bvh.frame(k)[c].to_radians()).abs() < 1e-12);
+            assert!((r0.q.row(k)[j] - bvh.frame(k)[c].to_radians()).abs() < 1e-12);
         }
-        let wide = Params {
-            smooth: Smooth::Gaussian { width_s: 0.05 },
-            ..Params::default()
-        };
+        let mut wide = Params::default();
+        wide.take.smooth = SmoothSpec::Gaussian { sigma_s: 0.05 };
         let r1 = Builtin.inverse_dynamics(&take, &wide, &ctl).unwrap();
         assert_ne!(r0.tau, r1.tau);
+    }
+
+    #[test]
+    fn a_cancelled_control_stops_before_any_result() {
+        let take = Builtin
+            .load(Path::new(DEMO_WALK), &Params::default())
+            .unwrap();
+        let ctl = Control::default();
+        ctl.cancel();
+        let e = Builtin
+            .inverse_dynamics(&take, &Params::default(), &ctl)
+            .unwrap_err();
+        assert!(e.to_string().contains("cancelled"), "{e}");
     }
 }

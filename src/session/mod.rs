@@ -13,35 +13,47 @@
 //!
 //! | command | effect |
 //! |---|---|
-//! | `load PATH [as NAME]` | load a BVH take and make it active (`demo:walk`: the generated demo walk) |
-//! | `scene PATH` | read a TOML scene (io::scene): its mass, sex, unit, joints, smooth, contact, link masses and locks become the parameters, its takes are loaded (the first active) |
+//! | `load PATH [as NAME]` | load and make active: a BVH take (`demo:walk`: the generated demo walk), a DH table (`.toml`, `data/puma560.toml`) or a URDF (`.urdf`, fixed base, gravity −z); a states CSV (`.csv`, the `articula export states` or `export csv` format) becomes the active robot's motion |
+//! | `trajectory POSE [POSE …] over T [at HZ]` | the active robot's motion: quintic point-to-point moves of T s between the poses (zero speed and acceleration at each pose, Corke's `jtraj`), sampled at HZ (default 500); a pose is one value per coordinate, comma separated, rad or m, `pi` multiples allowed (`0,pi/4,-pi,0,pi/4,0`); one pose is held for T (the gravity load) |
+//! | `scene PATH` | read a TOML scene (io::scene) exactly as `--scene` does (`pipeline::TakeOptions::from_scene`): unit, stature, up, position, joints, mass, sex, link masses, smooth, locks, subtree, contact and keep_first_frame become the take options, its gains `kp`/`kv`; its takes are loaded (the first active) |
 //! | `set KEY VALUE` | change a parameter (below); results recompute on the next use |
 //! | `run id` | inverse dynamics over the active take (RNEA at every frame) |
 //! | `run sim` | computed-torque simulation tracking the active take (`kp`, `kv`, `integrator`, `dt`); the message gives the tracking error |
 //! | `blend A B T0:T1` | take A until T0, take B from T1, a C² blend between (s; B's root and heading aligned to A's); the result, named `A+B`, becomes active |
-//! | `select JOINT` | select a coordinate (`LeftLeg.Xrotation`) or a joint (its first rotation) |
+//! | `select JOINT` | select a coordinate (`LeftLeg.Xrotation`, `LeftLeg:wx`, `j2`) or a joint: its rotation coordinate with the largest range of motion over the take (the flexion axis of a knee or elbow; `J:wx`… for ball joints) |
 //! | `frame N` | go to frame N (0-based) |
 //! | `play`, `pause` | start / stop playback |
-//! | `export csv\|svg\|bvh\|urdf PATH` | write the results (CSV: `time`, `q:`, `v:`, `a:`, `tau:` per coordinate, SI), the angle and torque chart of the selection (the paper's figure 4), the active take's motion as BVH (as loaded or blended), the model as URDF |
+//! | `export csv\|svg\|bvh\|urdf PATH` | write the results (CSV: `time`, `q:`, `v:`, `a:`, `tau:` per coordinate, SI), the angle and torque chart of the selection (the paper's figure 4), the active take's motion as BVH as it is seen (blended, smoothed with the current `smooth`), the model as URDF |
+//! | `export bvh sim PATH` | the motion of the last `run sim` (under the current parameters) as BVH |
 //! | `compare weights 60,80,100 [joint J] PATH` | re-run inverse dynamics at each body mass; J's torque (default: the selection) per mass: a chart with the peak/RMS table (`.svg`) or the curves (`.csv`, `t_s`, `tau_<m>kg_Nm`) |
-//! | `report motor PATH` | motor sizing of the selected joint's coordinates (all revolute coordinates of a model with at most 12): torque, speed and power curves and the motor class each needs (SVG, or CSV table for `.csv`) |
+//! | `report motor PATH` | motor sizing (report::motor) of every revolute joint of a robot (or of the selected joint of an avatar): torque, speed, power and current curves with the table of peak/RMS torque, peak speed and power, peak/RMS current and the motor class each needs (`.svg`), or the table alone (`.csv`) |
+//! | `report motor curves PATH.csv` | the plotted curves: `t_s`, `<joint>_tau_Nm`, `_qd_rad_s`, `_power_W`, `_current_A` |
 //! | `expect …` | an assertion (below); a failed expect fails the replay |
 //! | `screen PATH` | write the current screen of the TUI (as text) to PATH |
 //! | `key KEYS` | inject keystrokes into the TUI: characters as written, special keys as `<Enter>`, `<Esc>`, `<Tab>`, `<Space>`, `<Up>`, `<Down>`, `<Left>`, `<Right>`, `<BS>`, `<C-c>` |
 //! | `quit` | leave the TUI (ends a replay) |
 //!
-//! `set` keys: `body.mass KG`, `body.sex male|female`, `unit auto|m|dm|cm|mm|in|METRES`,
-//! `joints euler|ball`, `smooth none|gaussian:W|butterworth:F` (W in s, F in Hz),
-//! `contact none|feet`, `kp X`, `kv X`, `integrator euler|semi-implicit|rk4|dopri5`, `dt S`,
-//! `link.<joint>.mass KG`, `lock J1,J2,…` (or `none`), `blend.window S`, and for
-//! `report motor` the drive of every joint: `motor.km` (N·m/A), `motor.gear` (N),
-//! `motor.efficiency` (η).
+//! `set` keys of a BVH take (the pipeline's `TakeOptions`, with the CLI flags' syntax):
+//! `body.mass KG`, `body.sex male|female`, `unit auto|m|dm|cm|mm|in|cmu|METRES`,
+//! `stature auto|M`, `up auto|x|y|z`, `positions auto|add|replace`, `subtree none|JOINT`,
+//! `joints euler|ball`, `smooth none|gaussian:W|butterworth:F[hz][:ORDER]` (W in s, F in Hz),
+//! `contact none|feet`, `link.<joint>.mass KG`, `lock J1,J2,…` (or `none`); of the simulation:
+//! `kp X`, `kv X`, `integrator euler|semi-implicit|rk4|dopri5`, `dt S`; `blend.window S`.
+//! A robot's masses are those of its DH table or URDF.
+//!
+//! Motor drives for `report motor` (the gear relations of report::motor: `τ_m = τ/(N·η)`,
+//! `ω_m = N·q̇`, `I = τ/(Km·N·η)`): `motor.km` (Km, N·m/A), `motor.gear` (N, motor turns per
+//! joint turn), `motor.efficiency` (η in (0, 1]) set the drive of every joint;
+//! `motor.<coord>.km|gear|efficiency` override it for one coordinate (`motor.j2.gear 107.815`);
+//! `motor.catalogue PATH|auto` chooses the catalogue of motor classes (TOML, the format of the
+//! bundled `data/motor_classes.toml`, values on the motor shaft).
 //!
 //! `expect` forms (values SI: rad, rad/s, rad/s², N·m, kg):
 //! - `expect nv N`, `expect nq N`, `expect frames N`, `expect frame N`, `expect selected NAME`;
 //! - `expect mass between LO HI`;
-//! - `expect peak|min|max|mean|rms COORD angle|velocity|acceleration|torque between LO HI`
-//!   (peak is the largest |x| over the take), e.g.
+//! - `expect peak|min|max|mean|rms|now COORD angle|velocity|acceleration|torque between LO HI`
+//!   (peak is the largest |x| over the take, now the value at the current frame; the angle of
+//!   a ball joint coordinate `J:wx` is the rotation-vector component), e.g.
 //!   `expect peak LeftLeg.Xrotation torque between 20 150`;
 //! - `expect screen contains TEXT`, `expect message contains TEXT`.
 //!
@@ -57,6 +69,7 @@
 
 pub mod command;
 pub mod engine;
+pub mod trajectory;
 pub mod workbench;
 
 pub use command::{Command, Expectation, ExportKind, RunKind, parse_line, parse_session};

@@ -2,12 +2,12 @@
 
 use super::SessionError;
 use super::command::{Command, Expectation, ExportKind, Quantity, RunKind, Statistic};
-use super::engine::{
-    Analysis, Builtin, Contact, Control, Engine, JointModel, Params, Sex, Smooth, Take,
-};
+use super::engine::{Analysis, Builtin, Control, Engine, Params, SmoothSpec, Take, TakeData};
+use crate::model::{JointKind, Model};
+use crate::pipeline::TakeOptions;
 use crate::report::chart::{Panel, Series, stacked_svg};
 use crate::report::knee::{self, MassRun};
-use crate::report::motor::{self, JointMotion, MotorSpec};
+use crate::report::motor::{self, JointMotion};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -154,14 +154,14 @@ impl Workbench {
 
     /// Number of frames of the active take (0 without one).
     pub fn frames(&self) -> usize {
-        self.take().map_or(0, |t| t.bvh.frames)
+        self.take().map_or(0, Take::frames)
     }
 
     /// The current results if they match the current parameters.
     pub fn fresh_results(&self) -> Option<&Arc<Analysis>> {
         self.results
             .as_ref()
-            .filter(|(_, p)| *p == self.params)
+            .filter(|(_, p)| p.same_results(&self.params))
             .map(|(r, _)| r)
     }
 
@@ -233,12 +233,17 @@ impl Workbench {
             .as_ref()
             .is_none_or(|s| r.model.v_index(s).is_none())
         {
-            self.selection = r
-                .model
-                .v_names
-                .iter()
-                .find(|n| !n.contains("position"))
-                .cloned();
+            // the joint of the old selection if it has a coordinate here, else the first
+            // rotation
+            let joint = self
+                .selection
+                .as_deref()
+                .and_then(|s| joint_of_name(&r.model, s));
+            self.selection = joint.and_then(|j| best_coordinate(&r, &j)).or_else(|| {
+                (0..r.model.nv)
+                    .find(|&k| is_angular(&r.model, k))
+                    .map(|k| r.model.v_names[k].clone())
+            });
         }
         match done.kind {
             RunKind::Id => self.results = Some((r, done.params)),
@@ -280,17 +285,31 @@ impl Workbench {
     pub fn apply(&mut self, cmd: &Command) -> Result<Outcome, SessionError> {
         match cmd {
             Command::Load { path, name } => {
-                let mut take = self.engine.load(&self.in_path(path))?;
+                if is_csv(path) {
+                    return self.load_motion(path);
+                }
+                let mut take = self.engine.load(&self.in_path(path), &self.params)?;
                 if let Some(n) = name {
                     take.name = n.clone();
                 }
-                let msg = format!(
-                    "loaded {} ({} joints, {} frames at {:.0} fps)",
-                    take.name,
-                    take.bvh.joints.len(),
-                    take.bvh.frames,
-                    1.0 / take.bvh.frame_time
-                );
+                let msg = match &take.data {
+                    TakeData::Bvh(b) => format!(
+                        "loaded {} ({} joints, {} frames at {:.0} fps)",
+                        take.name,
+                        b.joints.len(),
+                        b.frames,
+                        1.0 / b.frame_time
+                    ),
+                    TakeData::Robot(r) => format!(
+                        "loaded {} ({}: {} joints, nv {}, {:.2} kg); give it a motion: load \
+                         STATES.csv or trajectory POSE POSE … over T",
+                        take.name,
+                        r.kind,
+                        take.joint_tree().len(),
+                        r.model.nv,
+                        r.model.total_mass()
+                    ),
+                };
                 match self.takes.iter().position(|t| t.name == take.name) {
                     Some(i) => {
                         self.takes[i] = take;
@@ -307,6 +326,11 @@ impl Workbench {
                 Ok(self.say(msg))
             }
             Command::Scene { path } => self.scene(path),
+            Command::Trajectory {
+                poses,
+                duration_s,
+                rate_hz,
+            } => self.trajectory(poses, *duration_s, *rate_hz),
             Command::Set { key, value } => {
                 self.set(key, value)?;
                 Ok(self.say(format!("{key} = {value}")))
@@ -326,7 +350,10 @@ impl Workbench {
                 let t = self.engine.blend(find(a)?, find(b)?, *window)?;
                 let msg = format!(
                     "blended {a} into {b} over {}:{} s as {} ({} frames)",
-                    window.0, window.1, t.name, t.bvh.frames
+                    window.0,
+                    window.1,
+                    t.name,
+                    t.frames()
                 );
                 match self.takes.iter().position(|x| x.name == t.name) {
                     Some(i) => {
@@ -375,7 +402,7 @@ impl Workbench {
                 joint,
                 path,
             } => self.compare_weights(masses, joint.as_deref(), path),
-            Command::ReportMotor { path } => self.report_motor(path),
+            Command::ReportMotor { path, curves } => self.report_motor(path, *curves),
             Command::Expect(e) => self.expect(e),
             Command::Screen { .. } | Command::Key(_) => {
                 Err(err("screen and key need a front end (the TUI)"))
@@ -387,41 +414,20 @@ impl Workbench {
         }
     }
 
-    /// Reads a scene (io::scene): its parameters replace the current ones, its takes are
-    /// loaded (the first becomes active). `stature`, `up`, `position` and `subtree` are not
-    /// parameters of the workbench yet; the message says when a scene sets them.
+    /// Reads a scene (io::scene) exactly as `--scene` does (`TakeOptions::from_scene`): its
+    /// unit, stature, up axis, position semantics, joint model, mass, sex, link masses,
+    /// smoothing, locks, subtree and contact become the take options, its gains `kp`/`kv`;
+    /// its takes are loaded (the first becomes active).
     fn scene(&mut self, path: &Path) -> Result<Outcome, SessionError> {
         let file = self.in_path(path);
         let sc = crate::io::scene::read(&file)?;
-        let smooth = match &sc.smooth {
-            Some(s) => s
-                .parse::<Smooth>()
-                .map_err(|e| err(format!("{}: smooth: {e}", file.display())))?,
-            None => self.params.smooth,
-        };
-        self.params = Params {
-            body_mass: sc.mass,
-            sex: if sc.sex == "female" {
-                Sex::Female
-            } else {
-                Sex::Male
-            },
-            unit: sc.unit.map(|u| u.scale_to_m()),
-            joints: if sc.joints == "ball" {
-                JointModel::Ball
-            } else {
-                JointModel::Euler
-            },
-            smooth,
-            contact: if sc.contact == "feet" {
-                Contact::Feet
-            } else {
-                Contact::None
-            },
-            link_mass: sc.link_mass.clone(),
-            lock: sc.lock.clone(),
-            ..self.params.clone()
-        };
+        let take =
+            TakeOptions::from_scene(&sc).map_err(|e| err(format!("{}: {e}", file.display())))?;
+        self.params.take = take;
+        if let Some(g) = sc.gains {
+            self.params.kp = g.kp;
+            self.params.kv = g.kv;
+        }
         let first = self.takes.len();
         for t in &sc.takes {
             self.apply(&Command::Load {
@@ -432,27 +438,89 @@ impl Workbench {
         if first < self.takes.len() {
             self.active = Some(first);
         }
-        let ignored: Vec<&str> = [
-            ("stature", sc.stature.is_some()),
-            ("up", sc.up.is_some()),
-            ("subtree", sc.subtree.is_some()),
-        ]
-        .into_iter()
-        .filter_map(|(n, set)| set.then_some(n))
-        .collect();
-        let mut msg = format!(
+        Ok(self.say(format!(
             "scene {}: {} take(s), {} kg",
             file.display(),
             sc.takes.len(),
             sc.mass
-        );
-        if !ignored.is_empty() {
-            msg.push_str(&format!(
-                " (not applied by the workbench: {})",
-                ignored.join(", ")
-            ));
+        )))
+    }
+
+    /// `load S.csv`: a states CSV becomes the active robot's motion.
+    fn load_motion(&mut self, path: &Path) -> Result<Outcome, SessionError> {
+        let file = self.in_path(path);
+        let (i, model) = self.active_robot("load STATES.csv")?;
+        let states = self.engine.load_motion(&model, &file)?;
+        let n = states.len();
+        self.set_motion(i, states, file.display().to_string());
+        Ok(self.say(format!(
+            "{}: motion from {} ({n} samples)",
+            self.takes[i].name,
+            file.display()
+        )))
+    }
+
+    /// `trajectory …`: quintic moves through the poses become the active robot's motion.
+    fn trajectory(
+        &mut self,
+        poses: &[Vec<f64>],
+        duration_s: f64,
+        rate_hz: f64,
+    ) -> Result<Outcome, SessionError> {
+        let (i, model) = self.active_robot("trajectory")?;
+        let simple = (1..model.nbodies()).all(|b| {
+            matches!(
+                model.joints[b],
+                JointKind::Revolute { .. } | JointKind::Prismatic { .. } | JointKind::Fixed
+            )
+        });
+        if !simple {
+            return Err(err(format!(
+                "trajectory: {} has ball or free joints; give its motion as a states CSV",
+                model.name
+            )));
         }
-        Ok(self.say(msg))
+        if let Some(p) = poses.iter().find(|p| p.len() != model.nq) {
+            return Err(err(format!(
+                "trajectory: a pose of {} values for {} coordinates ({})",
+                p.len(),
+                model.nq,
+                model.q_names.join(", ")
+            )));
+        }
+        let states = super::trajectory::quintic_moves(poses, duration_s, rate_hz)?;
+        let n = states.len();
+        let source = format!(
+            "{} quintic move(s) of {duration_s} s at {rate_hz} Hz",
+            poses.len().saturating_sub(1).max(1)
+        );
+        self.set_motion(i, states, source.clone());
+        Ok(self.say(format!("{}: {source} ({n} samples)", self.takes[i].name)))
+    }
+
+    /// The active take if it is a robot: its index and model.
+    fn active_robot(&self, what: &str) -> Result<(usize, Arc<Model>), SessionError> {
+        let i = self
+            .active
+            .ok_or_else(|| err(format!("{what}: load a DH table or URDF first")))?;
+        match &self.takes[i].data {
+            TakeData::Robot(r) => Ok((i, r.model.clone())),
+            TakeData::Bvh(_) => Err(err(format!(
+                "{what}: {} is a BVH take; a motion is given to a robot (load a DH table or \
+                 URDF first)",
+                self.takes[i].name
+            ))),
+        }
+    }
+
+    fn set_motion(&mut self, i: usize, states: crate::pipeline::States, source: String) {
+        if let TakeData::Robot(r) = &mut self.takes[i].data {
+            r.motion = Some(Arc::new(states));
+            r.motion_source = source;
+        }
+        self.frame = 0;
+        self.results = None;
+        self.sim = None;
     }
 
     fn set(&mut self, key: &str, value: &str) -> Result<(), SessionError> {
@@ -464,6 +532,16 @@ impl Workbench {
                 ))),
             }
         };
+        // the pipeline's own parsers, so the values mean what the CLI's flags mean
+        fn parsed<T: std::str::FromStr>(key: &str, value: &str) -> Result<T, SessionError>
+        where
+            T::Err: std::fmt::Display,
+        {
+            value
+                .parse::<T>()
+                .map_err(|e| err(format!("set {key}: {e}")))
+        }
+        let auto = matches!(value, "auto" | "none");
         let p = &mut self.params;
         match key {
             "body.mass" => {
@@ -471,49 +549,38 @@ impl Workbench {
                 if m <= 0.0 {
                     return Err(err("set body.mass: the mass must be positive"));
                 }
-                p.body_mass = m;
+                p.take.body.mass_kg = m;
             }
-            "body.sex" => {
-                p.sex = match value {
-                    "male" | "m" => Sex::Male,
-                    "female" | "f" => Sex::Female,
-                    _ => return Err(err(format!("set body.sex: expected male or female, found '{value}'"))),
-                }
-            }
+            "body.sex" => p.take.body.sex = parsed(key, value)?,
             "unit" => {
-                p.unit = match value {
-                    "auto" => None,
-                    "m" => Some(1.0),
-                    "dm" => Some(0.1),
-                    "cm" => Some(0.01),
-                    "mm" => Some(0.001),
-                    "in" | "inch" => Some(0.0254),
-                    _ => Some(value.parse::<f64>().ok().filter(|x| *x > 0.0).ok_or_else(|| {
-                        err(format!(
-                            "set unit: expected auto, m, dm, cm, mm, in or metres per unit, found '{value}'"
-                        ))
-                    })?),
+                p.take.unit = if auto {
+                    None
+                } else {
+                    Some(parsed(key, value)?)
+                };
+                p.take.stature_m = None;
+            }
+            "stature" => {
+                p.take.stature_m = if auto {
+                    None
+                } else {
+                    let s = num("a stature in m")?;
+                    crate::io::bvh::check_stature(s).map_err(|e| err(format!("set {key}: {e}")))?;
+                    Some(s)
                 }
             }
-            "joints" => {
-                p.joints = match value {
-                    "euler" => JointModel::Euler,
-                    "ball" => JointModel::Ball,
-                    _ => return Err(err(format!("set joints: expected euler or ball, found '{value}'"))),
+            "up" => {
+                p.take.up = if auto {
+                    None
+                } else {
+                    Some(parsed(key, value)?)
                 }
             }
-            "smooth" => {
-                p.smooth = value
-                    .parse::<Smooth>()
-                    .map_err(|e| err(format!("set smooth: {e}")))?
-            }
-            "contact" => {
-                p.contact = match value {
-                    "none" => Contact::None,
-                    "feet" => Contact::Feet,
-                    _ => return Err(err(format!("set contact: expected none or feet, found '{value}'"))),
-                }
-            }
+            "positions" => p.take.positions = parsed(key, value)?,
+            "subtree" => p.take.subtree = (!auto).then(|| value.to_string()),
+            "joints" => p.take.joints = parsed(key, value)?,
+            "smooth" => p.take.smooth = parsed::<SmoothSpec>(key, value)?,
+            "contact" => p.take.contact = parsed(key, value)?,
             "kp" => p.kp = num("a gain in 1/s²")?,
             "kv" => p.kv = num("a gain in 1/s")?,
             "integrator" => {
@@ -534,24 +601,64 @@ impl Workbench {
                 p.dt = dt;
             }
             "lock" => {
-                p.lock = value
+                p.take.lock = value
                     .split([',', ' '])
                     .filter(|s| !s.is_empty() && *s != "none")
                     .map(str::to_string)
                     .collect();
             }
             "blend.window" => p.blend_window = num("a window length in seconds")?,
-            "motor.km" | "motor.gear" | "motor.efficiency" => {
+            "motor.catalogue" => {
+                if auto {
+                    p.motor_catalogue = None;
+                } else {
+                    let file = self.in_path(Path::new(value));
+                    // read now, so a bad file fails here and not at the report
+                    motor::read_catalogue(&file)?;
+                    self.params.motor_catalogue = Some(file);
+                }
+            }
+            _ if key.starts_with("motor.") => {
                 let x = num("a positive number")?;
-                if x <= 0.0 || (key == "motor.efficiency" && x > 1.0) {
+                let (joint, field) = key
+                    .strip_prefix("motor.")
+                    .and_then(|k| k.rsplit_once('.'))
+                    .map_or(("", &key[6..]), |(j, f)| (j, f));
+                if x <= 0.0 || (field == "efficiency" && x > 1.0) {
                     return Err(err(format!(
                         "set {key}: {value} is out of range (Km, N > 0; 0 < η ≤ 1)"
                     )));
                 }
-                match key {
-                    "motor.km" => p.motor_km = x,
-                    "motor.gear" => p.motor_gear = x,
-                    _ => p.motor_efficiency = x,
+                if joint.is_empty() {
+                    match field {
+                        "km" => p.motor.km_nm_per_a = x,
+                        "gear" => p.motor.gear_ratio = x,
+                        "efficiency" => p.motor.efficiency = Some(x),
+                        _ => return Err(err(format!("unknown setting '{key}'"))),
+                    }
+                } else {
+                    // checked against the robot's model, or the latest results of a take
+                    let model = match self.take().and_then(|t| t.robot()) {
+                        Some(rb) => Some(rb.model.clone()),
+                        None => self.latest_results().map(|r| r.model.clone()),
+                    };
+                    if let Some(m) = model.filter(|m| m.v_index(joint).is_none()) {
+                        return Err(err(format!(
+                            "set {key}: no coordinate '{joint}' (expected e.g. {})",
+                            m.v_names.first().map_or("", String::as_str)
+                        )));
+                    }
+                    let o = self
+                        .params
+                        .motor_joint
+                        .entry(joint.to_string())
+                        .or_default();
+                    match field {
+                        "km" => o.km = Some(x),
+                        "gear" => o.gear = Some(x),
+                        "efficiency" => o.efficiency = Some(x),
+                        _ => return Err(err(format!("unknown setting '{key}'"))),
+                    }
                 }
             }
             _ => {
@@ -560,18 +667,35 @@ impl Workbench {
                     .and_then(|k| k.strip_suffix(".mass"))
                     .ok_or_else(|| err(format!("unknown setting '{key}'")))?;
                 if let Some(t) = self.take()
-                    && t.bvh.joint_index(link).is_none()
+                    && !t.joint_tree().iter().any(|(n, _)| n == link)
                 {
                     return Err(err(format!("set {key}: no joint called '{link}'")));
                 }
+                if self.take().is_some_and(|t| t.robot().is_some()) {
+                    return Err(err(format!(
+                        "set {key}: a robot's masses are those of its DH table or URDF"
+                    )));
+                }
                 let m = num("a mass in kg")?;
-                self.params.link_mass.insert(link.to_string(), m);
+                self.params.take.body.link_mass.insert(link.to_string(), m);
             }
         }
         Ok(())
     }
 
-    /// A coordinate name from a coordinate or a joint name (its first rotation coordinate).
+    /// The coordinates of a joint (a BVH joint, or a robot joint) in the latest results.
+    pub fn joint_coords(&self, joint: &str) -> Vec<String> {
+        match self.latest_results() {
+            Some(r) => coords_of_joint(&r.model, joint),
+            None => vec![],
+        }
+    }
+
+    /// A coordinate name from a coordinate or a joint name. A joint gives its coordinate with
+    /// the largest range of motion over the take (the knee's and elbow's flexion axis):
+    /// from the latest results, or before any result from the BVH rotation channels (the
+    /// channel's axis names the ball model's rotation-vector component, `J:wx` for
+    /// `Xrotation`).
     fn resolve_coord(&self, name: &str) -> Result<String, SessionError> {
         let take = self
             .take()
@@ -581,27 +705,34 @@ impl Workbench {
         {
             return Ok(name.to_string());
         }
-        let (joint, channel) = name.split_once('.').unwrap_or((name, ""));
-        let j = take
-            .bvh
-            .joint_index(joint)
-            .ok_or_else(|| err(format!("no joint called '{joint}' in {}", take.name)))?;
-        let chans = &take.bvh.joints[j].channels;
-        let ch = if channel.is_empty() {
-            chans.iter().find(|c| c.is_rotation()).or(chans.first())
-        } else {
-            chans.iter().find(|c| c.name() == channel)
+        if let Some(rb) = take.robot() {
+            // a robot joint is its coordinate (or the first of a multi-DoF joint)
+            return coords_of_joint(&rb.model, name)
+                .into_iter()
+                .next()
+                .ok_or_else(|| {
+                    err(format!(
+                        "no joint called '{name}' in {} (it has {})",
+                        take.name,
+                        rb.model.v_names.join(", ")
+                    ))
+                });
+        }
+        let bvh = take.bvh().ok_or_else(|| err("no take loaded"))?;
+        let Some(r) = self.latest_results() else {
+            return channel_by_range(bvh, name, self.params.take.joints);
         };
-        match ch {
-            Some(c) => Ok(format!("{joint}.{}", c.name())),
-            None => Err(err(format!(
-                "{joint} has no channel '{channel}' (it has {})",
-                chans
-                    .iter()
-                    .map(|c| c.name())
-                    .collect::<Vec<_>>()
-                    .join(", ")
+        if let Some(c) = best_coordinate(r, name) {
+            return Ok(c);
+        }
+        // a BVH name the model does not have (locked, or the results are of another model)
+        let c = channel_by_range(bvh, name, self.params.take.joints)?;
+        match r.model.v_index(&c) {
+            Some(_) => Ok(c),
+            None if self.fresh_results().is_some() => Err(err(format!(
+                "{name} has no coordinate in the model (locked or outside the subtree?)"
             ))),
+            None => Ok(c),
         }
     }
 
@@ -623,10 +754,26 @@ impl Workbench {
                 crate::report::chart::write_svg(&out, &svg)?;
             }
             ExportKind::Bvh => {
+                // what the user sees: the take (as loaded or blended) smoothed as set
                 let take = self
                     .take()
                     .ok_or_else(|| err("no take loaded (load PATH first)"))?;
-                crate::io::bvh::write(&take.bvh, &out)?;
+                self.engine.export_bvh(take, &self.params, None, &out)?;
+            }
+            ExportKind::BvhSim => {
+                let take = self
+                    .take()
+                    .ok_or_else(|| err("no take loaded (load PATH first)"))?;
+                let sim = self
+                    .sim
+                    .as_ref()
+                    .filter(|(_, p)| p.same_results(&self.params))
+                    .map(|(r, _)| r.clone())
+                    .ok_or_else(|| {
+                        err("export bvh sim: no simulation under the current parameters (run sim first)")
+                    })?;
+                self.engine
+                    .export_bvh(take, &self.params, Some(&sim), &out)?;
             }
             ExportKind::Urdf => {
                 let r = self.ensure_results()?;
@@ -659,10 +806,8 @@ impl Workbench {
         let mut columns = vec![];
         let mut time = vec![];
         for &m in masses {
-            let params = Params {
-                body_mass: m,
-                ..self.params.clone()
-            };
+            let mut params = self.params.clone();
+            params.take.body.mass_kg = m;
             let r = self
                 .engine
                 .inverse_dynamics(&take, &params, &Control::default())?;
@@ -703,24 +848,28 @@ impl Workbench {
     }
 
     /// Motor sizing (report::motor) of the revolute coordinates of the selected joint, or of
-    /// every revolute coordinate when the model has at most 12 (an arm).
-    fn report_motor(&mut self, path: &Path) -> Result<Outcome, SessionError> {
+    /// every revolute coordinate of a robot (or of any model with at most 12 of them). Each
+    /// coordinate's drive is [`Params::motor_of`]; the catalogue is `motor.catalogue` or the
+    /// bundled `data/motor_classes.toml`.
+    fn report_motor(&mut self, path: &Path, curves: bool) -> Result<Outcome, SessionError> {
         let r = self.ensure_results()?;
         let m = &r.model;
         let revolute: Vec<usize> = (0..m.nv)
-            .filter(|&k| m.joints[m.body_of_v(k)].name() == "revolute")
+            .filter(|&k| matches!(m.joints[m.body_of_v(k)], JointKind::Revolute { .. }))
             .collect();
-        let chosen: Vec<usize> = if revolute.len() <= 12 {
+        let robot = self.take().is_some_and(|t| t.robot().is_some());
+        let chosen: Vec<usize> = if robot || revolute.len() <= 12 {
             revolute
         } else {
             let sel = self
                 .selection
                 .as_deref()
                 .ok_or_else(|| err("report motor: select a joint first"))?;
-            let joint = sel.rsplit_once('.').map_or(sel, |(j, _)| j);
+            let joint = joint_of_name(m, sel).unwrap_or_else(|| sel.to_string());
+            let coords = coords_of_joint(m, &joint);
             revolute
                 .into_iter()
-                .filter(|&k| m.v_names[k].rsplit_once('.').map_or("", |(j, _)| j) == joint)
+                .filter(|&k| coords.contains(&m.v_names[k]))
                 .collect()
         };
         if chosen.is_empty() {
@@ -737,17 +886,23 @@ impl Workbench {
                 qd: r.v.column(k),
             })
             .collect();
-        let spec = MotorSpec {
-            km_nm_per_a: self.params.motor_km,
-            gear_ratio: self.params.motor_gear,
-            efficiency: Some(self.params.motor_efficiency),
+        let specs: Vec<_> = joints
+            .iter()
+            .map(|j| self.params.motor_of(&j.joint))
+            .collect();
+        let catalogue = match &self.params.motor_catalogue {
+            Some(f) => motor::read_catalogue(f)?,
+            None => motor::default_catalogue()?,
         };
-        let loads = motor::size_motors(&joints, &vec![spec; joints.len()])?;
+        let loads = motor::size_motors(&joints, &specs, &catalogue)?;
         let out = self.out_path(path);
-        let text = if is_csv(&out) {
-            motor::motor_table_csv(&loads)
-        } else {
-            motor::motor_svg(&joints, &loads)?
+        let text = match (curves, is_csv(&out)) {
+            (true, true) => motor::motor_curves_csv(&joints, &specs)?,
+            (true, false) => {
+                return Err(err("report motor curves: the curves are written as .csv"));
+            }
+            (false, true) => motor::motor_table_csv(&loads),
+            (false, false) => motor::motor_svg(&joints, &specs, &loads)?,
         };
         crate::io::write_atomic(&out, text.as_bytes())?;
         let classes: Vec<String> = loads
@@ -816,7 +971,7 @@ impl Workbench {
             } => {
                 let r = self.ensure_results()?;
                 let (table, unit) = match quantity {
-                    Quantity::Angle => (&r.q, "rad|m"),
+                    Quantity::Angle => (&r.v, "rad|m"),
                     Quantity::Velocity => (&r.v, "rad/s|m/s"),
                     Quantity::Acceleration => (&r.a, "rad/s²|m/s²"),
                     Quantity::Torque => (&r.tau, "N·m|N"),
@@ -824,11 +979,19 @@ impl Workbench {
                 let j = table.col_index(coord).ok_or_else(|| {
                     err(format!(
                         "no coordinate '{coord}' (expected e.g. {})",
-                        table.names[0]
+                        table.names.first().map_or("", String::as_str)
                     ))
                 })?;
-                let x = table.column(j);
-                let value = statistic(*stat, &x);
+                // angles of ball and free joints: rotation-vector components (angle_series)
+                let x = match quantity {
+                    Quantity::Angle => angle_series(&r, coord)
+                        .ok_or_else(|| err(format!("no angle for '{coord}'")))?,
+                    _ => table.column(j),
+                };
+                let value = match stat {
+                    Statistic::Now => x.get(self.frame).copied().unwrap_or(0.0),
+                    _ => statistic(*stat, &x),
+                };
                 let name = format!(
                     "{} {coord} {}",
                     format!("{stat:?}").to_lowercase(),
@@ -869,11 +1032,10 @@ fn is_csv(p: &Path) -> bool {
 /// The paper's figure 4 for one coordinate: its angle (deg) or position (m) and its torque
 /// over time, minimum and maximum marked.
 pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> {
-    let (jq, jv) = match (r.q.col_index(coord), r.tau.col_index(coord)) {
-        (Some(a), Some(b)) => (a, b),
-        _ => return Err(err(format!("no coordinate '{coord}' in the model"))),
+    let (Some(q), Some(jv)) = (angle_series(r, coord), r.tau.col_index(coord)) else {
+        return Err(err(format!("no coordinate '{coord}' in the model")));
     };
-    let rotation = r.model.joints[r.model.body_of_v(jv)].name() == "revolute";
+    let rotation = is_angular(&r.model, jv);
     let (factor, angle_label, torque_label) = if rotation {
         (180.0 / std::f64::consts::PI, "angle (deg)", "torque (N·m)")
     } else {
@@ -882,7 +1044,7 @@ pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> 
     let angle = [Series::new(
         coord,
         r.time.clone(),
-        r.q.column(jq).iter().map(|x| x * factor).collect(),
+        q.iter().map(|x| x * factor).collect(),
     )];
     let torque = [Series::new(coord, r.time.clone(), r.tau.column(jv))];
     let title_a = format!("{coord} {}", angle_label.split(' ').next().unwrap_or(""));
@@ -918,7 +1080,176 @@ pub fn statistic(stat: Statistic, x: &[f64]) -> f64 {
         Statistic::Max => x.iter().copied().fold(f64::NEG_INFINITY, f64::max),
         Statistic::Mean => x.iter().sum::<f64>() / n,
         Statistic::Rms => (x.iter().map(|v| v * v).sum::<f64>() / n).sqrt(),
+        Statistic::Now => x[0],
     }
+}
+
+/// BVH channel names: the suffix of an euler-model coordinate.
+const CHANNELS: [&str; 6] = [
+    "Xposition",
+    "Yposition",
+    "Zposition",
+    "Xrotation",
+    "Yrotation",
+    "Zrotation",
+];
+
+/// The BVH (or robot) joint that velocity coordinate `k` belongs to: the joint name of its
+/// body, without the `.Xrotation` of an euler-model channel body.
+fn joint_of(model: &Model, k: usize) -> &str {
+    let name = model.joint_names[model.body_of_v(k)].as_str();
+    match name.rsplit_once('.') {
+        Some((j, c)) if CHANNELS.contains(&c) => j,
+        _ => name,
+    }
+}
+
+/// The joint of a coordinate name, if the model has that coordinate.
+fn joint_of_name(model: &Model, coord: &str) -> Option<String> {
+    model.v_index(coord).map(|k| joint_of(model, k).to_string())
+}
+
+/// The velocity coordinates of `joint` (a BVH joint or a robot joint), in model order.
+pub fn coords_of_joint(model: &Model, joint: &str) -> Vec<String> {
+    (0..model.nv)
+        .filter(|&k| joint_of(model, k) == joint)
+        .map(|k| model.v_names[k].clone())
+        .collect()
+}
+
+/// True when coordinate `k` is a rotation (rad): revolute joints and the rotation part of ball
+/// and free joints.
+pub fn is_angular(model: &Model, k: usize) -> bool {
+    let b = model.body_of_v(k);
+    match model.joints[b] {
+        JointKind::Revolute { .. } | JointKind::Spherical => true,
+        JointKind::Free => k - model.idx_v[b] >= 3,
+        JointKind::Prismatic { .. } | JointKind::Fixed => false,
+    }
+}
+
+/// The angle (rad) or position (m) of velocity coordinate `coord` over the take: the q column
+/// of a 1-DoF joint; for a ball joint (and the rotation of a free joint) the component of the
+/// rotation vector `θ·u = log(q)` in the joint frame named by the coordinate (`J:wx` → x), whose
+/// derivative is the angular velocity `J:wx` for rotations about a fixed axis; for the
+/// translation of a free joint (`J:vx`) its position `J:x` in the parent frame.
+pub fn angle_series(r: &Analysis, coord: &str) -> Option<Vec<f64>> {
+    if let Some(j) = r.q.col_index(coord) {
+        return Some(r.q.column(j));
+    }
+    let m = &r.model;
+    let k = m.v_index(coord)?;
+    let b = m.body_of_v(k);
+    let (iq, off) = (m.idx_q[b], k - m.idx_v[b]);
+    let quat_at = match m.joints[b] {
+        JointKind::Spherical => iq,
+        JointKind::Free if off < 3 => {
+            return Some((0..r.q.rows()).map(|f| r.q.row(f)[iq + off]).collect());
+        }
+        JointKind::Free => iq + 3,
+        _ => return None,
+    };
+    let c = if matches!(m.joints[b], JointKind::Free) {
+        off - 3
+    } else {
+        off
+    };
+    Some(
+        (0..r.q.rows())
+            .map(|f| {
+                let q = crate::spatial::quat_from_xyzw(&r.q.row(f)[quat_at..quat_at + 4]);
+                q.scaled_axis()[c]
+            })
+            .collect(),
+    )
+}
+
+/// The rotation coordinate of `joint` with the largest range of motion (max − min of
+/// [`angle_series`]) over the take; `None` when the model has no coordinate of that joint.
+pub fn best_coordinate(r: &Analysis, joint: &str) -> Option<String> {
+    let coords = coords_of_joint(&r.model, joint);
+    let range = |c: &String| {
+        angle_series(r, c).map_or(0.0, |x| {
+            let hi = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let lo = x.iter().copied().fold(f64::INFINITY, f64::min);
+            hi - lo
+        })
+    };
+    let rotations: Vec<&String> = coords
+        .iter()
+        .filter(|c| r.model.v_index(c).is_some_and(|k| is_angular(&r.model, k)))
+        .collect();
+    let pool = if rotations.is_empty() {
+        coords.iter().collect()
+    } else {
+        rotations
+    };
+    // the first of equal ranges wins (deterministic)
+    pool.into_iter()
+        .fold(None::<(&String, f64)>, |best, c| {
+            let x = range(c);
+            match best {
+                Some((_, b)) if b >= x => best,
+                _ => Some((c, x)),
+            }
+        })
+        .map(|(c, _)| c.clone())
+}
+
+/// Before any result: `J.CHANNEL` checked against the BVH joint's channels, or for a bare
+/// joint its rotation channel with the largest range over the take; named as the joint model
+/// names it (`J.Xrotation` euler, `J:wx` ball).
+fn channel_by_range(
+    bvh: &crate::io::bvh::Bvh,
+    name: &str,
+    joints: crate::model::bvh::JointModel,
+) -> Result<String, SessionError> {
+    let (joint, channel) = match bvh.joint_index(name) {
+        Some(_) => (name, ""),
+        None => name.rsplit_once('.').unwrap_or((name, "")),
+    };
+    let j = bvh
+        .joint_index(joint)
+        .ok_or_else(|| err(format!("no joint called '{joint}'")))?;
+    let bj = &bvh.joints[j];
+    let chans = &bj.channels;
+    let range = |i: usize| {
+        let col = bj.first_channel + i;
+        let x = (0..bvh.frames).map(|f| bvh.frame(f)[col]);
+        let hi = x.clone().fold(f64::NEG_INFINITY, f64::max);
+        let lo = x.fold(f64::INFINITY, f64::min);
+        hi - lo
+    };
+    let ch = if channel.is_empty() {
+        let rot = (0..chans.len()).filter(|&i| chans[i].is_rotation());
+        rot.fold(None::<(usize, f64)>, |best, i| match best {
+            Some((_, b)) if b >= range(i) => best,
+            _ => Some((i, range(i))),
+        })
+        .map(|(i, _)| i)
+        .or((!chans.is_empty()).then_some(0))
+    } else {
+        chans.iter().position(|c| c.name() == channel)
+    };
+    let Some(i) = ch else {
+        return Err(err(format!(
+            "{joint} has no channel '{channel}' (it has {})",
+            chans
+                .iter()
+                .map(|c| c.name())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+    };
+    let c = chans[i].name();
+    Ok(match joints {
+        crate::model::bvh::JointModel::Euler => format!("{joint}.{c}"),
+        _ => {
+            let axis = c[..1].to_ascii_lowercase();
+            let kind = if chans[i].is_rotation() { "w" } else { "v" };
+            format!("{joint}:{kind}{axis}")
+        }
+    })
 }
 
 /// `time`, then `q:<coord>` (rad, m), `v:` (rad/s, m/s), `a:` (rad/s², m/s²) and `tau:`

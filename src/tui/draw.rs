@@ -10,6 +10,7 @@ use crate::dynamics::{Workspace, forward_kinematics};
 use crate::report::superquadric::SuperquadricMesh;
 use crate::session::Workbench;
 use crate::session::engine::Analysis;
+use crate::session::workbench::{angle_series, is_angular};
 use crate::spatial::SpatialTransform;
 use ratatui::Frame;
 use ratatui::buffer::Buffer;
@@ -277,9 +278,10 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         lines.push(Line::from(Span::styled(text, style)));
     }
     let p = &wb.params;
-    lines.push(Line::from(
-        format!("joints {:?} contact {:?}", p.joints, p.contact).to_lowercase(),
-    ));
+    lines.push(Line::from(match wb.take().and_then(|t| t.robot()) {
+        Some(rb) => format!("robot ({})", rb.kind),
+        None => format!("joints {:?} contact {:?}", p.take.joints, p.take.contact).to_lowercase(),
+    }));
     if let Some(r) = wb.latest_results() {
         lines.push(Line::from(format!(
             "nv {}  {:.1} kg{}",
@@ -331,17 +333,21 @@ fn draw_sparks(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     let [a, b] = Layout::vertical([Constraint::Length(3), Constraint::Length(3)]).areas(area);
     let sel = wb.selection.clone();
     let r = wb.latest_results();
-    let series = |table: fn(&Analysis) -> &crate::session::engine::Table| {
-        let r = r?;
-        let t = table(r);
-        let j = t.col_index(sel.as_deref()?)?;
-        Some(t.column(j))
+    // the angle of the selected coordinate (a rotation-vector component for ball joints) and
+    // its torque
+    let angle = r.zip(sel.as_deref()).and_then(|(r, s)| angle_series(r, s));
+    let torque = r.zip(sel.as_deref()).and_then(|(r, s)| {
+        let j = r.tau.col_index(s)?;
+        Some(r.tau.column(j))
+    });
+    let is_angle = match (r, sel.as_deref()) {
+        (Some(r), Some(s)) => r.model.v_index(s).is_none_or(|k| is_angular(&r.model, k)),
+        _ => true,
     };
-    let is_angle = sel.as_deref().is_some_and(|s| s.contains("rotation"));
     let rows: [SparkRow; 2] = [
         (
             if is_angle { "angle" } else { "position" },
-            series(|r| &r.q),
+            angle,
             if is_angle {
                 180.0 / std::f64::consts::PI
             } else {
@@ -351,8 +357,8 @@ fn draw_sparks(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
             Color::Cyan,
         ),
         (
-            "torque",
-            series(|r| &r.tau),
+            if is_angle { "torque" } else { "force" },
+            torque,
             1.0,
             if is_angle { "N·m" } else { "N" },
             Color::Magenta,
@@ -384,7 +390,7 @@ fn draw_sparks(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
 
 fn draw_timeline(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     let frames = wb.frames();
-    let dt = wb.take().map_or(0.0, |t| t.bvh.frame_time);
+    let dt = wb.take().map_or(0.0, |t| t.frame_time());
     let state = if wb.playing { "▶" } else { "⏸" };
     let label = format!(
         "{state} {:.2}/{:.2} s  frame {}/{} ",

@@ -2,7 +2,7 @@
 //! the [`Workbench`]. Drawing is in [`super::draw`], a pure function of `(Ui, Workbench)`.
 
 use crate::session::command::{COMMAND_WORDS, SET_KEYS};
-use crate::session::engine::{Control, Smooth};
+use crate::session::engine::{Control, SmoothSpec};
 use crate::session::{
     Command, Frontend, Job, JobResult, Outcome, RunKind, SessionError, Workbench, apply_with,
     parse_line,
@@ -170,8 +170,12 @@ impl Ui {
         // keep results in step with the parameters and the take
         if matches!(
             cmd,
-            Command::Set { .. } | Command::Load { .. } | Command::Blend { .. }
-        ) && wb.take().is_some()
+            Command::Set { .. }
+                | Command::Load { .. }
+                | Command::Blend { .. }
+                | Command::Trajectory { .. }
+                | Command::Scene { .. }
+        ) && wb.frames() > 0
             && wb.fresh_results().is_none()
         {
             self.try_exec(wb, &Command::Run(RunKind::Id))?;
@@ -208,7 +212,7 @@ impl Ui {
             self.play_acc = 0.0;
             return;
         }
-        let dt = wb.take().map_or(1.0, |t| t.bvh.frame_time);
+        let dt = wb.take().map_or(1.0, |t| t.frame_time());
         self.play_acc += elapsed / dt;
         let steps = self.play_acc.floor();
         if steps >= 1.0 {
@@ -218,26 +222,27 @@ impl Ui {
         }
     }
 
-    /// The BVH joints of the active take in tree order, with their depths.
+    /// The joints of the active take (BVH joints, or a robot's joints) in tree order, with
+    /// their depths.
     pub fn tree(wb: &Workbench) -> Vec<(String, usize)> {
-        let Some(t) = wb.take() else { return vec![] };
-        let mut depth = vec![0usize; t.bvh.joints.len()];
-        t.bvh
-            .joints
-            .iter()
-            .enumerate()
-            .map(|(i, j)| {
-                depth[i] = j.parent.map_or(0, |p| depth[p] + 1);
-                (j.name.clone(), depth[i])
-            })
-            .collect()
+        wb.take().map_or(vec![], |t| t.joint_tree())
     }
 
     /// Row of the selected joint in the tree.
     pub fn tree_cursor(wb: &Workbench) -> Option<usize> {
         let sel = wb.selection.as_deref()?;
-        let joint = sel.rsplit_once('.').map_or(sel, |(j, _)| j);
-        wb.take()?.bvh.joint_index(joint)
+        let tree = Self::tree(wb);
+        // the longest joint name the selection starts with (`LeftLeg.Xrotation`, `LeftLeg:wx`)
+        tree.iter()
+            .enumerate()
+            .filter(|(_, (n, _))| {
+                sel == n
+                    || sel
+                        .strip_prefix(n.as_str())
+                        .is_some_and(|r| r.starts_with(['.', ':']))
+            })
+            .max_by_key(|(_, (n, _))| n.len())
+            .map(|(i, _)| i)
     }
 
     /// Handles one key.
@@ -350,23 +355,18 @@ impl Ui {
                     }
                     _ => {
                         // ←/→: the previous / next coordinate of the joint
-                        let Some(t) = wb.take() else { return };
-                        let j = &t.bvh.joints[cur];
-                        let chans: Vec<&str> = j.channels.iter().map(|c| c.name()).collect();
-                        if chans.is_empty() {
+                        let coords = wb.joint_coords(&tree[cur].0);
+                        if coords.is_empty() {
                             return;
                         }
                         let sel = wb.selection.clone().unwrap_or_default();
-                        let at = chans
-                            .iter()
-                            .position(|c| sel == format!("{}.{c}", j.name))
-                            .unwrap_or(0);
+                        let at = coords.iter().position(|c| *c == sel).unwrap_or(0);
                         let n = if code == KeyCode::Left {
-                            (at + chans.len() - 1) % chans.len()
+                            (at + coords.len() - 1) % coords.len()
                         } else {
-                            (at + 1) % chans.len()
+                            (at + 1) % coords.len()
                         };
-                        let name = format!("{}.{}", j.name, chans[n]);
+                        let name = coords[n].clone();
                         self.exec(wb, &Command::Select(name));
                     }
                 }
@@ -404,17 +404,18 @@ impl Ui {
         let p = &wb.params;
         let key = *PARAMS.get(i)?;
         Some(match key {
-            "body.mass" => (key.into(), format!("{}", p.body_mass)),
-            "smooth" => (key.into(), p.smooth.to_string()),
+            "body.mass" => (key.into(), format!("{}", p.take.body.mass_kg)),
+            "smooth" => (key.into(), p.take.smooth.to_string()),
             "blend.window" => (key.into(), format!("{}", p.blend_window)),
             "kp" => (key.into(), format!("{}", p.kp)),
             "kv" => (key.into(), format!("{}", p.kv)),
             "integrator" => (key.into(), p.integrator.clone()),
             "dt" => (key.into(), format!("{}", p.dt)),
             _ => {
-                let sel = wb.selection.as_deref()?;
-                let joint = sel.rsplit_once('.').map_or(sel, |(j, _)| j);
-                let value = match p.link_mass.get(joint) {
+                let cur = Self::tree_cursor(wb)?;
+                let tree = Self::tree(wb);
+                let joint = tree[cur].0.as_str();
+                let value = match p.take.body.link_mass.get(joint) {
                     Some(m) => format!("{m}"),
                     None => match wb.latest_results() {
                         Some(r) => {
@@ -424,9 +425,13 @@ impl Ui {
                                 .body_names
                                 .iter()
                                 .zip(&r.model.inertia)
-                                .filter(|(n, _)| {
-                                    n.rsplit_once('.').map_or(n.as_str(), |(j, _)| j) == joint
+                                .zip(&r.model.joint_names)
+                                .filter(|((n, _), jn)| {
+                                    *jn == joint
+                                        || n.rsplit_once('.').map_or(n.as_str(), |(j, _)| j)
+                                            == joint
                                 })
+                                .map(|(x, _)| x)
                                 .map(|(_, i)| i.mass)
                                 .sum();
                             format!("{}", (m * 1000.0).round() / 1000.0)
@@ -447,20 +452,23 @@ impl Ui {
         let num = value.parse::<f64>().ok();
         let new = match (key.as_str(), num) {
             ("body.mass", Some(m)) => format!("{}", (m + 5.0 * dir).max(5.0)),
-            ("smooth", _) => match wb.params.smooth {
-                Smooth::None if dir > 0.0 => "gaussian:0.005".into(),
-                Smooth::None => return,
-                Smooth::Gaussian { width_s } => {
-                    let w = ((width_s + 0.005 * dir) * 1000.0).round() / 1000.0;
+            ("smooth", _) => match wb.params.take.smooth {
+                SmoothSpec::None if dir > 0.0 => "gaussian:0.005".into(),
+                SmoothSpec::None => return,
+                SmoothSpec::Gaussian { sigma_s } => {
+                    let w = ((sigma_s + 0.005 * dir) * 1000.0).round() / 1000.0;
                     if w <= 0.0 {
                         "none".into()
                     } else {
                         format!("gaussian:{w}")
                     }
                 }
-                Smooth::Butterworth { cutoff_hz } => {
-                    format!("butterworth:{}hz", (cutoff_hz - dir).max(1.0))
+                // a wider kernel is a lower cutoff; the order is kept
+                SmoothSpec::Butterworth { cutoff_hz, order } => SmoothSpec::Butterworth {
+                    cutoff_hz: (cutoff_hz - dir).max(1.0),
+                    order,
                 }
+                .to_string(),
             },
             ("blend.window", Some(w)) => {
                 format!("{}", ((w + 0.1 * dir).max(0.1) * 10.0).round() / 10.0)

@@ -1,0 +1,216 @@
+//! What the workbench writes and applies is what the user sees:
+//! - `export bvh` writes the take as smoothed (and blended), `export bvh sim` the simulated
+//!   motion; reading either back without smoothing gives those configurations again;
+//! - a scene is applied exactly as the CLI's `--scene` applies it (`TakeOptions::from_scene`):
+//!   stature, up axis, position semantics and subtree included;
+//! - long computations report progress inside their loops and stop mid-way when cancelled,
+//!   leaving the workbench as it was.
+
+mod common;
+
+use articula::pipeline::{self, TakeOptions};
+use articula::session::engine::Control;
+use articula::session::{Command, RunKind, Workbench, parse_line};
+use std::path::Path;
+use std::sync::Arc;
+
+fn wb_in(dir: &Path) -> Workbench {
+    Workbench::new(Arc::new(articula::session::Builtin), dir, dir)
+}
+
+fn ok(wb: &mut Workbench, line: &str) -> String {
+    let cmd: Command = parse_line(line, 1).unwrap().unwrap();
+    wb.apply(&cmd)
+        .unwrap_or_else(|e| panic!("{line}: {e}"))
+        .message
+}
+
+fn q_of(wb: &Workbench, coord: &str) -> Vec<f64> {
+    let r = wb.fresh_results().unwrap();
+    r.q.column(r.q.col_index(coord).unwrap())
+}
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn export_bvh_writes_the_smoothed_take_and_it_reads_back_as_such() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut wb = wb_in(dir.path());
+    ok(&mut wb, "load demo:walk as walk");
+    ok(&mut wb, "set smooth gaussian:0.05");
+    ok(&mut wb, "run id");
+    let coords = [
+        "LeftLeg.Xrotation",
+        "Hips.Yposition",
+        "RightUpLeg.Zrotation",
+    ];
+    let seen: Vec<Vec<f64>> = coords.iter().map(|c| q_of(&wb, c)).collect();
+    ok(&mut wb, "export bvh smooth.bvh");
+    // raw, the take differs from what was seen
+    ok(&mut wb, "set smooth none");
+    ok(&mut wb, "run id");
+    assert!(max_diff(&q_of(&wb, coords[0]), &seen[0]) > 1e-3);
+    // the exported file, read without smoothing, is what was seen
+    ok(&mut wb, "load smooth.bvh as exported");
+    ok(&mut wb, "run id");
+    for (c, s) in coords.iter().zip(&seen) {
+        let d = max_diff(&q_of(&wb, c), s);
+        assert!(d < 1e-9, "{c}: {d}");
+    }
+}
+
+#[test]
+fn export_bvh_sim_writes_the_simulated_motion() {
+    let dir = tempfile::tempdir().unwrap();
+    let walk = articula::io::generate::walk(&articula::io::generate::WalkParams {
+        duration_s: 0.5,
+        ..Default::default()
+    });
+    articula::io::bvh::write(&walk, &dir.path().join("w.bvh")).unwrap();
+    let mut wb = wb_in(dir.path());
+    ok(&mut wb, "load w.bvh");
+    let e = wb
+        .apply(&parse_line("export bvh sim s.bvh", 1).unwrap().unwrap())
+        .unwrap_err();
+    assert!(e.to_string().contains("run sim first"), "{e}");
+    // a sloppy controller, so that the simulated motion differs from the take
+    ok(&mut wb, "set kp 4");
+    ok(&mut wb, "set kv 1");
+    ok(&mut wb, "set dt 0.002");
+    ok(&mut wb, "run sim");
+    let sim = wb.sim.as_ref().unwrap().0.clone();
+    ok(&mut wb, "export bvh sim s.bvh");
+    ok(&mut wb, "set smooth none");
+    ok(&mut wb, "load s.bvh as simulated");
+    ok(&mut wb, "run id");
+    let back = wb.fresh_results().unwrap();
+    for c in ["LeftLeg.Xrotation", "Hips.Xposition"] {
+        let want = sim.q.column(sim.q.col_index(c).unwrap());
+        let d = max_diff(&q_of(&wb, c), &want);
+        assert!(d < 1e-9, "{c}: {d}");
+    }
+    assert_eq!(back.time.len(), sim.time.len());
+}
+
+#[test]
+fn a_scene_applies_stature_up_positions_and_subtree_as_the_cli_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let walk = articula::io::generate::walk(&articula::io::generate::WalkParams {
+        duration_s: 0.5,
+        ..Default::default()
+    });
+    articula::io::bvh::write(&walk, &dir.path().join("w.bvh")).unwrap();
+    let scene = dir.path().join("s.toml");
+    std::fs::write(
+        &scene,
+        "takes = [\"w.bvh\"]\nmass = 62\nstature = 1.5\nup = \"y\"\nposition = \"add\"\n\
+         subtree = \"LeftUpLeg\"\nsmooth = \"gaussian:0.03\"\ngains = { kp = 900, kv = 60 }\n",
+    )
+    .unwrap();
+    let mut wb = wb_in(dir.path());
+    let msg = ok(&mut wb, "scene s.toml");
+    assert!(!msg.contains("not applied"), "{msg}");
+    assert_eq!((wb.params.kp, wb.params.kv), (900.0, 60.0));
+    ok(&mut wb, "run id");
+    let r = wb.fresh_results().unwrap().clone();
+    // the CLI's path: the same options from the same file, the same take
+    let opts = TakeOptions::from_scene_file(&scene).unwrap();
+    assert_eq!(wb.params.take, opts);
+    let t = pipeline::load_take(&dir.path().join("w.bvh"), &opts).unwrap();
+    let id = pipeline::inverse_dynamics(&t.model, &t.states);
+    assert_eq!(r.model.nv, t.model.nv);
+    assert!(r.model.nv < 66, "subtree keeps only the left leg's chain");
+    assert_eq!(r.scale, t.scale_to_m);
+    assert_eq!(r.tau.data, id.tau.concat());
+    // the stature was applied: 1.5 m instead of the walk's own 1.75-ish
+    assert!((t.stature_m - 1.5).abs() < 1e-9, "{}", t.stature_m);
+}
+
+#[test]
+fn inverse_dynamics_reports_progress_and_stops_when_asked() {
+    let take =
+        pipeline::load_take(&common::repo("data/demo_walk.bvh"), &TakeOptions::default()).unwrap();
+    let n = take.states.len();
+    let mut seen = vec![];
+    let full = pipeline::inverse_dynamics_with(&take.model, &take.states, &mut |f| {
+        seen.push(f);
+        true
+    });
+    assert_eq!(full.tau.len(), n);
+    assert_eq!(seen.len(), n.div_ceil(pipeline::PROGRESS_EVERY));
+    assert!(seen.windows(2).all(|w| w[0] < w[1]) && seen[0] == 0.0 && *seen.last().unwrap() < 1.0);
+    // the same numbers as the plain call the CLI makes
+    assert_eq!(
+        full.tau,
+        pipeline::inverse_dynamics(&take.model, &take.states).tau
+    );
+    // stop at the third report: two blocks computed
+    let mut calls = 0;
+    let part = pipeline::inverse_dynamics_with(&take.model, &take.states, &mut |_| {
+        calls += 1;
+        calls < 3
+    });
+    assert_eq!(part.tau.len(), 2 * pipeline::PROGRESS_EVERY);
+    assert_eq!(part.tau[..], full.tau[..2 * pipeline::PROGRESS_EVERY]);
+}
+
+#[test]
+fn a_simulation_stops_mid_way_when_cancelled() {
+    let take =
+        pipeline::load_take(&common::repo("data/demo_walk.bvh"), &TakeOptions::default()).unwrap();
+    let settings = pipeline::SimSettings::parse("euler", 0.001, 400.0, 40.0, 0.0, None).unwrap();
+    let mut last = 0.0;
+    let mut calls = 0;
+    let e = pipeline::simulate_states(&take.model, &take.states, &settings, &mut |f| {
+        calls += 1;
+        last = f;
+        calls < 3
+    })
+    .unwrap_err();
+    assert!(e.to_string().contains("cancelled"), "{e}");
+    // 4 s at 1 ms: about 4000 steps, stopped after 2 × 256
+    assert_eq!(calls, 3);
+    assert!(last > 0.0 && last < 0.2, "{last}");
+}
+
+#[test]
+fn a_job_cancelled_from_another_thread_leaves_the_workbench_as_it_was() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut wb = wb_in(dir.path());
+    ok(&mut wb, "load demo:walk");
+    ok(&mut wb, "run id");
+    let before = wb.fresh_results().unwrap().clone();
+    ok(&mut wb, "set integrator rk4");
+    ok(&mut wb, "set dt 0.0005");
+    let job = wb.prepare(&Command::Run(RunKind::Sim)).unwrap().unwrap();
+    let ctl = Arc::new(Control::default());
+    let c = ctl.clone();
+    // cancel once the simulation loop has reported some progress
+    let canceller = std::thread::spawn(move || {
+        while c.progress() < 0.06 {
+            std::thread::yield_now();
+        }
+        c.cancel();
+    });
+    let done = job.run(&ctl);
+    canceller.join().unwrap();
+    assert!(
+        ctl.progress() < 0.9,
+        "stopped mid-way, not at the end: {}",
+        ctl.progress()
+    );
+    let e = wb.finish(done).unwrap_err();
+    assert!(e.to_string().contains("cancelled"), "{e}");
+    // nothing changed: no simulation, the inverse dynamics as before, and it still runs
+    assert!(wb.sim.is_none());
+    assert!(Arc::ptr_eq(wb.latest_results().unwrap(), &before));
+    ok(&mut wb, "set dt 0.004");
+    ok(&mut wb, "run sim");
+    assert!(wb.last_message().contains("tracking error"));
+}
