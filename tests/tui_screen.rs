@@ -242,6 +242,15 @@ fn an_explicit_channel_is_kept_and_a_robot_shows_its_joints() {
             > 10,
         "the arm's links are drawn:\n{s}"
     );
+    // completion knows the motor keys of the arm's coordinates and the report forms
+    press(&mut ui, &mut wb, ":set motor.j2.g<Tab>");
+    assert_eq!(ui.cmdline.as_deref(), Some("set motor.j2.gear "));
+    press(&mut ui, &mut wb, "107.815<Enter>");
+    assert_eq!(wb.params.motor_of("j2").gear_ratio, 107.815);
+    assert_eq!(wb.params.motor_of("j3").gear_ratio, 100.0);
+    press(&mut ui, &mut wb, ":rep<Tab>m<Tab>c<Tab>");
+    assert_eq!(ui.cmdline.as_deref(), Some("report motor curves "));
+    press(&mut ui, &mut wb, "<Esc>");
     // every key on the robot: nothing panics
     press(
         &mut ui,

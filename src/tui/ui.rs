@@ -622,6 +622,12 @@ pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
             .filter(|k| !k.contains('<'))
             .map(|s| s.to_string())
             .chain(joints.iter().map(|j| format!("link.{j}.mass")))
+            .chain(
+                coords
+                    .iter()
+                    .take(12)
+                    .flat_map(|c| ["km", "gear", "efficiency"].map(|f| format!("motor.{c}.{f}"))),
+            )
             .collect(),
         ["set", "joints"] => vec!["euler".into(), "ball".into()],
         ["set", "contact"] => vec!["none".into(), "feet".into()],
@@ -636,18 +642,20 @@ pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
         ["select"] | ["compare", "weights", _, "joint"] => joints.clone(),
         ["run"] => vec!["id".into(), "sim".into()],
         ["export"] => ["csv", "svg", "bvh", "urdf"].map(String::from).to_vec(),
+        ["export", "bvh"] => vec!["sim".into()],
         ["report"] => vec!["motor".into()],
+        ["report", "motor"] => vec!["curves".into()],
         ["compare"] => vec!["weights".into()],
         ["expect"] => [
             "nv", "nq", "frames", "frame", "selected", "mass", "peak", "min", "max", "mean", "rms",
-            "screen", "message",
+            "now", "screen", "message",
         ]
         .map(String::from)
         .to_vec(),
         ["expect", _, _] => ["angle", "velocity", "acceleration", "torque"]
             .map(String::from)
             .to_vec(),
-        ["expect", s] if ["peak", "min", "max", "mean", "rms"].contains(s) => coords.clone(),
+        ["expect", s] if ["peak", "min", "max", "mean", "rms", "now"].contains(s) => coords.clone(),
         _ => vec![],
     };
     let mut cands: Vec<String> = pool.into_iter().filter(|c| c.starts_with(last)).collect();
