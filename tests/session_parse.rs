@@ -353,7 +353,8 @@ fn malformed_lines_name_their_line_and_what_was_expected() {
         ("trajectory 0,0 1 over 2", "the same number of values"),
         ("trajectory 0 1 over -2", "must be positive"),
         ("trajectory 0 1 over 2 at", "usage: trajectory POSE"),
-        ("trajectory 0 1 over 0.001 at 10", "2 to 10 million samples"),
+        ("trajectory 0 1 over 0.001 at 10", "2 samples per move"),
+        ("trajectory 0 1 over 1000 at 1000", "a million in all"),
         (
             "expect now j1 power between 1 2",
             "expected angle, velocity",

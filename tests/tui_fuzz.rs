@@ -53,16 +53,18 @@ fn random_key(rng: &mut Rng) -> KeyEvent {
 }
 
 fn fuzz(seed: u64, events: usize, width: u16, height: u16) {
+    fuzz_on(&["load demo:walk"], seed, events, width, height);
+}
+
+fn fuzz_on(setup: &[&str], seed: u64, events: usize, width: u16, height: u16) {
     let mut rng = Rng(seed);
     let mut ui = Ui::headless(width, height);
     let mut wb = Workbench::default();
-    ui.exec(
-        &mut wb,
-        &Command::Load {
-            path: "demo:walk".into(),
-            name: None,
-        },
-    );
+    for line in setup {
+        let cmd: Command = articula::session::parse_line(line, 1).unwrap().unwrap();
+        ui.exec(&mut wb, &cmd);
+        assert!(ui.error.is_none(), "{line}: {:?}", ui.error);
+    }
     let mut term = Terminal::new(TestBackend::new(width, height)).unwrap();
     for i in 0..events {
         if rng.below(40) == 0 {
@@ -110,4 +112,19 @@ fn random_keys_at_80x24_never_panic() {
 #[test]
 fn random_keys_at_200x60_never_panic() {
     fuzz(0xD1B5_4A32_D192_ED03, 2000, 200, 60);
+}
+
+#[test]
+fn random_keys_on_a_robot_arm_never_panic() {
+    let dh = concat!(env!("CARGO_MANIFEST_DIR"), "/data/stanford.toml");
+    fuzz_on(
+        &[
+            &format!("load {dh}"),
+            "trajectory 0,0,0.3,0,0,0 1,-1,0.6,1,1,1 over 0.5 at 100",
+        ],
+        0x5DEE_CE66_D1CE_4E5B,
+        1500,
+        80,
+        24,
+    );
 }

@@ -248,6 +248,14 @@ fn an_explicit_channel_is_kept_and_a_robot_shows_its_joints() {
     press(&mut ui, &mut wb, "107.815<Enter>");
     assert_eq!(wb.params.motor_of("j2").gear_ratio, 107.815);
     assert_eq!(wb.params.motor_of("j3").gear_ratio, 100.0);
+    // the parameter panel of an arm: the selected joint's drive, its current and motor class
+    let s = screen(&ui, &wb, 100, 30);
+    for want in ["j2 gear", "107.815", "j2 km", "I peak", "→ BLDC-"] {
+        assert!(s.contains(want), "missing {want:?} in\n{s}");
+    }
+    press(&mut ui, &mut wb, "<Tab><Tab><Right>");
+    assert_eq!(ui.focus, Focus::Params);
+    assert_eq!(wb.params.motor_of("j2").gear_ratio, 113.2058);
     press(&mut ui, &mut wb, ":rep<Tab>m<Tab>c<Tab>");
     assert_eq!(ui.cmdline.as_deref(), Some("report motor curves "));
     press(&mut ui, &mut wb, "<Esc>");

@@ -518,10 +518,10 @@ fn parse_trajectory(args: &[String], lineno: usize) -> Result<Command, SessionEr
             "trajectory: the move time and the rate must be positive",
         ));
     }
-    if duration_s * rate_hz < 2.0 || duration_s * rate_hz * poses.len() as f64 > 1e7 {
+    if duration_s * rate_hz < 2.0 || duration_s * rate_hz * poses.len() as f64 > 1e6 {
         return Err(syntax(
             lineno,
-            "trajectory: T × HZ must give 2 to 10 million samples",
+            "trajectory: T × HZ must give 2 samples per move or more, a million in all or less",
         ));
     }
     Ok(Command::Trajectory {

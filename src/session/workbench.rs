@@ -100,6 +100,9 @@ pub struct Workbench {
     pub sim: Option<(Arc<Analysis>, Params)>,
     /// Every message so far, oldest first.
     pub messages: Vec<String>,
+    /// The motor catalogue `report motor` chooses from (`set motor.catalogue`; the bundled
+    /// `data/motor_classes.toml` by default).
+    pub motor_classes: Vec<motor::MotorClass>,
 }
 
 impl std::fmt::Debug for Workbench {
@@ -144,6 +147,7 @@ impl Workbench {
             results: None,
             sim: None,
             messages: vec![],
+            motor_classes: motor::default_catalogue().unwrap_or_default(),
         }
     }
 
@@ -609,12 +613,13 @@ impl Workbench {
             }
             "blend.window" => p.blend_window = num("a window length in seconds")?,
             "motor.catalogue" => {
+                // read now, so a bad file fails here and not at the report
                 if auto {
-                    p.motor_catalogue = None;
+                    self.motor_classes = motor::default_catalogue()?;
+                    self.params.motor_catalogue = None;
                 } else {
                     let file = self.in_path(Path::new(value));
-                    // read now, so a bad file fails here and not at the report
-                    motor::read_catalogue(&file)?;
+                    self.motor_classes = motor::read_catalogue(&file)?;
                     self.params.motor_catalogue = Some(file);
                 }
             }
@@ -890,11 +895,10 @@ impl Workbench {
             .iter()
             .map(|j| self.params.motor_of(&j.joint))
             .collect();
-        let catalogue = match &self.params.motor_catalogue {
-            Some(f) => motor::read_catalogue(f)?,
-            None => motor::default_catalogue()?,
-        };
-        let loads = motor::size_motors(&joints, &specs, &catalogue)?;
+        if self.motor_classes.is_empty() {
+            return Err(err("report motor: the motor catalogue is empty"));
+        }
+        let loads = motor::size_motors(&joints, &specs, &self.motor_classes)?;
         let out = self.out_path(path);
         let text = match (curves, is_csv(&out)) {
             (true, true) => motor::motor_curves_csv(&joints, &specs)?,

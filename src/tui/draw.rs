@@ -5,7 +5,7 @@
 //! (trajectory and torque of the selected coordinate); the timeline; the status or command
 //! line. At 80×24 the main row keeps 14 rows; below 60×16 only a notice is drawn.
 
-use super::ui::{Focus, PARAMS, Ui};
+use super::ui::{Focus, Ui, params_of};
 use crate::dynamics::{Workspace, forward_kinematics};
 use crate::report::superquadric::SuperquadricMesh;
 use crate::session::Workbench;
@@ -251,18 +251,23 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     let block = ui.pane(" Parameters ".into(), Focus::Params);
     let w = block.inner(area).width as usize;
     let mut lines = vec![];
-    for (i, param) in PARAMS.iter().enumerate() {
+    for (i, param) in params_of(wb).iter().enumerate() {
         let Some((key, value)) = ui.param_row(wb, i) else {
-            lines.push(Line::from("link mass: select a joint"));
+            lines.push(Line::from("(select a joint)"));
             continue;
         };
-        let label = key
-            .strip_prefix("link.")
-            .map(|k| k.trim_end_matches(".mass").to_string())
-            .unwrap_or(key);
+        let label = match key.strip_prefix("link.") {
+            Some(k) => k.trim_end_matches(".mass").to_string(),
+            // `motor.j2.gear` → `j2 gear`
+            None => match key.strip_prefix("motor.").and_then(|k| k.rsplit_once('.')) {
+                Some((j, f)) => format!("{j} {f}"),
+                None => key,
+            },
+        };
         let unit = match *param {
             "body.mass" | "link.<selected>.mass" => " kg",
             "blend.window" | "dt" => " s",
+            "motor.<selected>.km" => " N·m/A",
             _ => "",
         };
         let v = format!("{value}{unit}");
@@ -278,6 +283,31 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         lines.push(Line::from(Span::styled(text, style)));
     }
     let p = &wb.params;
+    // a robot: the current and the motor class the selected joint needs (report::motor)
+    if let (Some(_), Some(r), Some(sel)) = (
+        wb.take().and_then(|t| t.robot()),
+        wb.latest_results(),
+        wb.selection.as_deref(),
+    ) && let Some(k) = r.tau.col_index(sel)
+        && is_angular(&r.model, k)
+    {
+        let m = crate::report::motor::JointMotion {
+            joint: sel.to_string(),
+            t: r.time.clone(),
+            tau: r.tau.column(k),
+            qd: r.v.column(k),
+        };
+        if let Ok(l) = crate::report::motor::size_motor(&m, &p.motor_of(sel), &wb.motor_classes) {
+            lines.push(Line::from(format!(
+                "I peak {:.2} A rms {:.2} A",
+                l.peak_current_a, l.rms_current_a
+            )));
+            lines.push(Line::from(format!(
+                "→ {}",
+                crate::report::motor::class_name(&l)
+            )));
+        }
+    }
     lines.push(Line::from(match wb.take().and_then(|t| t.robot()) {
         Some(rb) => format!("robot ({})", rb.kind),
         None => format!("joints {:?} contact {:?}", p.take.joints, p.take.contact).to_lowercase(),

@@ -49,6 +49,26 @@ pub const PARAMS: &[&str] = &[
     "dt",
 ];
 
+/// The parameter panel of a robot arm: the drive of the selected joint, then the simulation.
+pub const ROBOT_PARAMS: &[&str] = &[
+    "motor.<selected>.gear",
+    "motor.<selected>.km",
+    "motor.<selected>.efficiency",
+    "kp",
+    "kv",
+    "integrator",
+    "dt",
+];
+
+/// The rows of the parameter panel for the active take.
+pub fn params_of(wb: &Workbench) -> &'static [&'static str] {
+    if wb.take().is_some_and(|t| t.robot().is_some()) {
+        ROBOT_PARAMS
+    } else {
+        PARAMS
+    }
+}
+
 /// A computation running on another thread, as the UI sees it.
 #[derive(Debug, Clone)]
 pub struct Running {
@@ -379,7 +399,9 @@ impl Ui {
             },
             Focus::Params => match code {
                 KeyCode::Up => self.param_cursor = self.param_cursor.saturating_sub(1),
-                KeyCode::Down => self.param_cursor = (self.param_cursor + 1).min(PARAMS.len() - 1),
+                KeyCode::Down => {
+                    self.param_cursor = (self.param_cursor + 1).min(params_of(wb).len() - 1)
+                }
                 KeyCode::Left => self.adjust(wb, -1.0),
                 _ => self.adjust(wb, 1.0),
             },
@@ -402,7 +424,18 @@ impl Ui {
     /// The `set` key and current value of parameter row `i`.
     pub fn param_row(&self, wb: &Workbench, i: usize) -> Option<(String, String)> {
         let p = &wb.params;
-        let key = *PARAMS.get(i)?;
+        let key = *params_of(wb).get(i)?;
+        if let Some(field) = key.strip_prefix("motor.<selected>.") {
+            // the drive of the selected coordinate
+            let sel = wb.selection.as_deref()?;
+            let m = p.motor_of(sel);
+            let value = match field {
+                "gear" => m.gear_ratio,
+                "km" => m.km_nm_per_a,
+                _ => m.eta(),
+            };
+            return Some((format!("motor.{sel}.{field}"), format!("{value}")));
+        }
         Some(match key {
             "body.mass" => (key.into(), format!("{}", p.take.body.mass_kg)),
             "smooth" => (key.into(), p.take.smooth.to_string()),
@@ -480,6 +513,17 @@ impl Ui {
                 const ALL: [&str; 4] = ["euler", "semi-implicit", "rk4", "dopri5"];
                 let i = ALL.iter().position(|x| *x == value).unwrap_or(2);
                 ALL[(i + if dir > 0.0 { 1 } else { 3 }) % 4].to_string()
+            }
+            // a drive: gear ratio and Km by 5 % steps, efficiency by 0.05 in (0, 1]
+            (k, Some(x)) if k.ends_with(".gear") || k.ends_with(".km") => {
+                let f = if dir > 0.0 { 1.05 } else { 1.0 / 1.05 };
+                format!("{}", (x * f * 1e4).round() / 1e4)
+            }
+            (k, Some(x)) if k.ends_with(".efficiency") => {
+                format!(
+                    "{}",
+                    ((x + 0.05 * dir).clamp(0.05, 1.0) * 100.0).round() / 100.0
+                )
             }
             (_, Some(m)) => format!("{}", ((m + 0.5 * dir).max(0.0) * 1000.0).round() / 1000.0),
             _ => return,
