@@ -214,3 +214,27 @@ fn a_job_cancelled_from_another_thread_leaves_the_workbench_as_it_was() {
     ok(&mut wb, "run sim");
     assert!(wb.last_message().contains("tracking error"));
 }
+
+#[test]
+fn export_bvh_of_the_ball_model_writes_its_smoothed_rotations() {
+    // ball joints are smoothed on the rotation manifold; the file holds those rotations as
+    // Euler channels, so read back (ball model, no smoothing) they are the same rotations
+    let dir = tempfile::tempdir().unwrap();
+    let mut wb = wb_in(dir.path());
+    ok(&mut wb, "load demo:walk");
+    ok(&mut wb, "set joints ball");
+    ok(&mut wb, "set smooth gaussian:0.04");
+    ok(&mut wb, "run id");
+    let seen = wb.fresh_results().unwrap().clone();
+    ok(&mut wb, "export bvh ball.bvh");
+    ok(&mut wb, "set smooth none");
+    ok(&mut wb, "load ball.bvh as back");
+    ok(&mut wb, "run id");
+    let back = wb.fresh_results().unwrap();
+    for c in ["LeftLeg:wx", "RightUpLeg:wz", "Spine:wy"] {
+        let a = articula::session::workbench::angle_series(&seen, c).unwrap();
+        let b = articula::session::workbench::angle_series(back, c).unwrap();
+        let d = max_diff(&a, &b);
+        assert!(d < 1e-9, "{c}: {d}");
+    }
+}
