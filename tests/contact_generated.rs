@@ -1,12 +1,12 @@
 //! Ground reactions of BVH takes that need no capture data:
-//! - the project's generated walk (`io::generate::walk`, Winter-shaped joint curves, the
-//!   lowest foot point on the floor every frame): a foot is always down, with double supports;
-//!   over whole strides the force the motion needs averages body weight (the centre of mass
-//!   neither rises nor sinks) and the feet carry it, except in the frames where the generated
-//!   root height (which follows the lowest foot point, corners included) would need the floor
-//!   to pull: those stay at the root, so the mean ground force exceeds body weight by a few
-//!   per cent and the root force drops by less than on captured walks; the stance knee is
-//!   loaded;
+//! - the project's generated walk (`io::generate::walk`: planted feet rolling heel → flat →
+//!   ball, 60 % stance, double supports, a smooth pelvis path): a foot is always down, with
+//!   double supports; over whole strides the force the motion needs averages body weight (the
+//!   centre of mass neither rises nor sinks) and the feet carry all of it (the root force drops
+//!   by orders of magnitude); the stance knee is loaded, and at 80 kg its peak stays in the
+//!   range of walking (below 2.5 N·m/kg: the generated stance knee is flexed more than
+//!   Winter's, 25–45° in loading response and push-off against 15–40°);
+//! - `data/demo_walk.bvh` is exactly what `articula generate walk` writes;
 //! - feet across naming schemes, placed through the channel map: a Daz-style foot without a
 //!   toe joint takes its toe point from its End Site, a Bandai-style one from its toe joint.
 
@@ -101,13 +101,14 @@ fn the_generated_walk_is_carried_by_its_feet() {
     let pulls = gr.wrench.iter().filter(|w| w[1] < 0.0).count();
     println!("generated walk: the floor would have to pull in {pulls} of {n} frames");
     assert!((needed - 1.0).abs() < 0.01, "{needed}");
-    assert!((mean - 1.0).abs() < 0.06, "{mean}");
+    assert!((mean - 1.0).abs() < 0.02, "{mean}");
+    assert_eq!(pulls, 0);
     assert!(
         gr.contact.iter().all(|c| c[0] || c[1]),
         "a walk has no flight"
     );
     assert!(both > n / 40, "double support {both}/{n}");
-    assert!(with < none / 5.0, "{with} vs {none}");
+    assert!(with < none / 100.0, "{with} vs {none}");
 
     // the stance knee carries body weight: tens of N·m, where hanging it holds a few
     let knee = model.v_index("LeftLeg.Xrotation").unwrap();
@@ -120,6 +121,56 @@ fn the_generated_walk_is_carried_by_its_feet() {
         peak / model.total_mass()
     );
     assert!(peak / model.total_mass() > 0.3, "{peak}");
+}
+
+#[test]
+fn the_demo_walk_is_the_generated_walk() {
+    let file = std::fs::read_to_string(
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/demo_walk.bvh"),
+    )
+    .unwrap();
+    let made = bvh::write_string(&walk(&WalkParams::default()));
+    assert!(
+        file == made,
+        "data/demo_walk.bvh is stale: run `articula generate walk -o data/demo_walk.bvh`"
+    );
+}
+
+#[test]
+fn the_demo_walk_knee_at_80_kg_is_in_the_range_of_walking() {
+    use articula::pipeline::{Contact, TakeOptions, estimate_take_ground_reactions, load_take};
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/demo_walk.bvh");
+    let mut opts = TakeOptions {
+        contact: Contact::Feet,
+        ..TakeOptions::default()
+    };
+    opts.body.mass_kg = 80.0;
+    let take = load_take(&path, &opts).unwrap();
+    let gr = estimate_take_ground_reactions(&take).unwrap();
+    for (j, knee) in ["LeftLeg.Xrotation", "RightLeg.Xrotation"]
+        .iter()
+        .enumerate()
+    {
+        let i = take.model.v_index(knee).unwrap();
+        let peak = gr.tau.iter().map(|t| t[i].abs()).fold(0.0, f64::max);
+        let stance = (0..gr.tau.len())
+            .filter(|&k| gr.contact[k][j])
+            .map(|k| gr.tau[k][i].abs())
+            .fold(0.0, f64::max);
+        println!("demo walk, 80 kg: {knee} peak {peak:.1} N·m, in stance {stance:.1} N·m");
+        assert!(
+            (0.5 * 80.0..2.5 * 80.0).contains(&peak),
+            "{knee}: {peak} N·m"
+        );
+    }
+    let rms = |w: &[[f64; 6]]| {
+        (w.iter()
+            .map(|x| x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
+            .sum::<f64>()
+            / w.len() as f64)
+            .sqrt()
+    };
+    assert!(rms(&gr.residual) < 1.0, "{}", rms(&gr.residual));
 }
 
 /// A lower body in centimetres, Y up, with the given foot and toe names; `toe: None` gives the
