@@ -250,6 +250,11 @@ pub struct TakeArgs {
     /// Keep frame 0 even when it is a rest pose before the motion (dropped by default).
     #[arg(long)]
     pub keep_first_frame: bool,
+    /// Viscous joint friction b (N·m·s/rad; N·s/m on translations), τ gains b·q̇: `B` for every
+    /// joint coordinate, `JOINT=B` for one joint's (or one coordinate's) (repeatable). Never on
+    /// the 6 root coordinates of a floating avatar.
+    #[arg(long, value_name = "B|JOINT=B")]
+    pub damping: Vec<String>,
     /// Scene file (TOML, see data/scene_example.toml); flags given here override it.
     #[arg(long)]
     pub scene: Option<PathBuf>,
@@ -298,6 +303,7 @@ impl TakeArgs {
             subtree: self.subtree.as_deref(),
             contact: self.contact.as_deref(),
             keep_first_frame: self.keep_first_frame,
+            damping: &self.damping,
         })?;
         Ok(o)
     }

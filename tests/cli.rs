@@ -451,3 +451,66 @@ fn export_positions_are_world_joint_positions_in_metres() {
     let head = column(&h, &c, "Head.y")[0];
     assert!(foot_min < 0.1 && head > 1.4, "toe {foot_min} head {head}");
 }
+
+#[test]
+fn damping_adds_exactly_b_times_the_joint_rate_to_the_torques() {
+    // τ(b) − τ(0) = b q̇ on every joint coordinate, per joint where overridden, and nothing on
+    // the six root coordinates (the residual actuator of the floating avatar)
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.5);
+    let run = |extra: &[&str], out: &str| {
+        let p = dir.path().join(out);
+        articula()
+            .arg("id")
+            .arg(&take)
+            .args(extra)
+            .arg("-o")
+            .arg(&p)
+            .assert()
+            .success();
+        read_columns(&p).unwrap()
+    };
+    let (h0, t0) = run(&[], "t0.csv");
+    let (h1, t1) = run(&["--damping", "0.5", "--damping", "LeftLeg=2"], "t1.csv");
+    assert_eq!(h0, h1);
+    let states = dir.path().join("s.csv");
+    articula()
+        .args(["export", "states"])
+        .arg(&take)
+        .arg("-o")
+        .arg(&states)
+        .assert()
+        .success();
+    let (hs, s) = read_columns(&states).unwrap();
+    let mut checked = 0;
+    for (k, name) in h0.iter().enumerate().skip(1) {
+        let v = column(&hs, &s, &format!("v:{name}"));
+        let root = name.starts_with("Hips.");
+        let b = if root {
+            0.0
+        } else if name.starts_with("LeftLeg.") {
+            2.0
+        } else {
+            0.5
+        };
+        for f in 0..v.len() {
+            let d = t1[k][f] - t0[k][f];
+            assert!(
+                (d - b * v[f]).abs() <= 1e-9 * (1.0 + t0[k][f].abs()),
+                "{name} frame {f}: Δτ {d} vs b q̇ {}",
+                b * v[f]
+            );
+        }
+        checked += usize::from(!root && v.iter().any(|x| x.abs() > 1e-3));
+    }
+    assert!(checked >= 10, "only {checked} moving joint coordinates");
+    // a joint the model does not have is an error that says so
+    articula()
+        .arg("id")
+        .arg(&take)
+        .args(["--damping", "Tail=1", "-o"])
+        .arg(dir.path().join("t2.csv"))
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains("damping Tail=1"));
+}

@@ -11,8 +11,13 @@ use nalgebra::{DVector, Vector3};
 /// model's viscous joint friction `bᵢ q̇ᵢ` and optional external forces `f_ext` (one per body,
 /// body frame, acting on the body).
 ///
-/// `τ = D(q) a + h(q, v) + c(q) + b·v − Σ Jᵢᵀ f_ext,i`. Writes `ws.li_x_i`, `ws.v`, `ws.a`,
+/// `τ = D(q) a + h(q, v) + c(q) + b·v − Σ Jᵢᵀ f_ext,i`. Writes `ws.x_up`, `ws.v`, `ws.a`,
 /// `ws.f`, `ws.tau` and returns `&ws.tau`.
+///
+/// Cost: the joint transforms take the fast form of [`Model::parent_transform`] (4
+/// multiplications per rotated vector for a coordinate-axis revolute joint), and bodies without
+/// mass or inertia (the fictitious links of a BVH euler model, two in three bodies) skip the
+/// inertial terms `I a + v ×* I v`.
 pub fn rnea<'w>(
     model: &Model,
     ws: &'w mut Workspace,
@@ -27,7 +32,7 @@ pub fn rnea<'w>(
 
 /// The recursive Newton-Euler sweeps with any of the terms switched off: `v = None` is
 /// `v = 0` (and no friction), `a = None` is `a = 0`, `gravity = false` drops `c(q)`. The
-/// bias-term functions ([`super::bias`]) are this with some terms off. Writes `ws.li_x_i`,
+/// bias-term functions ([`super::bias`]) are this with some terms off. Writes `ws.x_up`,
 /// `ws.v`, `ws.a`, `ws.f`, `ws.tau`.
 pub(crate) fn rnea_terms(
     model: &Model,
@@ -51,18 +56,22 @@ pub(crate) fn rnea_terms(
     //   f_i = I_i a_i + v_i ×* I_i v_i − f_ext,i
     for i in 1..model.nbodies() {
         let (joint, p) = (&model.joints[i], model.parent[i]);
-        let (iq, iv) = (model.idx_q[i], model.idx_v[i]);
-        let x = model.placement[i].compose(&joint.transform(&q[iq..iq + joint.nq()]));
+        let iv = model.idx_v[i];
+        let x = model.parent_transform(i, q);
         let vj = v.map_or(MotionVec::ZERO, |v| joint.motion(&v[iv..iv + joint.nv()]));
         let aj = a.map_or(MotionVec::ZERO, |a| joint.motion(&a[iv..iv + joint.nv()]));
         let vi = x.act_inv_motion(&ws.v[p]) + vj;
         let ai = x.act_inv_motion(&ws.a[p]) + aj + vi.cross_motion(&vj);
         let inertia = &model.inertia[i];
-        let mut fi = inertia.mul_motion(&ai) + vi.cross_force(&inertia.mul_motion(&vi));
+        let mut fi = if inertia.is_zero() {
+            ForceVec::ZERO
+        } else {
+            inertia.mul_motion(&ai) + vi.cross_force(&inertia.mul_motion(&vi))
+        };
         if let Some(fx) = f_ext {
             fi -= fx[i];
         }
-        ws.li_x_i[i] = x;
+        ws.x_up[i] = x;
         ws.v[i] = vi;
         ws.a[i] = ai;
         ws.f[i] = fi;
@@ -87,7 +96,7 @@ pub(crate) fn rnea_terms(
         }
         let p = model.parent[i];
         if p > 0 {
-            let fp = ws.li_x_i[i].act_force(&ws.f[i]);
+            let fp = ws.x_up[i].act_force(&ws.f[i]);
             ws.f[p] += fp;
         }
     }

@@ -3,7 +3,7 @@
 //! writes it.
 
 use crate::model::Model;
-use crate::spatial::{ForceVec, MotionVec, SpatialTransform};
+use crate::spatial::{FastTransform, ForceVec, MotionVec, SpatialTransform};
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 
 /// Marks "no parent degree of freedom" in [`Workspace::dof_parent`].
@@ -13,8 +13,11 @@ pub const NO_DOF: usize = usize::MAX;
 #[derive(Debug, Clone)]
 pub struct Workspace {
     /// Pose of body i in its parent's frame at the current q (`nbodies`); written by
-    /// `forward_kinematics`, `rnea`, `crba`, `aba` and the energy functions.
+    /// `forward_kinematics` and the energy functions.
     pub li_x_i: Vec<SpatialTransform>,
+    /// The same pose in the fast form of `Model::parent_transform` (`nbodies`); written by
+    /// `rnea`, `crba` and `aba`.
+    pub x_up: Vec<FastTransform>,
     /// Pose of body i in the world frame (`nbodies`); written by `forward_kinematics` and the
     /// energy functions.
     pub o_x_i: Vec<SpatialTransform>,
@@ -78,6 +81,7 @@ impl Workspace {
         Self {
             li_x_i: vec![SpatialTransform::IDENTITY; n],
             o_x_i: vec![SpatialTransform::IDENTITY; n],
+            x_up: vec![FastTransform::default(); n],
             v: vec![MotionVec::ZERO; n],
             a: vec![MotionVec::ZERO; n],
             f: vec![ForceVec::ZERO; n],

@@ -14,6 +14,7 @@
 //! smooth = "butterworth:6hz"
 //! contact = "feet"                # or "none"
 //! keep_first_frame = false        # true keeps a rest pose stored as frame 0
+//! damping = 0.5                   # N·m·s/rad, every joint coordinate (or a table by joint)
 //! [link_mass]
 //! LeftUpLeg = 9.5
 //! [gains]
@@ -43,6 +44,62 @@ pub struct Gains {
     /// Velocity gain (1/s), > 0.
     #[serde(deserialize_with = "positive")]
     pub kv: f64,
+}
+
+/// Viscous joint friction `τ = b q̇` (the paper's `bᵢ q̇ᵢ`): `all` for every joint coordinate
+/// (N·m·s/rad for angles, N·s/m for translations), `joints` overriding it by BVH joint name
+/// (all its coordinates) or coordinate name (`LeftLeg.Xrotation`). The 6 root coordinates of a
+/// floating avatar never get damping (they are a residual actuator, not a joint). In a scene:
+/// `damping = 0.5`, or a table `[damping]` of `JOINT = B` with an optional `"*" = B` for the rest.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Damping {
+    /// Coefficient of every joint coordinate without an override, ≥ 0.
+    pub all: f64,
+    /// Overrides by joint or coordinate name, each ≥ 0.
+    pub joints: BTreeMap<String, f64>,
+}
+
+impl Damping {
+    /// No damping anywhere.
+    pub fn is_none(&self) -> bool {
+        self.all == 0.0 && self.joints.values().all(|&b| b == 0.0)
+    }
+}
+
+fn damping<'de, D: Deserializer<'de>>(d: D) -> Result<Damping, D::Error> {
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Spec {
+        All(f64),
+        Table(BTreeMap<String, f64>),
+    }
+    let check = |b: f64| {
+        if b.is_finite() && b >= 0.0 {
+            Ok(b)
+        } else {
+            Err(D::Error::custom(format!(
+                "damping {b}: a viscous friction coefficient must be ≥ 0 (N·m·s/rad)"
+            )))
+        }
+    };
+    Ok(match Spec::deserialize(d)? {
+        Spec::All(b) => Damping {
+            all: check(b)?,
+            joints: BTreeMap::new(),
+        },
+        Spec::Table(t) => {
+            let mut out = Damping::default();
+            for (name, b) in t {
+                let b = check(b)?;
+                if name == "*" {
+                    out.all = b;
+                } else {
+                    out.joints.insert(name, b);
+                }
+            }
+            out
+        }
+    })
 }
 
 /// A study: takes and every parameter the pipeline needs. Units are SI.
@@ -96,6 +153,10 @@ pub struct Scene {
     /// Computed-torque gains; `None`: the default.
     #[serde(default)]
     pub gains: Option<Gains>,
+    /// Viscous joint friction (N·m·s/rad): a number for every joint coordinate, or a table by
+    /// joint name (`"*"` for the rest). Default none.
+    #[serde(default, deserialize_with = "damping")]
+    pub damping: Damping,
 }
 
 fn default_mass() -> f64 {
@@ -297,6 +358,17 @@ mod tests {
     }
 
     #[test]
+    fn damping_is_a_number_or_a_table_by_joint() {
+        let s = parse("takes = [\"a.bvh\"]\n").unwrap();
+        assert!(s.damping.is_none());
+        let s = parse("takes = [\"a.bvh\"]\ndamping = 0.5\n").unwrap();
+        assert_eq!((s.damping.all, s.damping.joints.len()), (0.5, 0));
+        let s = parse("takes = [\"a.bvh\"]\n[damping]\n\"*\" = 0.2\nLeftLeg = 1.5\n").unwrap();
+        assert_eq!(s.damping.all, 0.2);
+        assert_eq!(s.damping.joints["LeftLeg"], 1.5);
+    }
+
+    #[test]
     fn bad_values_are_reported_at_their_line() {
         let cases = [
             ("takes = []\n", 1),
@@ -310,6 +382,8 @@ mod tests {
             ("takes = [\"a.bvh\"]\nposition = \"both\"\n", 2),
             ("takes = [\"a.bvh\"]\n[link_mass]\nLeftUpLeg = -1\n", 3),
             ("takes = [\"a.bvh\"]\n[gains]\nkp = 0\nkv = 1\n", 3),
+            ("takes = [\"a.bvh\"]\ndamping = -0.5\n", 2),
+            ("takes = [\"a.bvh\"]\n\ndamping = \"lots\"\n", 3),
             ("takes = [\"a.bvh\"]\nmas = 70\n", 2),
             ("takes = [\"a.bvh\"]\nunit = \"cm\"\nstature = 1.7\n", 3),
             ("mass = 70\n", 1),

@@ -97,6 +97,22 @@ impl JointKind {
         }
     }
 
+    /// The coordinate axis (0, 1, 2 for x, y, z) of a revolute joint whose axis is exactly that
+    /// unit vector; `None` for any other axis (negative, oblique, not of unit length) and every
+    /// other kind. The dynamics' fast paths (`spatial::AxisRotation`) key on it.
+    #[inline]
+    pub fn revolute_coordinate_axis(&self) -> Option<usize> {
+        match self {
+            JointKind::Revolute { axis } => match (axis.x, axis.y, axis.z) {
+                (1.0, 0.0, 0.0) => Some(0),
+                (0.0, 1.0, 0.0) => Some(1),
+                (0.0, 0.0, 1.0) => Some(2),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+
     /// Column `k` of the motion subspace `S` (child frame): the spatial motion produced by a
     /// unit rate of velocity coordinate `k`.
     #[inline]

@@ -18,7 +18,7 @@ pub mod urdf;
 
 pub use joint::JointKind;
 
-use crate::spatial::{SpatialInertia, SpatialTransform};
+use crate::spatial::{AxisRotation, FastTransform, SpatialInertia, SpatialTransform};
 use nalgebra::Vector3;
 
 /// A superquadric used to draw a link: `|x/a|^(2/e2) + |y/b|^(2/e2)` … (Barr 1981), in the
@@ -100,6 +100,34 @@ impl Model {
     /// Index of the velocity coordinate called `name`.
     pub fn v_index(&self, name: &str) -> Option<usize> {
         self.v_names.iter().position(|n| n == name)
+    }
+    /// `λ(i)X_i(q) = X_tree(i) · X_J(q_i)`: the pose of body i in its parent's frame at `q`
+    /// (Featherstone 2008, §4.1; Pinocchio's `liMi`), in the fast form when joint i is revolute
+    /// about a coordinate axis and its placement has no rotation (every joint of a BVH euler
+    /// model), otherwise as a general transform (a coordinate axis under a rotated placement
+    /// still costs only the two columns the joint rotation mixes).
+    #[inline]
+    pub fn parent_transform(&self, i: usize, q: &[f64]) -> FastTransform {
+        let (joint, placement, iq) = (&self.joints[i], &self.placement[i], self.idx_q[i]);
+        match joint.revolute_coordinate_axis() {
+            Some(k) => {
+                let rot = AxisRotation::new(k, q[iq]);
+                if placement.rot == nalgebra::Matrix3::identity() {
+                    FastTransform::Axis {
+                        trans: placement.trans,
+                        rot,
+                    }
+                } else {
+                    FastTransform::General(SpatialTransform::new(
+                        rot.premul(&placement.rot),
+                        placement.trans,
+                    ))
+                }
+            }
+            None => {
+                FastTransform::General(placement.compose(&joint.transform(&q[iq..iq + joint.nq()])))
+            }
+        }
     }
     /// `out = q ⊕ v·dt` joint by joint on the configuration manifold.
     pub fn integrate(&self, q: &[f64], v: &[f64], dt: f64, out: &mut [f64]) {

@@ -26,6 +26,7 @@ pub use sim::{
 use crate::dynamics::{self, Workspace};
 use crate::error::Error;
 use crate::io::bvh::{self, Bvh, LengthUnit, PositionMode, ResolvedPosition, UpAxis};
+pub use crate::io::scene::Damping;
 use crate::model::anthropometry::{BodyParams, Sex};
 use crate::model::bvh::{BvhMap, BvhModelOptions, JointModel, build_bvh_model};
 use crate::model::{JointKind, Model};
@@ -61,6 +62,9 @@ pub struct TakeOptions {
     /// Keep frame 0 even when it is a rest pose before the motion (`motion::trim`); by
     /// default [`load_take`] drops it.
     pub keep_first_frame: bool,
+    /// Viscous joint friction `b q̇` set on the model (`Model::damping`); never on the 6 root
+    /// coordinates of a floating avatar.
+    pub damping: Damping,
 }
 
 /// Ground contact model of a scene.
@@ -102,6 +106,7 @@ impl Default for TakeOptions {
             subtree: None,
             contact: Contact::None,
             keep_first_frame: false,
+            damping: Damping::default(),
         }
     }
 }
@@ -123,6 +128,8 @@ pub struct Flags<'a> {
     pub contact: Option<&'a str>,
     /// `--keep-first-frame` (false leaves the option unchanged).
     pub keep_first_frame: bool,
+    /// `B` (every joint coordinate) or `JOINT=B` (N·m·s/rad), in order.
+    pub damping: &'a [String],
 }
 
 pub(crate) fn parse_flag<T: FromStr>(flag: &str, value: &str) -> Result<T, Error>
@@ -162,6 +169,7 @@ impl TakeOptions {
         }
         o.contact = scene.contact.parse()?;
         o.keep_first_frame = scene.keep_first_frame;
+        o.damping = scene.damping.clone();
         Ok(o)
     }
 
@@ -223,8 +231,71 @@ impl TakeOptions {
         if f.keep_first_frame {
             self.keep_first_frame = true;
         }
+        for d in f.damping {
+            let (name, b) = match d.split_once('=') {
+                Some((name, b)) => (Some(name.trim()), b),
+                None => (None, d.as_str()),
+            };
+            let b: f64 = parse_flag("damping", b.trim())?;
+            if !(b.is_finite() && b >= 0.0) {
+                return Err(Error::Invalid(format!(
+                    "--damping {d}: expected B or JOINT=B with B ≥ 0 (N·m·s/rad), e.g. 0.5 or \
+                     LeftLeg=2"
+                )));
+            }
+            match name {
+                Some(n) => {
+                    self.damping.joints.insert(n.to_string(), b);
+                }
+                None => self.damping.all = b,
+            }
+        }
         Ok(())
     }
+}
+
+/// Sets `model.damping` from `d`: `d.all` on every coordinate, then the overrides, matched to
+/// coordinates by name (a joint name covers `<joint>`, `<joint>.<channel>` and
+/// `<joint>:<comp>`), skipping the root residual coordinates of a floating avatar
+/// ([`dynamics::floating_root_nv`]: they are not a joint, so friction there means nothing).
+///
+/// # Errors
+/// An override that names no coordinate, or only root coordinates.
+pub fn apply_damping(model: &mut Model, d: &Damping) -> Result<(), Error> {
+    let root = dynamics::floating_root_nv(model);
+    for b in &mut model.damping[root..] {
+        *b = d.all;
+    }
+    for (name, &b) in &d.joints {
+        let covers = |v: &str| {
+            v == name
+                || v.strip_prefix(name.as_str())
+                    .is_some_and(|rest| rest.starts_with('.') || rest.starts_with(':'))
+        };
+        let hits: Vec<usize> = (0..model.nv)
+            .filter(|&k| covers(&model.v_names[k]))
+            .collect();
+        if hits.is_empty() || hits.iter().all(|&k| k < root) {
+            let what = if hits.is_empty() {
+                "no coordinate of the model is named so"
+            } else {
+                "those are the floating root's coordinates, which get no damping"
+            };
+            return Err(Error::Invalid(format!(
+                "damping {name}={b}: {what} (coordinates are e.g. {})",
+                model.v_names[root.min(model.nv.saturating_sub(1))..]
+                    .iter()
+                    .take(3)
+                    .cloned()
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )));
+        }
+        for k in hits.into_iter().filter(|&k| k >= root) {
+            model.damping[k] = b;
+        }
+    }
+    Ok(())
 }
 
 /// Generalized states over time: `q` (nq per sample), `v` and `a` (nv per sample), SI.
@@ -350,6 +421,7 @@ pub fn take_from_bvh(path: &Path, mut bvh: Bvh, opts: &TakeOptions) -> Result<Ta
             ));
         }
     }
+    apply_damping(&mut model, &opts.damping).map_err(|e| at_file(path, e))?;
 
     // q, smooth, v, a
     let states = take_states(&bvh, &model, &map, &opts.smooth)?;
@@ -559,9 +631,19 @@ pub struct Job {
 pub fn load_model(src: &ModelSource, opts: &TakeOptions) -> Result<Model, Error> {
     Ok(match src {
         ModelSource::Take(p) => load_take(p, opts)?.model,
+        ModelSource::Urdf(..) | ModelSource::Dh(_) => robot_model(src, opts)?,
+    })
+}
+
+/// A URDF or DH model with the options that apply to robots (damping).
+fn robot_model(src: &ModelSource, opts: &TakeOptions) -> Result<Model, Error> {
+    let mut model = match src {
         ModelSource::Urdf(p, o) => crate::model::urdf::read_urdf(p, o)?,
         ModelSource::Dh(p) => crate::model::dh::build_dh_model(&crate::io::dh::read(p)?)?,
-    })
+        ModelSource::Take(p) => return Ok(load_take(p, opts)?.model),
+    };
+    apply_damping(&mut model, &opts.damping)?;
+    Ok(model)
 }
 
 /// Loads a model and its states: a take's own states, or a states CSV (required for robots).
@@ -575,12 +657,7 @@ pub fn load_source(
             let t = load_take(p, opts)?;
             (t.model.clone(), Some(t.states.clone()), Some(t))
         }
-        ModelSource::Urdf(p, o) => (crate::model::urdf::read_urdf(p, o)?, None, None),
-        ModelSource::Dh(p) => (
-            crate::model::dh::build_dh_model(&crate::io::dh::read(p)?)?,
-            None,
-            None,
-        ),
+        ModelSource::Urdf(..) | ModelSource::Dh(_) => (robot_model(src, opts)?, None, None),
     };
     let states = match (states, own) {
         (Some(s), _) => read_states(&model, s)?,

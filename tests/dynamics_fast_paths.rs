@@ -1,0 +1,166 @@
+//! The fast paths of the dynamics give the generic answer.
+//!
+//! A revolute joint about a coordinate axis `e_k` takes the fast form of
+//! `Model::parent_transform` (a principal-axis rotation after a translation when its placement
+//! has no rotation, two mixed columns when it has); any other axis — negative, oblique, not of
+//! unit length — takes the generic one. Turning `e_k` into `−e_k` and negating that
+//! coordinate's q, q̇, q̈ and τ describes the same motion through the generic path, so RNEA,
+//! CRBA and ABA must agree to rounding between the two models. Bodies without mass or inertia
+//! (skipped in RNEA's inertial terms) are mixed in, as in a BVH euler model.
+
+use articula::dynamics::samples::{SplitMix64, random_configuration, random_tree, random_vector};
+use articula::dynamics::{Workspace, aba, crba, rnea};
+use articula::model::{JointKind, Model};
+use articula::spatial::{SpatialInertia, SpatialTransform};
+use nalgebra::{Matrix3, Vector3};
+
+/// A random tree whose revolute joints are about coordinate axes, some bodies massless and every other placement free of rotation (some also of translation).
+fn coordinate_axis_tree(seed: u64, floating: bool) -> Model {
+    let mut m = random_tree(24, seed, floating);
+    for i in 1..m.nbodies() {
+        if let JointKind::Revolute { .. } = m.joints[i] {
+            m.joints[i] = JointKind::Revolute {
+                axis: Vector3::ith(i % 3, 1.0),
+            };
+        }
+        if i % 2 == 0 {
+            m.placement[i].rot = Matrix3::identity();
+        }
+        if i % 4 == 0 {
+            m.placement[i] = SpatialTransform::IDENTITY;
+        }
+    }
+    // massless links carry revolute joints about other axes, as in a BVH euler model (a massless
+    // leaf, or one carrying a ball joint, would make D singular)
+    for i in (3..m.nbodies()).step_by(3) {
+        let children: Vec<usize> = (i + 1..m.nbodies()).filter(|&c| m.parent[c] == i).collect();
+        let fine = |c: &usize| {
+            m.joints[*c]
+                .revolute_coordinate_axis()
+                .is_some_and(|k| k != i % 3)
+                && m.inertia[*c] != SpatialInertia::ZERO
+        };
+        let revolute = m.joints[i].revolute_coordinate_axis().is_some();
+        if revolute && !children.is_empty() && children.iter().all(fine) {
+            m.inertia[i] = SpatialInertia::ZERO;
+        }
+    }
+    m
+}
+
+/// The same model with every coordinate axis negated, and the sign of each of its coordinates.
+fn negated(m: &Model) -> (Model, Vec<f64>) {
+    let mut n = m.clone();
+    let mut sign = vec![1.0; m.nv];
+    for i in 1..m.nbodies() {
+        if let Some(k) = m.joints[i].revolute_coordinate_axis() {
+            n.joints[i] = JointKind::Revolute {
+                axis: -Vector3::ith(k, 1.0),
+            };
+            assert_eq!(n.joints[i].revolute_coordinate_axis(), None);
+            sign[m.idx_v[i]] = -1.0;
+        }
+    }
+    (n, sign)
+}
+
+fn rel(a: &[f64], b: &[f64]) -> f64 {
+    let scale = a.iter().fold(1.0f64, |s, x| s.max(x.abs()));
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |e, (x, y)| e.max((x - y).abs()))
+        / scale
+}
+
+#[test]
+fn coordinate_axis_joints_agree_with_the_generic_path() {
+    for (seed, floating) in [(1, false), (2, true), (3, false), (4, true)] {
+        let m = coordinate_axis_tree(seed, floating);
+        let (n, sign) = negated(&m);
+        assert!(sign.iter().filter(|&&s| s < 0.0).count() >= 6);
+        assert!(m.inertia.iter().skip(1).any(|i| *i == SpatialInertia::ZERO));
+        let (mut wm, mut wn) = (Workspace::new(&m), Workspace::new(&n));
+        let mut rng = SplitMix64(seed);
+        for _ in 0..5 {
+            let mut q = vec![0.0; m.nq];
+            let (mut v, mut a) = (vec![0.0; m.nv], vec![0.0; m.nv]);
+            random_configuration(&m, &mut rng, &mut q);
+            random_vector(&mut rng, 2.0, &mut v);
+            random_vector(&mut rng, 2.0, &mut a);
+            // the negated model's state: revolute coordinates (nq = nv = 1) change sign
+            let flip = |x: &[f64], idx: &dyn Fn(usize) -> usize| -> Vec<f64> {
+                let mut y = x.to_vec();
+                for i in 1..m.nbodies() {
+                    if m.joints[i].revolute_coordinate_axis().is_some() {
+                        y[idx(i)] = -y[idx(i)];
+                    }
+                }
+                y
+            };
+            let (qn, vn, an) = (
+                flip(&q, &|i| m.idx_q[i]),
+                flip(&v, &|i| m.idx_v[i]),
+                flip(&a, &|i| m.idx_v[i]),
+            );
+            let signed = |x: &[f64]| x.iter().zip(&sign).map(|(x, s)| x * s).collect::<Vec<_>>();
+
+            let tm = rnea(&m, &mut wm, &q, &v, &a, None).as_slice().to_vec();
+            let tn = rnea(&n, &mut wn, &qn, &vn, &an, None).as_slice().to_vec();
+            assert!(rel(&tm, &signed(&tn)) < 1e-12, "rnea, seed {seed}");
+
+            let dm = crba(&m, &mut wm, &q).clone();
+            let dn = crba(&n, &mut wn, &qn).clone();
+            for r in 0..m.nv {
+                for c in 0..m.nv {
+                    let e = (dm[(r, c)] - sign[r] * sign[c] * dn[(r, c)]).abs();
+                    assert!(
+                        e < 1e-12 * (1.0 + dm[(r, r)].abs()),
+                        "crba ({r},{c}), seed {seed}"
+                    );
+                }
+            }
+
+            let am = aba(&m, &mut wm, &q, &v, &tm, None)
+                .unwrap()
+                .as_slice()
+                .to_vec();
+            let ab = aba(&n, &mut wn, &qn, &vn, &signed(&tm), None)
+                .unwrap()
+                .as_slice()
+                .to_vec();
+            assert!(rel(&am, &signed(&ab)) < 1e-9, "aba, seed {seed}");
+            assert!(rel(&am, &a) < 1e-9, "aba∘rnea, seed {seed}");
+        }
+    }
+}
+
+#[test]
+fn only_exact_unit_coordinate_axes_take_the_fast_path() {
+    let r = |axis: Vector3<f64>| JointKind::Revolute { axis }.revolute_coordinate_axis();
+    assert_eq!(r(Vector3::x()), Some(0));
+    assert_eq!(r(Vector3::y()), Some(1));
+    assert_eq!(r(Vector3::z()), Some(2));
+    assert_eq!(r(-Vector3::z()), None);
+    assert_eq!(r(Vector3::new(0.0, 2.0, 0.0)), None);
+    assert_eq!(r(Vector3::new(1.0 - 1e-16, 0.0, 0.0)), None);
+    assert_eq!(r(Vector3::new(0.6, 0.8, 0.0)), None);
+    assert_eq!(
+        JointKind::Prismatic { axis: Vector3::x() }.revolute_coordinate_axis(),
+        None
+    );
+}
+
+#[test]
+fn parent_transform_is_placement_times_joint_transform() {
+    let m = coordinate_axis_tree(9, true);
+    let mut q = vec![0.0; m.nq];
+    random_configuration(&m, &mut SplitMix64(5), &mut q);
+    for i in 1..m.nbodies() {
+        let j = &m.joints[i];
+        let iq = m.idx_q[i];
+        let want = m.placement[i].compose(&j.transform(&q[iq..iq + j.nq()]));
+        let got = m.parent_transform(i, &q).to_transform();
+        assert!((got.rot - want.rot).norm() < 1e-15, "body {i}");
+        assert!((got.trans - want.trans).norm() < 1e-15, "body {i}");
+    }
+}
