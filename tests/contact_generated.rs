@@ -173,6 +173,57 @@ fn the_demo_walk_knee_at_80_kg_is_in_the_range_of_walking() {
     assert!(rms(&gr.residual) < 1.0, "{}", rms(&gr.residual));
 }
 
+#[test]
+fn the_demo_walk_feet_do_not_slide_in_stance() {
+    // through the model built from the file (not the generator's own kinematics), without
+    // smoothing: while a foot is flat (8–35 % of its cycle) its ankle and toe joints stay put;
+    // while it rolls over the ball of the foot (35–60 %, the foot turning 40°) its toe joint,
+    // 2 cm above the ball, moves at most 2 cm·sin 40° = 1.3 cm
+    use articula::dynamics::{Workspace, forward_kinematics};
+    use articula::motion::smooth::SmoothSpec;
+    use articula::pipeline::{TakeOptions, load_take};
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/demo_walk.bvh");
+    let opts = TakeOptions {
+        smooth: SmoothSpec::None,
+        ..TakeOptions::default()
+    };
+    let take = load_take(&path, &opts).unwrap();
+    let feet = feet_of_bvh(&take.bvh, &take.map, &take.model);
+    let mut ws = Workspace::new(&take.model);
+    let cycle = WalkParams::default().cycle_s;
+    let mut flat: Vec<Option<(Vector3<f64>, Vector3<f64>)>> = vec![None; 2];
+    let mut roll: Vec<Option<Vector3<f64>>> = vec![None; 2];
+    let (mut flat_moved, mut roll_moved): (f64, f64) = (0.0, 0.0);
+    for (k, t) in take.states.time.iter().enumerate() {
+        forward_kinematics(&take.model, &mut ws, &take.states.q[k]);
+        for (j, shift) in [(0, 0.0), (1, 0.5)] {
+            let p = (t / cycle - shift).rem_euclid(1.0);
+            let (ankle, toe) = (feet[j].ankle(&ws.o_x_i), feet[j].toe(&ws.o_x_i));
+            if (0.085..0.345).contains(&p) {
+                let (a, b) = *flat[j].get_or_insert((ankle, toe));
+                flat_moved = flat_moved.max((ankle - a).norm()).max((toe - b).norm());
+            } else {
+                flat[j] = None;
+            }
+            if (0.35..0.6).contains(&p) {
+                let b = *roll[j].get_or_insert(toe);
+                roll_moved = roll_moved.max((toe - b).xz().norm());
+            } else {
+                roll[j] = None;
+            }
+        }
+    }
+    println!(
+        "demo walk: flat feet move {flat_moved:.1e} m; the toe joint moves {roll_moved:.4} m \
+         while the foot rolls over its ball"
+    );
+    assert!(flat_moved < 1e-6, "{flat_moved} m");
+    assert!(
+        roll_moved < 0.02 * 40f64.to_radians().sin() + 1e-3,
+        "{roll_moved} m"
+    );
+}
+
 /// A lower body in centimetres, Y up, with the given foot and toe names; `toe: None` gives the
 /// foot an End Site instead of a toe joint.
 fn legs(hips: &str, side: [(&str, &str, &str, Option<&str>); 2]) -> String {
