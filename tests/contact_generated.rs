@@ -4,8 +4,9 @@
 //!   double supports; over whole strides the force the motion needs averages body weight (the
 //!   centre of mass neither rises nor sinks) and the feet carry all of it (the root force drops
 //!   by orders of magnitude); the stance knee is loaded, and at 80 kg its peak stays in the
-//!   range of walking (below 2.5 N·m/kg: the generated stance knee is flexed more than
-//!   Winter's, 25–45° in loading response and push-off against 15–40°);
+//!   range of walking forces (below 2.5 N·m/kg; above Winter's 0.5–1 N·m/kg, at the other
+//!   foot's heel strike, where the trailing foot's force can only be taken parallel to the
+//!   whole-body force: README, knee-load study);
 //! - `data/demo_walk.bvh` is exactly what `articula generate walk` writes;
 //! - feet across naming schemes, placed through the channel map: a Daz-style foot without a
 //!   toe joint takes its toe point from its End Site, a Bandai-style one from its toe joint.
