@@ -31,7 +31,7 @@ pub const SINGULAR_RTOL: f64 = 1e-8;
 /// [`Error::Numerical`] when some `D_i` is not positive definite (massless chain, or gimbal lock
 /// of an euler joint model): the message names the coordinate and suggests the ball joint model.
 ///
-/// Writes `ws.li_x_i`, `ws.v`, `ws.a`, `ws.c`, `ws.inertia6` (articulated inertias), `ws.p_a`,
+/// Writes `ws.x_up`, `ws.v`, `ws.a`, `ws.c`, `ws.inertia6` (articulated inertias), `ws.p_a`,
 /// `ws.u_mat`, `ws.d_inv`, `ws.u_vec` and `ws.qdd`; returns `&ws.qdd`.
 pub fn aba<'w>(
     model: &Model,
@@ -47,16 +47,20 @@ pub fn aba<'w>(
     ws.v[0] = MotionVec::ZERO;
     for i in 1..n {
         let (joint, p) = (&model.joints[i], model.parent[i]);
-        let (iq, iv) = (model.idx_q[i], model.idx_v[i]);
-        let x = model.placement[i].compose(&joint.transform(&q[iq..iq + joint.nq()]));
+        let iv = model.idx_v[i];
+        let x = model.parent_transform(i, q);
         let vj = joint.motion(&v[iv..iv + joint.nv()]);
         let vi = x.act_inv_motion(&ws.v[p]) + vj;
         let inertia = &model.inertia[i];
-        let mut pa = vi.cross_force(&inertia.mul_motion(&vi));
+        let mut pa = if inertia.is_zero() {
+            ForceVec::ZERO
+        } else {
+            vi.cross_force(&inertia.mul_motion(&vi))
+        };
         if let Some(fx) = f_ext {
             pa -= fx[i];
         }
-        ws.li_x_i[i] = x;
+        ws.x_up[i] = x;
         ws.v[i] = vi;
         ws.c[i] = vi.cross_motion(&vj);
         ws.inertia6[i] = inertia.to_matrix();
@@ -72,7 +76,10 @@ pub fn aba<'w>(
         let (ia_red, pa_red) = if nvi == 1 {
             // one degree of freedom: D_i and u_i are scalars
             let s = joint.subspace_col(0).to_vector6();
-            let u = ia * s;
+            let u = match joint.revolute_coordinate_axis() {
+                Some(a) => ia.column(a).into_owned(),
+                None => ia * s,
+            };
             let d = s.dot(&u);
             check_pivot(model, iv, d, pivot_scale(&ia, &s))?;
             let uu = tau[iv] - model.damping[iv] * v[iv] - s.dot(&pa);
@@ -113,8 +120,8 @@ pub fn aba<'w>(
         // hand the articulated body over to the parent: I^A_λ += λX_i* I^a iX_λ
         let p = model.parent[i];
         if p > 0 {
-            let x = ws.li_x_i[i];
-            ws.inertia6[p] += inertia6::to_parent(&x, &ia_red);
+            let x = ws.x_up[i];
+            ws.inertia6[p] += inertia6::to_parent_fast(&x, &ia_red);
             ws.p_a[p] += x.act_force(&ForceVec::from_vector6(&pa_red));
         }
     }
@@ -124,7 +131,7 @@ pub fn aba<'w>(
     for i in 1..n {
         let joint = &model.joints[i];
         let (iv, nvi) = (model.idx_v[i], joint.nv());
-        let ai = ws.li_x_i[i].act_inv_motion(&ws.a[model.parent[i]]) + ws.c[i];
+        let ai = ws.x_up[i].act_inv_motion(&ws.a[model.parent[i]]) + ws.c[i];
         let a6 = ai.to_vector6();
         let qdd = &mut ws.qdd.as_mut_slice()[iv..iv + nvi];
         if nvi == 1 {

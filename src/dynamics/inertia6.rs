@@ -3,7 +3,7 @@
 //! A rigid-body [`SpatialInertia`](crate::spatial::SpatialInertia) becomes one with
 //! `to_matrix()`; an articulated inertia is a general symmetric positive semi-definite matrix.
 
-use crate::spatial::{ForceVec, MotionVec, SpatialTransform, skew};
+use crate::spatial::{AxisRotation, FastTransform, ForceVec, MotionVec, SpatialTransform, skew};
 use nalgebra::{Matrix3, Matrix6, Vector6};
 
 /// `I · m` for a 6×6 inertia (angular first).
@@ -43,6 +43,50 @@ pub fn to_parent(x: &SpatialTransform, i: &Matrix6<f64>) -> Matrix6<f64> {
     out
 }
 
+/// [`to_parent`] for a transform in fast form: a coordinate-axis rotation turns each 3×3 block
+/// with 24 multiplications instead of 54, and a zero translation (the zero-length fictitious
+/// links of a BVH euler model) skips the shift.
+#[inline]
+pub fn to_parent_fast(x: &FastTransform, i: &Matrix6<f64>) -> Matrix6<f64> {
+    let (trans, rot) = match x {
+        FastTransform::Axis { trans, rot } => (trans, rot),
+        FastTransform::General(x) => return to_parent(x, i),
+    };
+    let a1 = sandwich(rot, &i.fixed_view::<3, 3>(0, 0).into_owned());
+    let b1 = sandwich(rot, &i.fixed_view::<3, 3>(0, 3).into_owned());
+    let c1 = sandwich(rot, &i.fixed_view::<3, 3>(3, 3).into_owned());
+    let (a2, b2) = if *trans == nalgebra::Vector3::zeros() {
+        (a1, b1)
+    } else {
+        let p = skew(trans);
+        let pc = p * c1;
+        let bp = b1 * p;
+        (a1 - bp - bp.transpose() - pc * p, b1 + pc)
+    };
+    let mut out = Matrix6::zeros();
+    out.fixed_view_mut::<3, 3>(0, 0).copy_from(&a2);
+    out.fixed_view_mut::<3, 3>(0, 3).copy_from(&b2);
+    out.fixed_view_mut::<3, 3>(3, 0).copy_from(&b2.transpose());
+    out.fixed_view_mut::<3, 3>(3, 3).copy_from(&c1);
+    out
+}
+
+/// `R M Rᵀ` for a coordinate-axis rotation `R`: rotate the columns (`R M`), then the rows
+/// (`(R M) Rᵀ`, whose rows are `R` times the rows of `R M`).
+#[inline]
+fn sandwich(r: &AxisRotation, m: &Matrix3<f64>) -> Matrix3<f64> {
+    let rm = Matrix3::from_columns(&[
+        r.rotate(&m.column(0).into_owned()),
+        r.rotate(&m.column(1).into_owned()),
+        r.rotate(&m.column(2).into_owned()),
+    ]);
+    Matrix3::from_rows(&[
+        r.rotate(&rm.row(0).transpose()).transpose(),
+        r.rotate(&rm.row(1).transpose()).transpose(),
+        r.rotate(&rm.row(2).transpose()).transpose(),
+    ])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -73,6 +117,16 @@ mod tests {
             let a = to_parent(&x, &m);
             let b = x.act_inertia_matrix(&m);
             assert!((a - b).norm() < 1e-12, "{}", (a - b).norm());
+            // the fast form, with and without translation, about each coordinate axis
+            for axis in 0..3 {
+                for trans in [x.trans, Vector3::zeros()] {
+                    let rot = AxisRotation::new(axis, 0.9);
+                    let fast = FastTransform::Axis { trans, rot };
+                    let a = to_parent_fast(&fast, &m);
+                    let b = to_parent(&fast.to_transform(), &m);
+                    assert!((a - b).norm() < 1e-12, "axis {axis}: {}", (a - b).norm());
+                }
+            }
         }
     }
 }

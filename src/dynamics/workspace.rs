@@ -19,8 +19,12 @@ pub struct Workspace {
     /// `rnea`, `crba` and `aba`.
     pub x_up: Vec<FastTransform>,
     /// Pose of body i in the world frame (`nbodies`); written by `forward_kinematics` and the
-    /// energy functions.
+    /// energy functions; `crba` writes it relative to the origin of the first body with mass
+    /// (world axes). Entry 0 stays the identity.
     pub o_x_i: Vec<SpatialTransform>,
+    /// Motion subspace column of each velocity coordinate in world axes (`nv`; the spatial
+    /// velocity of its body at unit rate, about `crba`'s reference point); written by `crba`.
+    pub s_world: Vec<MotionVec>,
     /// Spatial velocity of body i, body frame (`nbodies`, rad/s, m/s); written by `rnea`, `aba`
     /// and the energy functions.
     pub v: Vec<MotionVec>,
@@ -33,9 +37,10 @@ pub struct Workspace {
     /// Generalized forces (`nv`, N·m or N); written by `rnea` (and the bias-term functions,
     /// which run it).
     pub tau: DVector<f64>,
-    /// 6×6 spatial inertia of body i, body frame, about its origin, angular first
-    /// (`nbodies`, kg, kg·m, kg·m²): the composite rigid-body inertia `I^c_i` after `crba`,
-    /// the articulated-body inertia `I^A_i` after `aba`.
+    /// 6×6 spatial inertia of body i, angular first (`nbodies`, kg, kg·m, kg·m²): the
+    /// composite rigid-body inertia `I^c_i` in world coordinates about the world origin after
+    /// `crba`; the articulated-body inertia `I^A_i` in body i's frame about its origin after
+    /// `aba`.
     pub inertia6: Vec<Matrix6<f64>>,
     /// Articulated bias force `p^A_i`, body frame (`nbodies`, N·m, N); written by `aba`.
     pub p_a: Vec<ForceVec>,
@@ -82,6 +87,7 @@ impl Workspace {
             li_x_i: vec![SpatialTransform::IDENTITY; n],
             o_x_i: vec![SpatialTransform::IDENTITY; n],
             x_up: vec![FastTransform::default(); n],
+            s_world: vec![MotionVec::ZERO; nv],
             v: vec![MotionVec::ZERO; n],
             a: vec![MotionVec::ZERO; n],
             f: vec![ForceVec::ZERO; n],
