@@ -40,6 +40,10 @@ pub enum Error {
     /// A numerical failure, e.g. a singular mass matrix; the message names the joint.
     #[error("{0}")]
     Numerical(String),
+
+    /// A computation stopped because its caller asked it to (a user interface's cancel).
+    #[error("cancelled")]
+    Cancelled,
 }
 
 pub type Result<T> = std::result::Result<T, Error>;

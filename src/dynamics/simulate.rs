@@ -167,7 +167,7 @@ pub fn simulate(
 pub const PROGRESS_EVERY: usize = 256;
 
 /// [`simulate`] that reports its progress (0‥1) to `keep_going` every [`PROGRESS_EVERY`]
-/// steps and stops with `Error::Invalid("cancelled")` when it returns false (for a user
+/// steps and stops with `Error::Cancelled` when it returns false (for a user
 /// interface's worker thread; the callback is called by reference, nothing is allocated).
 pub fn simulate_with(
     model: &Model,
@@ -224,7 +224,7 @@ pub fn simulate_with(
     let mut next_sample = 0;
     for n in 0..=steps {
         if n % PROGRESS_EVERY == 0 && !keep_going(n as f64 / (steps + 1) as f64) {
-            return Err(Error::Invalid("cancelled".into()));
+            return Err(Error::Cancelled);
         }
         let t = t0 + n as f64 * opts.dt;
         let context = |e: Error| match e {

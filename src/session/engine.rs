@@ -13,14 +13,38 @@ use crate::pipeline::{self, TakeOptions};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
 
 /// Progress and cancellation shared between a computation and whoever waits for it.
-#[derive(Debug, Default)]
+///
+/// Progress is reported in 0‥1 of the current *span* ([`set_span`](Self::set_span)), a part
+/// of the whole job: a job of several stages (a comparison re-running inverse dynamics at each
+/// body mass) gives each stage its span, and the stage reports its own 0‥1 inside it. Every
+/// field is an atomic: reporting allocates nothing and takes no lock.
+#[derive(Debug)]
 pub struct Control {
     cancel: AtomicBool,
-    /// Progress in parts per million.
+    /// Progress of the whole job in parts per million.
     progress: AtomicU32,
+    /// The current span: its start (high 32 bits) and end (low 32 bits) in parts per million.
+    span: AtomicU64,
+}
+
+impl Default for Control {
+    fn default() -> Self {
+        Self {
+            cancel: AtomicBool::new(false),
+            progress: AtomicU32::new(0),
+            span: AtomicU64::new(PPM as u64),
+        }
+    }
+}
+
+/// Parts per million in one.
+const PPM: u32 = 1_000_000;
+
+fn ppm(f: f64) -> u32 {
+    (f.clamp(0.0, 1.0) * f64::from(PPM)).round() as u32
 }
 
 impl Control {
@@ -32,21 +56,48 @@ impl Control {
     pub fn is_cancelled(&self) -> bool {
         self.cancel.load(Ordering::Relaxed)
     }
-    /// Records progress `f` in 0‥1.
-    pub fn set_progress(&self, f: f64) {
-        self.progress
-            .store((f.clamp(0.0, 1.0) * 1e6) as u32, Ordering::Relaxed);
+    /// Makes `from‥to` (parts of the whole job, 0‥1) the span that [`set_progress`]
+    /// reports into, and moves the progress to `from`.
+    ///
+    /// [`set_progress`]: Self::set_progress
+    pub fn set_span(&self, from: f64, to: f64) {
+        let (a, b) = (ppm(from), ppm(to).max(ppm(from)));
+        self.span
+            .store((u64::from(a) << 32) | u64::from(b), Ordering::Relaxed);
+        self.progress.store(a, Ordering::Relaxed);
     }
-    /// Progress in 0‥1.
+    /// The current span (0‥1 of the whole job).
+    pub fn span(&self) -> (f64, f64) {
+        let s = self.span.load(Ordering::Relaxed);
+        let p = f64::from(PPM);
+        (f64::from((s >> 32) as u32) / p, f64::from(s as u32) / p)
+    }
+    /// Records progress `f` in 0‥1 of the current span.
+    pub fn set_progress(&self, f: f64) {
+        let (from, to) = self.span();
+        self.progress.store(
+            ppm(from + (to - from) * f.clamp(0.0, 1.0)),
+            Ordering::Relaxed,
+        );
+    }
+    /// Progress of the whole job in 0‥1.
     pub fn progress(&self) -> f64 {
-        f64::from(self.progress.load(Ordering::Relaxed)) / 1e6
+        f64::from(self.progress.load(Ordering::Relaxed)) / f64::from(PPM)
     }
     /// `Err(Cancelled)` once cancelled; engines call it in their loops.
     pub fn check(&self) -> Result<(), Error> {
         if self.is_cancelled() {
-            Err(Error::Invalid("cancelled".into()))
+            Err(Error::Cancelled)
         } else {
             Ok(())
+        }
+    }
+    /// A progress callback for the library's loops (`keep_going(f) -> bool`): reports `f`
+    /// mapped onto `from‥to` of the current span, and returns false once cancelled.
+    pub fn stage(&self, from: f64, to: f64) -> impl FnMut(f64) -> bool + '_ {
+        move |f| {
+            self.set_progress(from + (to - from) * f);
+            !self.is_cancelled()
         }
     }
 }
@@ -320,13 +371,14 @@ pub trait Engine: Send + Sync {
     fn blend(&self, a: &Take, b: &Take, window: (f64, f64)) -> Result<Take, Error>;
     /// Writes a BVH take's motion as the user sees it: the smoothed q of `params` (the
     /// pipeline's `articula smooth`), or with `motion`, those configurations (a simulation of
-    /// the take, one row per frame).
+    /// the take, one row per frame). Nothing is written once `ctl` is cancelled.
     fn export_bvh(
         &self,
         take: &Take,
         params: &Params,
         motion: Option<&Analysis>,
         path: &Path,
+        ctl: &Control,
     ) -> Result<(), Error>;
 }
 
@@ -345,17 +397,8 @@ fn table(names: &[String], rows: &[Vec<f64>]) -> Table {
     }
 }
 
-/// A progress callback for the pipeline loops: maps their 0‥1 onto `from‥to` of `ctl` and
-/// stops them once `ctl` is cancelled.
-fn stage<'a>(ctl: &'a Control, from: f64, to: f64) -> impl FnMut(f64) -> bool + 'a {
-    move |f| {
-        ctl.set_progress(from + (to - from) * f);
-        !ctl.is_cancelled()
-    }
-}
-
 fn cancelled() -> Error {
-    Error::Invalid("cancelled".into())
+    Error::Cancelled
 }
 
 impl Engine for Builtin {
@@ -440,7 +483,7 @@ impl Engine for Builtin {
         let tau = match grf {
             Some(tau) => tau,
             None => {
-                let t = pipeline::inverse_dynamics_with(&model, &states, &mut stage(ctl, 0.2, 1.0));
+                let t = pipeline::inverse_dynamics_with(&model, &states, &mut ctl.stage(0.2, 1.0));
                 if t.tau.len() < states.len() {
                     return Err(cancelled());
                 }
@@ -487,7 +530,7 @@ impl Engine for Builtin {
             0.0,
             None,
         )?;
-        let r = pipeline::simulate_states(&model, &states, &settings, &mut stage(ctl, 0.05, 1.0))?
+        let r = pipeline::simulate_states(&model, &states, &settings, &mut ctl.stage(0.05, 1.0))?
             .result;
         ctl.set_progress(1.0);
         // accelerations are not recorded: differentiate the simulated velocities
@@ -552,6 +595,7 @@ impl Engine for Builtin {
         params: &Params,
         motion: Option<&Analysis>,
         path: &Path,
+        ctl: &Control,
     ) -> Result<(), Error> {
         let bvh = take.bvh().ok_or_else(|| {
             Error::Invalid(format!(
@@ -576,6 +620,7 @@ impl Engine for Builtin {
                 row.copy_from_slice(m.q.row(k));
             }
         }
+        ctl.check()?;
         pipeline::export_smoothed_bvh(&t, path)
     }
 }

@@ -66,6 +66,16 @@
 //! runs), then applies the commands in order and stops at the first failure; every error
 //! carries the session file and line. Replays are deterministic: no wall clock, no threads,
 //! shortest round-trip number formatting, so the same session writes byte-identical files.
+//!
+//! # Long commands
+//!
+//! `load`, `scene`, `trajectory`, `blend`, `run`, `export`, `compare weights`, `report motor`
+//! and an `expect` whose results are stale are prepared as a [`Job`]
+//! ([`Workbench::prepare`]): a snapshot of what they read, runnable on any thread with a
+//! [`Control`] for progress and cancel, whose result only [`Workbench::finish`] stores. The
+//! terminal UI runs them on its worker thread; [`Workbench::apply`] (replays, tests) runs the
+//! same job inline, so both write the same bytes. A cancelled or failed job changes nothing:
+//! files are written last, through `io::write_atomic`, after the last cancel check.
 
 pub mod command;
 pub mod engine;
@@ -123,6 +133,14 @@ impl SessionError {
         match self {
             SessionError::Syntax { line, .. } | SessionError::At { line, .. } => Some(*line),
             _ => None,
+        }
+    }
+    /// True when a computation stopped because it was cancelled (directly or at a line).
+    pub fn is_cancelled(&self) -> bool {
+        match self {
+            SessionError::Engine(crate::error::Error::Cancelled) => true,
+            SessionError::At { source, .. } => source.is_cancelled(),
+            _ => false,
         }
     }
     /// True for a failed `expect` (directly or at a line).
@@ -212,15 +230,30 @@ pub fn run_session_with(
 }
 
 /// Applies `cmd` to `wb`, sending `key`, `screen` and `expect screen` to the front end.
+/// `screen` and `expect screen` first bring stale results up to date (a replay shows what the
+/// commands so far compute).
 pub fn apply_with(
     wb: &mut Workbench,
     frontend: &mut dyn Frontend,
     cmd: &Command,
 ) -> Result<Outcome, SessionError> {
+    apply_frontend(wb, frontend, cmd, true)
+}
+
+/// [`apply_with`]; with `refresh` false, `screen` and `expect screen` take the screen as it is
+/// (an interactive front end whose worker is recomputing).
+pub fn apply_frontend(
+    wb: &mut Workbench,
+    frontend: &mut dyn Frontend,
+    cmd: &Command,
+    refresh: bool,
+) -> Result<Outcome, SessionError> {
     match cmd {
         Command::Key(keys) => frontend.keys(wb, keys),
         Command::Screen { path } => {
-            wb.refresh()?;
+            if refresh {
+                wb.refresh()?;
+            }
             let out = wb.out_path(path);
             let text = frontend.screen(wb);
             crate::io::write_atomic(&out, text.as_bytes())?;
@@ -231,7 +264,9 @@ pub fn apply_with(
             })
         }
         Command::Expect(Expectation::ScreenContains(t)) => {
-            wb.refresh()?;
+            if refresh {
+                wb.refresh()?;
+            }
             let screen = frontend.screen(wb);
             if screen.contains(t.as_str()) {
                 Ok(Outcome {

@@ -23,55 +23,549 @@ pub struct Outcome {
     pub quit: bool,
 }
 
-/// A computation prepared from the workbench, runnable on another thread
-/// ([`Job::run`]); its [`JobResult`] goes back through [`Workbench::finish`].
+/// What a [`Job`] computes: the commands whose work can take longer than a frame on a big
+/// take (parsing, building the model, smoothing, inverse dynamics, simulation, charts).
+#[derive(Debug, Clone)]
+enum Task {
+    /// `run id`, `run sim`.
+    Run(RunKind),
+    /// `load PATH [as NAME]` of a take, a DH table or a URDF (the file resolved).
+    Load { file: PathBuf, name: Option<String> },
+    /// `load STATES.csv`: the motion of robot `index`.
+    Motion {
+        file: PathBuf,
+        index: usize,
+        model: Arc<Model>,
+    },
+    /// `trajectory …`: the motion of robot `index`.
+    Trajectory {
+        index: usize,
+        poses: Vec<Vec<f64>>,
+        duration_s: f64,
+        rate_hz: f64,
+    },
+    /// `scene PATH`; its takes are read as `load` reads them (relative to `in_dir`).
+    Scene { file: PathBuf, in_dir: PathBuf },
+    /// `blend A B T0:T1`.
+    Blend {
+        a: Box<Take>,
+        b: Box<Take>,
+        window: (f64, f64),
+    },
+    /// `export KIND PATH` (the output path resolved).
+    Export { kind: ExportKind, out: PathBuf },
+    /// `compare weights …` of coordinate `coord`.
+    Compare {
+        masses: Vec<f64>,
+        coord: String,
+        out: PathBuf,
+    },
+    /// `report motor [curves] PATH`.
+    ReportMotor { out: PathBuf, curves: bool },
+    /// A cheap command that needs fresh inverse-dynamics results (an `expect`): the results
+    /// are computed by the job, the command is applied by [`Workbench::finish`].
+    Then(Box<Command>),
+}
+
+/// A computation prepared from the workbench ([`Workbench::prepare`]), runnable on another
+/// thread ([`Job::run`]): it holds a snapshot of what it reads (the take, the parameters, the
+/// fresh results, the selection), so the workbench may change meanwhile. Its [`JobResult`]
+/// goes back through [`Workbench::finish`], which alone changes the workbench.
 #[derive(Clone)]
 pub struct Job {
-    pub kind: RunKind,
+    task: Task,
+    label: String,
     engine: Arc<dyn Engine>,
-    take: Take,
+    /// The active take.
+    take: Option<Take>,
     params: Params,
+    /// Inverse-dynamics results valid under `params`, if the workbench had them.
+    fresh: Option<Arc<Analysis>>,
+    /// The simulation valid under `params`, if any (`export bvh sim`).
+    sim: Option<Arc<Analysis>>,
+    selection: Option<String>,
+    motor_classes: Vec<motor::MotorClass>,
 }
 
 impl std::fmt::Debug for Job {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Job")
-            .field("kind", &self.kind)
-            .field("take", &self.take.name)
+            .field("task", &self.label)
+            .field("take", &self.take.as_ref().map(|t| &t.name))
             .finish()
     }
 }
 
-/// What a [`Job`] produced, with the parameters it ran under (so a stale result is known).
+/// What a [`Job`] produced.
+#[derive(Debug)]
+enum Output {
+    /// Results of `run id` / `run sim`.
+    Run(RunKind, Arc<Analysis>),
+    /// A loaded (or blended) take, to make active.
+    Take {
+        take: Box<Take>,
+        blended: bool,
+        message: String,
+    },
+    /// The motion of robot `index` (called `take` when the job started).
+    Motion {
+        index: usize,
+        take: String,
+        states: crate::pipeline::States,
+        source: String,
+        message: String,
+    },
+    /// A scene's options, gains and takes.
+    Scene {
+        options: Box<TakeOptions>,
+        gains: Option<(f64, f64)>,
+        takes: Vec<Take>,
+        message: String,
+    },
+    /// A file written (atomically: a cancelled job writes nothing).
+    Wrote { path: PathBuf, message: String },
+    /// Apply this command now that the results are fresh.
+    Then(Box<Command>),
+}
+
+/// What a [`Job`] produced, with the take and parameters it ran under (so a stale result is
+/// known).
 #[derive(Debug)]
 pub struct JobResult {
-    pub kind: RunKind,
-    pub take: String,
-    pub params: Params,
-    pub result: Result<Analysis, crate::error::Error>,
+    label: String,
+    /// Name of the take that was active when the job was prepared.
+    take: Option<String>,
+    params: Params,
+    /// Inverse-dynamics results the job computed on the way (for an export, a report, an
+    /// expect); kept as `run id` keeps its results.
+    analysis: Option<Arc<Analysis>>,
+    output: Result<Output, SessionError>,
+}
+
+impl JobResult {
+    /// The job's label.
+    pub fn label(&self) -> &str {
+        &self.label
+    }
+    /// True when the job stopped because it was cancelled.
+    pub fn is_cancelled(&self) -> bool {
+        self.output
+            .as_ref()
+            .err()
+            .is_some_and(SessionError::is_cancelled)
+    }
 }
 
 impl Job {
-    /// A short label for progress displays.
-    pub fn label(&self) -> String {
-        match self.kind {
-            RunKind::Id => format!("inverse dynamics of {}", self.take.name),
-            RunKind::Sim => format!("simulation of {}", self.take.name),
-        }
+    /// A short label for progress displays (`compare weights 60, 80, 100 kg`).
+    pub fn label(&self) -> &str {
+        &self.label
     }
-    /// Runs the computation (any thread).
+
+    /// True for inverse dynamics of the active take (`run id`, or the recompute after a
+    /// change): a newer request makes a running one obsolete.
+    pub fn is_inverse_dynamics(&self) -> bool {
+        matches!(self.task, Task::Run(RunKind::Id))
+    }
+
+    /// Runs the computation (any thread), reporting progress to `ctl` and stopping with
+    /// `cancelled` soon after `ctl` is cancelled. Files are written last and atomically
+    /// (`io::write_atomic`), after the last cancel check.
     pub fn run(&self, ctl: &Control) -> JobResult {
-        let result = match self.kind {
-            RunKind::Id => self.engine.inverse_dynamics(&self.take, &self.params, ctl),
-            RunKind::Sim => self.engine.simulate(&self.take, &self.params, ctl),
-        };
+        let mut analysis = None;
+        let output = self.compute(ctl, &mut analysis);
         JobResult {
-            kind: self.kind,
-            take: self.take.name.clone(),
+            label: self.label.clone(),
+            take: self.take.as_ref().map(|t| t.name.clone()),
             params: self.params.clone(),
-            result,
+            analysis,
+            output,
         }
     }
+
+    fn take(&self) -> Result<&Take, SessionError> {
+        self.take
+            .as_ref()
+            .ok_or_else(|| err("no take loaded (load PATH first)"))
+    }
+
+    /// Fresh inverse-dynamics results: the workbench's, or computed now over `0‥upto` of the
+    /// job's progress (and recorded in `analysis`).
+    fn results(
+        &self,
+        ctl: &Control,
+        analysis: &mut Option<Arc<Analysis>>,
+        upto: f64,
+    ) -> Result<Arc<Analysis>, SessionError> {
+        if let Some(r) = &self.fresh {
+            return Ok(r.clone());
+        }
+        let take = self.take()?;
+        ctl.set_span(0.0, upto);
+        let r = Arc::new(self.engine.inverse_dynamics(take, &self.params, ctl)?);
+        ctl.set_span(upto, 1.0);
+        *analysis = Some(r.clone());
+        Ok(r)
+    }
+
+    /// The selection once `analysis` (computed by this job) is stored ([`selection_for`]).
+    fn selection(&self, analysis: &Option<Arc<Analysis>>) -> Option<String> {
+        match analysis {
+            Some(r) => selection_for(r, self.selection.as_deref()),
+            None => self.selection.clone(),
+        }
+    }
+
+    fn compute(
+        &self,
+        ctl: &Control,
+        analysis: &mut Option<Arc<Analysis>>,
+    ) -> Result<Output, SessionError> {
+        ctl.check()?;
+        let (engine, params) = (&self.engine, &self.params);
+        match &self.task {
+            Task::Run(kind) => {
+                let take = self.take()?;
+                let r = match kind {
+                    RunKind::Id => engine.inverse_dynamics(take, params, ctl)?,
+                    RunKind::Sim => engine.simulate(take, params, ctl)?,
+                };
+                Ok(Output::Run(*kind, Arc::new(r)))
+            }
+            Task::Load { file, name } => {
+                let mut take = engine.load(file, params)?;
+                if let Some(n) = name {
+                    take.name = n.clone();
+                }
+                ctl.check()?;
+                Ok(Output::Take {
+                    message: loaded_message(&take),
+                    take: Box::new(take),
+                    blended: false,
+                })
+            }
+            Task::Motion { file, index, model } => {
+                let states = engine.load_motion(model, file)?;
+                ctl.check()?;
+                let take = self.take()?.name.clone();
+                let message = format!(
+                    "{take}: motion from {} ({} samples)",
+                    file.display(),
+                    states.len()
+                );
+                Ok(Output::Motion {
+                    index: *index,
+                    take,
+                    states,
+                    source: file.display().to_string(),
+                    message,
+                })
+            }
+            Task::Trajectory {
+                index,
+                poses,
+                duration_s,
+                rate_hz,
+            } => {
+                let states = super::trajectory::quintic_moves(poses, *duration_s, *rate_hz)?;
+                ctl.check()?;
+                let source = format!(
+                    "{} quintic move(s) of {duration_s} s at {rate_hz} Hz",
+                    poses.len().saturating_sub(1).max(1)
+                );
+                let take = self.take()?.name.clone();
+                let message = format!("{take}: {source} ({} samples)", states.len());
+                Ok(Output::Motion {
+                    index: *index,
+                    take,
+                    states,
+                    source,
+                    message,
+                })
+            }
+            Task::Scene { file, in_dir } => {
+                let sc = crate::io::scene::read(file)?;
+                let options = TakeOptions::from_scene(&sc)
+                    .map_err(|e| err(format!("{}: {e}", file.display())))?;
+                let mut p = params.clone();
+                p.take = options.clone();
+                // the takes, as `load` reads them, one span of the progress each
+                let n = sc.takes.len().max(1) as f64;
+                let mut takes = vec![];
+                for (i, t) in sc.takes.iter().enumerate() {
+                    ctl.set_span(i as f64 / n, (i + 1) as f64 / n);
+                    ctl.check()?;
+                    takes.push(engine.load(&resolve_in(in_dir, t), &p)?);
+                }
+                ctl.check()?;
+                Ok(Output::Scene {
+                    options: Box::new(options),
+                    gains: sc.gains.map(|g| (g.kp, g.kv)),
+                    message: format!(
+                        "scene {}: {} take(s), {} kg",
+                        file.display(),
+                        sc.takes.len(),
+                        sc.mass
+                    ),
+                    takes,
+                })
+            }
+            Task::Blend { a, b, window } => {
+                let t = engine.blend(a, b, *window)?;
+                ctl.check()?;
+                let message = format!(
+                    "blended {} into {} over {}:{} s as {} ({} frames)",
+                    a.name,
+                    b.name,
+                    window.0,
+                    window.1,
+                    t.name,
+                    t.frames()
+                );
+                Ok(Output::Take {
+                    take: Box::new(t),
+                    blended: true,
+                    message,
+                })
+            }
+            Task::Export { kind, out } => self.export(ctl, analysis, *kind, out),
+            Task::Compare { masses, coord, out } => self.compare(ctl, masses, coord, out),
+            Task::ReportMotor { out, curves } => self.report_motor(ctl, analysis, out, *curves),
+            Task::Then(cmd) => {
+                self.results(ctl, analysis, 1.0)?;
+                Ok(Output::Then(cmd.clone()))
+            }
+        }
+    }
+
+    fn export(
+        &self,
+        ctl: &Control,
+        analysis: &mut Option<Arc<Analysis>>,
+        kind: ExportKind,
+        out: &Path,
+    ) -> Result<Output, SessionError> {
+        match kind {
+            ExportKind::Csv => {
+                let r = self.results(ctl, analysis, 0.8)?;
+                let text = results_csv(&r);
+                ctl.check()?;
+                crate::io::write_atomic(out, text.as_bytes())?;
+            }
+            ExportKind::Svg => {
+                let r = self.results(ctl, analysis, 0.8)?;
+                let coord = self
+                    .selection(analysis)
+                    .ok_or_else(|| err("export svg: select a joint first"))?;
+                let svg = selection_svg(&r, &coord)?;
+                ctl.check()?;
+                crate::report::chart::write_svg(out, &svg)?;
+            }
+            ExportKind::Bvh => {
+                // what the user sees: the take (as loaded or blended) smoothed as set
+                let take = self.take()?;
+                self.engine.export_bvh(take, &self.params, None, out, ctl)?;
+            }
+            ExportKind::BvhSim => {
+                let take = self.take()?;
+                let sim = self.sim.as_ref().ok_or_else(|| {
+                    err("export bvh sim: no simulation under the current parameters (run sim first)")
+                })?;
+                self.engine
+                    .export_bvh(take, &self.params, Some(sim), out, ctl)?;
+            }
+            ExportKind::Urdf => {
+                let r = self.results(ctl, analysis, 0.9)?;
+                let urdf = crate::io::urdf_write::model_to_urdf(&r.model)?;
+                ctl.check()?;
+                crate::io::write_atomic(out, urdf.as_bytes())?;
+            }
+        }
+        Ok(Output::Wrote {
+            path: out.to_path_buf(),
+            message: format!("wrote {}", out.display()),
+        })
+    }
+
+    /// Inverse dynamics at each body mass, one span of the progress per mass; the torque of
+    /// `coord` per mass as a chart with its peak/RMS table (`.svg`) or the curves (`.csv`).
+    fn compare(
+        &self,
+        ctl: &Control,
+        masses: &[f64],
+        coord: &str,
+        out: &Path,
+    ) -> Result<Output, SessionError> {
+        let take = self.take()?;
+        let n = masses.len().max(1) as f64;
+        let mut runs = Vec::with_capacity(masses.len());
+        for (i, &mass_kg) in masses.iter().enumerate() {
+            ctl.set_span(i as f64 / n, (i + 1) as f64 / n);
+            let mut params = self.params.clone();
+            params.take.body.mass_kg = mass_kg;
+            let r = self.engine.inverse_dynamics(take, &params, ctl)?;
+            let j = r
+                .model
+                .v_index(coord)
+                .ok_or_else(|| err(format!("no coordinate '{coord}' in the model")))?;
+            runs.push(MassRun {
+                mass_kg,
+                tau: r.tau.column(j),
+                t: r.time,
+            });
+        }
+        let text = if is_csv(out) {
+            knee::curves_csv(&runs)?
+        } else {
+            knee::knee_svg_with_table(coord, &runs)?
+        };
+        ctl.check()?;
+        crate::io::write_atomic(out, text.as_bytes())?;
+        let message = format!(
+            "compared {coord} torque at {} kg: wrote {}",
+            masses
+                .iter()
+                .map(|m| m.to_string())
+                .collect::<Vec<_>>()
+                .join(", "),
+            out.display()
+        );
+        Ok(Output::Wrote {
+            path: out.to_path_buf(),
+            message,
+        })
+    }
+
+    /// Motor sizing (report::motor) of the revolute coordinates of the selected joint, or of
+    /// every revolute coordinate of a robot (or of any model with at most 12 of them). Each
+    /// coordinate's drive is [`Params::motor_of`]; the catalogue is `motor.catalogue` or the
+    /// bundled `data/motor_classes.toml`.
+    fn report_motor(
+        &self,
+        ctl: &Control,
+        analysis: &mut Option<Arc<Analysis>>,
+        out: &Path,
+        curves: bool,
+    ) -> Result<Output, SessionError> {
+        let r = self.results(ctl, analysis, 0.8)?;
+        let m = &r.model;
+        let revolute: Vec<usize> = (0..m.nv)
+            .filter(|&k| matches!(m.joints[m.body_of_v(k)], JointKind::Revolute { .. }))
+            .collect();
+        let robot = self.take.as_ref().is_some_and(|t| t.robot().is_some());
+        let chosen: Vec<usize> = if robot || revolute.len() <= 12 {
+            revolute
+        } else {
+            let sel = self
+                .selection(analysis)
+                .ok_or_else(|| err("report motor: select a joint first"))?;
+            let joint = joint_of_name(m, &sel).unwrap_or_else(|| sel.to_string());
+            let coords = coords_of_joint(m, &joint);
+            revolute
+                .into_iter()
+                .filter(|&k| coords.contains(&m.v_names[k]))
+                .collect()
+        };
+        if chosen.is_empty() {
+            return Err(err(
+                "report motor: the selection has no revolute coordinate",
+            ));
+        }
+        let joints: Vec<JointMotion> = chosen
+            .iter()
+            .map(|&k| JointMotion {
+                joint: m.v_names[k].clone(),
+                t: r.time.clone(),
+                tau: r.tau.column(k),
+                qd: r.v.column(k),
+            })
+            .collect();
+        let specs: Vec<_> = joints
+            .iter()
+            .map(|j| self.params.motor_of(&j.joint))
+            .collect();
+        if self.motor_classes.is_empty() {
+            return Err(err("report motor: the motor catalogue is empty"));
+        }
+        let loads = motor::size_motors(&joints, &specs, &self.motor_classes)?;
+        let text = match (curves, is_csv(out)) {
+            (true, true) => motor::motor_curves_csv(&joints, &specs)?,
+            (true, false) => {
+                return Err(err("report motor curves: the curves are written as .csv"));
+            }
+            (false, true) => motor::motor_table_csv(&loads),
+            (false, false) => motor::motor_svg(&joints, &specs, &loads)?,
+        };
+        ctl.check()?;
+        crate::io::write_atomic(out, text.as_bytes())?;
+        let classes: Vec<String> = loads
+            .iter()
+            .map(|l| format!("{} {}", l.joint, motor::class_name(l)))
+            .collect();
+        Ok(Output::Wrote {
+            path: out.to_path_buf(),
+            message: format!("motors: {}; wrote {}", classes.join(", "), out.display()),
+        })
+    }
+}
+
+/// The message of a `load`.
+fn loaded_message(take: &Take) -> String {
+    match &take.data {
+        TakeData::Bvh(b) => format!(
+            "loaded {} ({} joints, {} frames at {:.0} fps)",
+            take.name,
+            b.joints.len(),
+            b.frames,
+            1.0 / b.frame_time
+        ),
+        TakeData::Robot(r) => format!(
+            "loaded {} ({}: {} joints, nv {}, {:.2} kg); give it a motion: load \
+             STATES.csv or trajectory POSE POSE … over T",
+            take.name,
+            r.kind,
+            take.joint_tree().len(),
+            r.model.nv,
+            r.model.total_mass()
+        ),
+    }
+}
+
+/// The selection once results `r` are stored: `sel` if `r` has that coordinate; otherwise the
+/// coordinate with the largest range of motion of the old selection's joint, or the first
+/// rotation.
+fn selection_for(r: &Analysis, sel: Option<&str>) -> Option<String> {
+    if let Some(s) = sel
+        && r.model.v_index(s).is_some()
+    {
+        return Some(s.to_string());
+    }
+    let joint = sel.and_then(|s| joint_of_name(&r.model, s));
+    joint.and_then(|j| best_coordinate(r, &j)).or_else(|| {
+        (0..r.model.nv)
+            .find(|&k| is_angular(&r.model, k))
+            .map(|k| r.model.v_names[k].clone())
+    })
+}
+
+/// Where an input path is read: relative paths under `in_dir` (`demo:` takes as they are).
+fn resolve_in(in_dir: &Path, p: &Path) -> PathBuf {
+    if p.is_absolute() || p.to_string_lossy().starts_with("demo:") {
+        p.to_path_buf()
+    } else {
+        in_dir.join(p)
+    }
+}
+
+/// True for an `expect` that reads inverse-dynamics results.
+fn needs_results(e: &Expectation) -> bool {
+    matches!(
+        e,
+        Expectation::Nv(_)
+            | Expectation::Nq(_)
+            | Expectation::Mass { .. }
+            | Expectation::Stat { .. }
+    )
 }
 
 /// The whole state of a study: takes, parameters, selection, current frame, results and
@@ -189,39 +683,271 @@ impl Workbench {
     }
 
     fn in_path(&self, p: &Path) -> PathBuf {
-        if p.is_absolute() || p.to_string_lossy().starts_with("demo:") {
-            p.to_path_buf()
-        } else {
-            self.in_dir.join(p)
-        }
+        resolve_in(&self.in_dir, p)
     }
 
-    /// The computation a `run` command needs, to run on any thread; `None` for other commands.
+    /// The computation a long command needs (`run`, `load`, `scene`, `trajectory`, `blend`,
+    /// `export`, `compare weights`, `report motor`, and an `expect` whose results are stale),
+    /// to run on any thread; `None` for the commands that apply at once. Errors that need no
+    /// computation (no take, an unknown joint) are found here.
     pub fn prepare(&self, cmd: &Command) -> Result<Option<Job>, SessionError> {
-        let Command::Run(kind) = cmd else {
-            return Ok(None);
+        let take_name = || {
+            self.take()
+                .map(|t| t.name.clone())
+                .ok_or_else(|| err("no take loaded (load PATH first)"))
         };
-        let take = self
-            .take()
-            .ok_or_else(|| err("no take loaded (load PATH first)"))?;
+        let (task, label) = match cmd {
+            Command::Run(kind) => {
+                let name = take_name()?;
+                let label = match kind {
+                    RunKind::Id => format!("inverse dynamics of {name}"),
+                    RunKind::Sim => format!("simulation of {name}"),
+                };
+                (Task::Run(*kind), label)
+            }
+            Command::Load { path, .. } if is_csv(path) => {
+                let file = self.in_path(path);
+                let (index, model) = self.active_robot("load STATES.csv")?;
+                let label = format!("loading {}", path.display());
+                (Task::Motion { file, index, model }, label)
+            }
+            Command::Load { path, name } => (
+                Task::Load {
+                    file: self.in_path(path),
+                    name: name.clone(),
+                },
+                format!("loading {}", path.display()),
+            ),
+            Command::Scene { path } => (
+                Task::Scene {
+                    file: self.in_path(path),
+                    in_dir: self.in_dir.clone(),
+                },
+                format!("scene {}", path.display()),
+            ),
+            Command::Trajectory {
+                poses,
+                duration_s,
+                rate_hz,
+            } => {
+                let index = self.check_trajectory(poses)?;
+                let label = format!("trajectory of {}", self.takes[index].name);
+                let task = Task::Trajectory {
+                    index,
+                    poses: poses.clone(),
+                    duration_s: *duration_s,
+                    rate_hz: *rate_hz,
+                };
+                (task, label)
+            }
+            Command::Blend { a, b, window } => {
+                let find = |n: &str| {
+                    self.takes
+                        .iter()
+                        .find(|t| t.name == *n)
+                        .cloned()
+                        .ok_or_else(|| err(format!("no take called '{n}'")))
+                };
+                let task = Task::Blend {
+                    a: Box::new(find(a)?),
+                    b: Box::new(find(b)?),
+                    window: *window,
+                };
+                (task, format!("blend {a} {b}"))
+            }
+            Command::Export { kind, path } => {
+                let word = match kind {
+                    ExportKind::Csv => "csv",
+                    ExportKind::Svg => "svg",
+                    ExportKind::Bvh => "bvh",
+                    ExportKind::BvhSim => "bvh sim",
+                    ExportKind::Urdf => "urdf",
+                };
+                let task = Task::Export {
+                    kind: *kind,
+                    out: self.out_path(path),
+                };
+                (task, format!("export {word} {}", path.display()))
+            }
+            Command::CompareWeights {
+                masses,
+                joint,
+                path,
+            } => {
+                let coord = match joint {
+                    Some(j) => self.resolve_coord(j)?,
+                    None => self
+                        .selection
+                        .clone()
+                        .ok_or_else(|| err("compare weights: select a joint or give joint J"))?,
+                };
+                take_name()?;
+                let label = format!(
+                    "compare weights {} kg",
+                    masses
+                        .iter()
+                        .map(|m| m.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                );
+                let task = Task::Compare {
+                    masses: masses.clone(),
+                    coord,
+                    out: self.out_path(path),
+                };
+                (task, label)
+            }
+            Command::ReportMotor { path, curves } => (
+                Task::ReportMotor {
+                    out: self.out_path(path),
+                    curves: *curves,
+                },
+                format!("report motor {}", path.display()),
+            ),
+            Command::Expect(e)
+                if needs_results(e) && self.take().is_some() && self.fresh_results().is_none() =>
+            {
+                let label = format!("inverse dynamics of {}", take_name()?);
+                (Task::Then(Box::new(cmd.clone())), label)
+            }
+            _ => return Ok(None),
+        };
         Ok(Some(Job {
-            kind: *kind,
+            task,
+            label,
             engine: self.engine.clone(),
-            take: take.clone(),
+            take: self.take().cloned(),
             params: self.params.clone(),
+            fresh: self.fresh_results().cloned(),
+            sim: self
+                .sim
+                .as_ref()
+                .filter(|(_, p)| p.same_results(&self.params))
+                .map(|(r, _)| r.clone()),
+            selection: self.selection.clone(),
+            motor_classes: self.motor_classes.clone(),
         }))
     }
 
-    /// Stores what a [`Job`] computed. Results for another take than the active one are
-    /// dropped.
+    /// Stores what a [`Job`] computed and says so. A failed or cancelled job changes nothing
+    /// and returns its error. Results for another take than the active one are dropped.
     pub fn finish(&mut self, done: JobResult) -> Result<Outcome, SessionError> {
-        if self.take().map(|t| t.name.as_str()) != Some(done.take.as_str()) {
-            return Ok(self.say(format!("dropped results for {}", done.take)));
+        let output = done.output?;
+        // results computed on the way are kept as those of `run id`
+        let stored = match done.analysis {
+            Some(r) => self.store(RunKind::Id, done.take.as_deref(), done.params.clone(), r),
+            None => true,
+        };
+        match output {
+            Output::Run(kind, r) => {
+                self.store(kind, done.take.as_deref(), done.params, r);
+                Ok(Outcome {
+                    message: self.last_message().to_string(),
+                    ..Outcome::default()
+                })
+            }
+            Output::Take {
+                take,
+                blended,
+                message,
+            } => {
+                let i = match self.takes.iter().position(|t| t.name == take.name) {
+                    Some(i) => {
+                        self.takes[i] = *take;
+                        i
+                    }
+                    None => {
+                        self.takes.push(*take);
+                        self.takes.len() - 1
+                    }
+                };
+                self.active = Some(i);
+                self.results = None;
+                if blended {
+                    self.frame = self.frame.min(self.frames().saturating_sub(1));
+                } else {
+                    self.frame = 0;
+                    self.sim = None;
+                }
+                Ok(self.say(message))
+            }
+            Output::Motion {
+                index,
+                take,
+                states,
+                source,
+                message,
+            } => {
+                if self.takes.get(index).map(|t| t.name.as_str()) != Some(take.as_str()) {
+                    return Ok(self.say(format!("dropped the motion of {take}")));
+                }
+                self.set_motion(index, states, source);
+                Ok(self.say(message))
+            }
+            Output::Scene {
+                options,
+                gains,
+                takes,
+                message,
+            } => {
+                self.params.take = *options;
+                if let Some((kp, kv)) = gains {
+                    self.params.kp = kp;
+                    self.params.kv = kv;
+                }
+                let first = self.takes.len();
+                for take in takes {
+                    let message = loaded_message(&take);
+                    self.finish(JobResult {
+                        label: String::new(),
+                        take: None,
+                        params: self.params.clone(),
+                        analysis: None,
+                        output: Ok(Output::Take {
+                            take: Box::new(take),
+                            blended: false,
+                            message,
+                        }),
+                    })?;
+                }
+                if first < self.takes.len() {
+                    self.active = Some(first);
+                }
+                Ok(self.say(message))
+            }
+            Output::Wrote { path, message } => {
+                let mut o = self.say(message);
+                o.written.push(path);
+                Ok(o)
+            }
+            Output::Then(cmd) => {
+                if !stored || self.fresh_results().is_none() {
+                    return Err(err(
+                        "the take or its parameters changed while computing; try again",
+                    ));
+                }
+                self.apply(&cmd)
+            }
         }
-        let r = Arc::new(done.result?);
+    }
+
+    /// Keeps results `r` of `kind` computed for take `take` under `params` (with a message),
+    /// and makes the selection a coordinate of their model. False when `take` is no longer
+    /// the active take (the results are dropped).
+    fn store(
+        &mut self,
+        kind: RunKind,
+        take: Option<&str>,
+        params: Params,
+        r: Arc<Analysis>,
+    ) -> bool {
+        if take.is_none() || self.take().map(|t| t.name.as_str()) != take {
+            self.say(format!("dropped results for {}", take.unwrap_or("no take")));
+            return false;
+        }
         let mut msg = format!(
             "{}: {} frames, nv {}, {:.1} kg",
-            match done.kind {
+            match kind {
                 RunKind::Id => "inverse dynamics",
                 RunKind::Sim => "simulation",
             },
@@ -232,28 +958,13 @@ impl Workbench {
         if !r.note.is_empty() {
             msg = format!("{msg}, {}", r.note);
         }
-        if self
-            .selection
-            .as_ref()
-            .is_none_or(|s| r.model.v_index(s).is_none())
-        {
-            // the joint of the old selection if it has a coordinate here, else the first
-            // rotation
-            let joint = self
-                .selection
-                .as_deref()
-                .and_then(|s| joint_of_name(&r.model, s));
-            self.selection = joint.and_then(|j| best_coordinate(&r, &j)).or_else(|| {
-                (0..r.model.nv)
-                    .find(|&k| is_angular(&r.model, k))
-                    .map(|k| r.model.v_names[k].clone())
-            });
+        self.selection = selection_for(&r, self.selection.as_deref());
+        match kind {
+            RunKind::Id => self.results = Some((r, params)),
+            RunKind::Sim => self.sim = Some((r, params)),
         }
-        match done.kind {
-            RunKind::Id => self.results = Some((r, done.params)),
-            RunKind::Sim => self.sim = Some((r, done.params)),
-        }
-        Ok(self.say(msg))
+        self.say(msg);
+        true
     }
 
     fn say(&mut self, message: String) -> Outcome {
@@ -288,90 +999,9 @@ impl Workbench {
     /// [`Frontend`](super::Frontend)) and are refused here.
     pub fn apply(&mut self, cmd: &Command) -> Result<Outcome, SessionError> {
         match cmd {
-            Command::Load { path, name } => {
-                if is_csv(path) {
-                    return self.load_motion(path);
-                }
-                let mut take = self.engine.load(&self.in_path(path), &self.params)?;
-                if let Some(n) = name {
-                    take.name = n.clone();
-                }
-                let msg = match &take.data {
-                    TakeData::Bvh(b) => format!(
-                        "loaded {} ({} joints, {} frames at {:.0} fps)",
-                        take.name,
-                        b.joints.len(),
-                        b.frames,
-                        1.0 / b.frame_time
-                    ),
-                    TakeData::Robot(r) => format!(
-                        "loaded {} ({}: {} joints, nv {}, {:.2} kg); give it a motion: load \
-                         STATES.csv or trajectory POSE POSE … over T",
-                        take.name,
-                        r.kind,
-                        take.joint_tree().len(),
-                        r.model.nv,
-                        r.model.total_mass()
-                    ),
-                };
-                match self.takes.iter().position(|t| t.name == take.name) {
-                    Some(i) => {
-                        self.takes[i] = take;
-                        self.active = Some(i);
-                    }
-                    None => {
-                        self.takes.push(take);
-                        self.active = Some(self.takes.len() - 1);
-                    }
-                }
-                self.frame = 0;
-                self.results = None;
-                self.sim = None;
-                Ok(self.say(msg))
-            }
-            Command::Scene { path } => self.scene(path),
-            Command::Trajectory {
-                poses,
-                duration_s,
-                rate_hz,
-            } => self.trajectory(poses, *duration_s, *rate_hz),
             Command::Set { key, value } => {
                 self.set(key, value)?;
                 Ok(self.say(format!("{key} = {value}")))
-            }
-            Command::Run(_) => {
-                let job = self.prepare(cmd)?.ok_or_else(|| err("nothing to run"))?;
-                let done = job.run(&Control::default());
-                self.finish(done)
-            }
-            Command::Blend { a, b, window } => {
-                let find = |n: &str| {
-                    self.takes
-                        .iter()
-                        .find(|t| t.name == *n)
-                        .ok_or_else(|| err(format!("no take called '{n}'")))
-                };
-                let t = self.engine.blend(find(a)?, find(b)?, *window)?;
-                let msg = format!(
-                    "blended {a} into {b} over {}:{} s as {} ({} frames)",
-                    window.0,
-                    window.1,
-                    t.name,
-                    t.frames()
-                );
-                match self.takes.iter().position(|x| x.name == t.name) {
-                    Some(i) => {
-                        self.takes[i] = t;
-                        self.active = Some(i);
-                    }
-                    None => {
-                        self.takes.push(t);
-                        self.active = Some(self.takes.len() - 1);
-                    }
-                }
-                self.results = None;
-                self.frame = self.frame.min(self.frames().saturating_sub(1));
-                Ok(self.say(msg))
             }
             Command::Select(name) => {
                 let coord = self.resolve_coord(name)?;
@@ -400,14 +1030,10 @@ impl Workbench {
                 self.playing = false;
                 Ok(Outcome::default())
             }
-            Command::Export { kind, path } => self.export(*kind, path),
-            Command::CompareWeights {
-                masses,
-                joint,
-                path,
-            } => self.compare_weights(masses, joint.as_deref(), path),
-            Command::ReportMotor { path, curves } => self.report_motor(path, *curves),
-            Command::Expect(e) => self.expect(e),
+            Command::Expect(e) => match self.prepare(cmd)? {
+                Some(job) => self.finish(job.run(&Control::default())),
+                None => self.expect(e),
+            },
             Command::Screen { .. } | Command::Key(_) => {
                 Err(err("screen and key need a front end (the TUI)"))
             }
@@ -415,62 +1041,17 @@ impl Workbench {
                 quit: true,
                 ..Outcome::default()
             }),
+            // the long commands: the job a front end may run on another thread, run here
+            _ => {
+                let job = self.prepare(cmd)?.ok_or_else(|| err("nothing to run"))?;
+                self.finish(job.run(&Control::default()))
+            }
         }
     }
 
-    /// Reads a scene (io::scene) exactly as `--scene` does (`TakeOptions::from_scene`): its
-    /// unit, stature, up axis, position semantics, joint model, mass, sex, link masses,
-    /// smoothing, locks, subtree and contact become the take options, its gains `kp`/`kv`;
-    /// its takes are loaded (the first becomes active).
-    fn scene(&mut self, path: &Path) -> Result<Outcome, SessionError> {
-        let file = self.in_path(path);
-        let sc = crate::io::scene::read(&file)?;
-        let take =
-            TakeOptions::from_scene(&sc).map_err(|e| err(format!("{}: {e}", file.display())))?;
-        self.params.take = take;
-        if let Some(g) = sc.gains {
-            self.params.kp = g.kp;
-            self.params.kv = g.kv;
-        }
-        let first = self.takes.len();
-        for t in &sc.takes {
-            self.apply(&Command::Load {
-                path: t.clone(),
-                name: None,
-            })?;
-        }
-        if first < self.takes.len() {
-            self.active = Some(first);
-        }
-        Ok(self.say(format!(
-            "scene {}: {} take(s), {} kg",
-            file.display(),
-            sc.takes.len(),
-            sc.mass
-        )))
-    }
-
-    /// `load S.csv`: a states CSV becomes the active robot's motion.
-    fn load_motion(&mut self, path: &Path) -> Result<Outcome, SessionError> {
-        let file = self.in_path(path);
-        let (i, model) = self.active_robot("load STATES.csv")?;
-        let states = self.engine.load_motion(&model, &file)?;
-        let n = states.len();
-        self.set_motion(i, states, file.display().to_string());
-        Ok(self.say(format!(
-            "{}: motion from {} ({n} samples)",
-            self.takes[i].name,
-            file.display()
-        )))
-    }
-
-    /// `trajectory …`: quintic moves through the poses become the active robot's motion.
-    fn trajectory(
-        &mut self,
-        poses: &[Vec<f64>],
-        duration_s: f64,
-        rate_hz: f64,
-    ) -> Result<Outcome, SessionError> {
+    /// Checks a `trajectory` for the active take: a robot of revolute and prismatic joints,
+    /// poses of one value per coordinate. Its index in `takes`.
+    fn check_trajectory(&self, poses: &[Vec<f64>]) -> Result<usize, SessionError> {
         let (i, model) = self.active_robot("trajectory")?;
         let simple = (1..model.nbodies()).all(|b| {
             matches!(
@@ -492,14 +1073,7 @@ impl Workbench {
                 model.q_names.join(", ")
             )));
         }
-        let states = super::trajectory::quintic_moves(poses, duration_s, rate_hz)?;
-        let n = states.len();
-        let source = format!(
-            "{} quintic move(s) of {duration_s} s at {rate_hz} Hz",
-            poses.len().saturating_sub(1).max(1)
-        );
-        self.set_motion(i, states, source.clone());
-        Ok(self.say(format!("{}: {source} ({n} samples)", self.takes[i].name)))
+        Ok(i)
     }
 
     /// The active take if it is a robot: its index and model.
@@ -739,187 +1313,6 @@ impl Workbench {
             ))),
             None => Ok(c),
         }
-    }
-
-    fn export(&mut self, kind: ExportKind, path: &Path) -> Result<Outcome, SessionError> {
-        let out = self.out_path(path);
-        match kind {
-            ExportKind::Csv => {
-                let r = self.ensure_results()?;
-                let text = results_csv(&r);
-                crate::io::write_atomic(&out, text.as_bytes())?;
-            }
-            ExportKind::Svg => {
-                let r = self.ensure_results()?;
-                let coord = self
-                    .selection
-                    .clone()
-                    .ok_or_else(|| err("export svg: select a joint first"))?;
-                let svg = selection_svg(&r, &coord)?;
-                crate::report::chart::write_svg(&out, &svg)?;
-            }
-            ExportKind::Bvh => {
-                // what the user sees: the take (as loaded or blended) smoothed as set
-                let take = self
-                    .take()
-                    .ok_or_else(|| err("no take loaded (load PATH first)"))?;
-                self.engine.export_bvh(take, &self.params, None, &out)?;
-            }
-            ExportKind::BvhSim => {
-                let take = self
-                    .take()
-                    .ok_or_else(|| err("no take loaded (load PATH first)"))?;
-                let sim = self
-                    .sim
-                    .as_ref()
-                    .filter(|(_, p)| p.same_results(&self.params))
-                    .map(|(r, _)| r.clone())
-                    .ok_or_else(|| {
-                        err("export bvh sim: no simulation under the current parameters (run sim first)")
-                    })?;
-                self.engine
-                    .export_bvh(take, &self.params, Some(&sim), &out)?;
-            }
-            ExportKind::Urdf => {
-                let r = self.ensure_results()?;
-                let urdf = crate::io::urdf_write::model_to_urdf(&r.model)?;
-                crate::io::write_atomic(&out, urdf.as_bytes())?;
-            }
-        }
-        let mut o = self.say(format!("wrote {}", out.display()));
-        o.written.push(out);
-        Ok(o)
-    }
-
-    fn compare_weights(
-        &mut self,
-        masses: &[f64],
-        joint: Option<&str>,
-        path: &Path,
-    ) -> Result<Outcome, SessionError> {
-        let coord = match joint {
-            Some(j) => self.resolve_coord(j)?,
-            None => self
-                .selection
-                .clone()
-                .ok_or_else(|| err("compare weights: select a joint or give joint J"))?,
-        };
-        let take = self
-            .take()
-            .ok_or_else(|| err("no take loaded (load PATH first)"))?
-            .clone();
-        let mut columns = vec![];
-        let mut time = vec![];
-        for &m in masses {
-            let mut params = self.params.clone();
-            params.take.body.mass_kg = m;
-            let r = self
-                .engine
-                .inverse_dynamics(&take, &params, &Control::default())?;
-            let j = r
-                .model
-                .v_index(&coord)
-                .ok_or_else(|| err(format!("no coordinate '{coord}' in the model")))?;
-            columns.push(r.tau.column(j));
-            time = r.time.clone();
-        }
-        let runs: Vec<MassRun> = masses
-            .iter()
-            .zip(columns)
-            .map(|(&mass_kg, tau)| MassRun {
-                mass_kg,
-                t: time.clone(),
-                tau,
-            })
-            .collect();
-        let out = self.out_path(path);
-        let text = if is_csv(&out) {
-            knee::curves_csv(&runs)?
-        } else {
-            knee::knee_svg_with_table(&coord, &runs)?
-        };
-        crate::io::write_atomic(&out, text.as_bytes())?;
-        let mut o = self.say(format!(
-            "compared {coord} torque at {} kg: wrote {}",
-            masses
-                .iter()
-                .map(|m| m.to_string())
-                .collect::<Vec<_>>()
-                .join(", "),
-            out.display()
-        ));
-        o.written.push(out);
-        Ok(o)
-    }
-
-    /// Motor sizing (report::motor) of the revolute coordinates of the selected joint, or of
-    /// every revolute coordinate of a robot (or of any model with at most 12 of them). Each
-    /// coordinate's drive is [`Params::motor_of`]; the catalogue is `motor.catalogue` or the
-    /// bundled `data/motor_classes.toml`.
-    fn report_motor(&mut self, path: &Path, curves: bool) -> Result<Outcome, SessionError> {
-        let r = self.ensure_results()?;
-        let m = &r.model;
-        let revolute: Vec<usize> = (0..m.nv)
-            .filter(|&k| matches!(m.joints[m.body_of_v(k)], JointKind::Revolute { .. }))
-            .collect();
-        let robot = self.take().is_some_and(|t| t.robot().is_some());
-        let chosen: Vec<usize> = if robot || revolute.len() <= 12 {
-            revolute
-        } else {
-            let sel = self
-                .selection
-                .as_deref()
-                .ok_or_else(|| err("report motor: select a joint first"))?;
-            let joint = joint_of_name(m, sel).unwrap_or_else(|| sel.to_string());
-            let coords = coords_of_joint(m, &joint);
-            revolute
-                .into_iter()
-                .filter(|&k| coords.contains(&m.v_names[k]))
-                .collect()
-        };
-        if chosen.is_empty() {
-            return Err(err(
-                "report motor: the selection has no revolute coordinate",
-            ));
-        }
-        let joints: Vec<JointMotion> = chosen
-            .iter()
-            .map(|&k| JointMotion {
-                joint: m.v_names[k].clone(),
-                t: r.time.clone(),
-                tau: r.tau.column(k),
-                qd: r.v.column(k),
-            })
-            .collect();
-        let specs: Vec<_> = joints
-            .iter()
-            .map(|j| self.params.motor_of(&j.joint))
-            .collect();
-        if self.motor_classes.is_empty() {
-            return Err(err("report motor: the motor catalogue is empty"));
-        }
-        let loads = motor::size_motors(&joints, &specs, &self.motor_classes)?;
-        let out = self.out_path(path);
-        let text = match (curves, is_csv(&out)) {
-            (true, true) => motor::motor_curves_csv(&joints, &specs)?,
-            (true, false) => {
-                return Err(err("report motor curves: the curves are written as .csv"));
-            }
-            (false, true) => motor::motor_table_csv(&loads),
-            (false, false) => motor::motor_svg(&joints, &specs, &loads)?,
-        };
-        crate::io::write_atomic(&out, text.as_bytes())?;
-        let classes: Vec<String> = loads
-            .iter()
-            .map(|l| format!("{} {}", l.joint, motor::class_name(l)))
-            .collect();
-        let mut o = self.say(format!(
-            "motors: {}; wrote {}",
-            classes.join(", "),
-            out.display()
-        ));
-        o.written.push(out);
-        Ok(o)
     }
 
     fn expect(&mut self, e: &Expectation) -> Result<Outcome, SessionError> {

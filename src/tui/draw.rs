@@ -162,7 +162,7 @@ fn draw_view(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     let block = ui.pane(title, Focus::View);
     let inner = block.inner(area);
     let Some(r) = wb.latest_results() else {
-        let msg = if ui.running.is_some() || ui.pending.is_some() {
+        let msg = if ui.running.is_some() {
             "computing…"
         } else {
             "no results yet (:run id)"
@@ -469,8 +469,12 @@ fn draw_status(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
             ui.fg(Color::Red).add_modifier(Modifier::BOLD),
         ))
     } else if let Some(r) = &ui.running {
+        let waiting = match ui.queue.len() {
+            0 => String::new(),
+            n => format!(", {n} command(s) wait"),
+        };
         Line::from(format!(
-            "⟳ {} {:.0}%  (Esc cancels)",
+            "⟳ {} {:.0}%  (Esc cancels{waiting})",
             r.label,
             r.control.progress() * 100.0
         ))

@@ -3,9 +3,22 @@
 //!
 //! State, events and drawing are kept apart: [`Ui`] holds the interface state and turns input
 //! into commands ([`ui`]), [`draw::draw`] is a pure function of `(Ui, Workbench)`, and
-//! [`run`] is the event loop. Long computations (`run id`, recomputes after `set`) go to a
-//! worker thread with a [`Control`] for progress and cancel (Esc); the loop polls input every
-//! 30 ms, so input never blocks. The terminal is restored on exit, on error and on panic (a
+//! [`run`] opens the terminal and runs [`event_loop`].
+//!
+//! # The worker
+//!
+//! Every command whose work can take longer than a frame on a big take is prepared as a
+//! [`Job`](crate::session::Job) by the workbench and runs on a worker thread: `load` (takes,
+//! DH tables, URDFs, states CSVs), `scene`, `trajectory`, `blend`, `run id`, `run sim`, the
+//! recompute after `set`, `export …`, `compare weights`, `report motor`, and an `expect` whose
+//! results are stale. Its [`Control`](crate::session::Control) carries progress (shown with
+//! the job's label in the status line) and cancel (`Esc`, `Ctrl-C`; `q` cancels and quits).
+//! The loop polls input every 30 ms ([`POLL`]), so keys, mouse and resizes are handled while a
+//! job runs. While a job other than a recompute runs, commands wait in [`Ui::queue`] and apply
+//! in order when it ends (the view's commands — `frame`, `select`, `play`, `pause`, `screen` —
+//! apply at once); a newer recompute replaces a running one. A cancelled job changes nothing
+//! (outputs are written last, atomically). In sync mode ([`Ui::headless`]: replays, tests) the
+//! same jobs run inline. The terminal is restored on exit, on error and on panic (a
 //! panic hook). `NO_COLOR` turns colours off. Keys: see [`draw::HELP`] (`?` in the UI).
 
 pub mod draw;
@@ -15,15 +28,13 @@ pub mod ui;
 pub use ui::{Focus, Ui};
 
 use crate::error::Error;
-use crate::session::engine::Control;
-use crate::session::{Builtin, Command, JobResult, Workbench};
+use crate::session::{Builtin, Command, Workbench};
 use crossterm::event::{self, DisableMouseCapture, EnableMouseCapture, Event, KeyEventKind};
 use crossterm::execute;
 use crossterm::terminal::{
     EnterAlternateScreen, LeaveAlternateScreen, disable_raw_mode, enable_raw_mode,
 };
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::sync::{Arc, Once};
 use std::time::{Duration, Instant};
 
@@ -81,68 +92,55 @@ pub fn run(initial: Vec<Command>) -> Result<(), Error> {
     for c in &initial {
         ui.exec(&mut wb, c);
     }
-    event_loop(&mut terminal, &mut ui, &mut wb)
+    event_loop(&mut terminal, &mut ui, &mut wb, |timeout| {
+        if event::poll(timeout).map_err(io_err)? {
+            event::read().map(Some).map_err(io_err)
+        } else {
+            Ok(None)
+        }
+    })
 }
 
-/// The worker thread of a running computation.
-struct Worker {
-    rx: Receiver<JobResult>,
-}
+/// How long [`event_loop`] waits for an event before it draws again (progress, playback).
+pub const POLL: Duration = Duration::from_millis(30);
 
-fn event_loop<B: ratatui::backend::Backend>(
+/// How long quitting waits for a cancelled job to stop.
+pub const STOP_WAIT: Duration = Duration::from_secs(2);
+
+/// The event loop over any backend and event source: `next(timeout)` gives the next event, or
+/// `None` when none came within `timeout`. Draws, handles the event, takes what the worker
+/// finished, advances playback; input is never blocked by a computation (they run on the
+/// worker). On quit the running job is cancelled and given [`STOP_WAIT`] to stop.
+pub fn event_loop<B, F>(
     terminal: &mut ratatui::Terminal<B>,
     ui: &mut Ui,
     wb: &mut Workbench,
+    mut next: F,
 ) -> Result<(), Error>
 where
-    B::Error: Into<std::io::Error>,
+    B: ratatui::backend::Backend,
+    B::Error: Into<Box<dyn std::error::Error + Send + Sync>>,
+    F: FnMut(Duration) -> Result<Option<Event>, Error>,
 {
-    let mut worker: Option<Worker> = None;
     let mut last = Instant::now();
     while !ui.quit {
-        // start what the last input asked for (a newer request cancels the running one)
-        if let Some(job) = ui.pending.take() {
-            let control = Arc::new(Control::default());
-            let (tx, rx) = mpsc::channel();
-            let c = control.clone();
-            let label = job.label();
-            std::thread::spawn(move || {
-                let _ = tx.send(job.run(&c));
-            });
-            if let Some(r) = &ui.running {
-                r.control.cancel();
-            }
-            ui.running = Some(ui::Running { label, control });
-            worker = Some(Worker { rx });
-        }
         terminal
             .draw(|f| draw::draw(ui, wb, f))
-            .map_err(|e| io_err(e.into()))?;
-        if event::poll(Duration::from_millis(30)).map_err(io_err)? {
-            match event::read().map_err(io_err)? {
-                Event::Key(k) if k.kind != KeyEventKind::Release => ui.handle_key(wb, k),
-                Event::Mouse(m) => ui.handle_mouse(wb, m),
-                // the next draw uses the new size
-                Event::Resize(_, _) => terminal.autoresize().map_err(|e| io_err(e.into()))?,
-                _ => {}
-            }
+            .map_err(|e| io_err(std::io::Error::other(e)))?;
+        match next(POLL)? {
+            Some(Event::Key(k)) if k.kind != KeyEventKind::Release => ui.handle_key(wb, k),
+            Some(Event::Mouse(m)) => ui.handle_mouse(wb, m),
+            // the next draw uses the new size
+            Some(Event::Resize(_, _)) => terminal
+                .autoresize()
+                .map_err(|e| io_err(std::io::Error::other(e)))?,
+            _ => {}
         }
-        if let Some(w) = &worker {
-            match w.rx.try_recv() {
-                Ok(done) => {
-                    ui.finish(wb, done);
-                    worker = None;
-                }
-                Err(TryRecvError::Disconnected) => {
-                    ui.running = None;
-                    worker = None;
-                }
-                Err(TryRecvError::Empty) => {}
-            }
-        }
+        ui.poll(wb);
         let now = Instant::now();
         ui.tick(wb, (now - last).as_secs_f64());
         last = now;
     }
+    ui.shutdown(STOP_WAIT);
     Ok(())
 }

@@ -1,16 +1,19 @@
 //! The interface state ([`Ui`]) and input handling: keys and mouse → [`Command`]s applied to
 //! the [`Workbench`]. Drawing is in [`super::draw`], a pure function of `(Ui, Workbench)`.
 
+use crate::session::command::Expectation;
 use crate::session::command::{COMMAND_WORDS, SET_KEYS};
 use crate::session::engine::{Control, SmoothSpec};
 use crate::session::{
-    Command, Frontend, Job, JobResult, Outcome, RunKind, SessionError, Workbench, apply_with,
-    parse_line,
+    Command, Frontend, Job, JobResult, Outcome, RunKind, SessionError, Workbench, apply_frontend,
+    apply_with, parse_line,
 };
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers, MouseButton, MouseEvent, MouseEventKind};
 use ratatui::layout::Rect;
 use std::cell::Cell;
+use std::collections::VecDeque;
 use std::sync::Arc;
+use std::sync::mpsc::{self, Receiver, TryRecvError};
 
 /// The pane that arrows and hjkl act on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -69,11 +72,35 @@ pub fn params_of(wb: &Workbench) -> &'static [&'static str] {
     }
 }
 
-/// A computation running on another thread, as the UI sees it.
-#[derive(Debug, Clone)]
+/// A computation running on the worker thread, as the UI sees it.
+#[derive(Debug)]
 pub struct Running {
+    /// What it computes, for the status line.
     pub label: String,
+    /// Its progress and cancel.
     pub control: Arc<Control>,
+    /// Inverse dynamics of the active take (a recompute): a newer request replaces it.
+    pub replaceable: bool,
+    /// Where the worker sends its result.
+    rx: Receiver<JobResult>,
+}
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        // nobody waits for the result any more: let the worker stop
+        self.control.cancel();
+    }
+}
+
+/// True for the commands after which the active take (or its motion) is another.
+fn changes_take(cmd: &Command) -> bool {
+    matches!(
+        cmd,
+        Command::Load { .. }
+            | Command::Blend { .. }
+            | Command::Trajectory { .. }
+            | Command::Scene { .. }
+    )
 }
 
 /// Everything the interface keeps besides the workbench: focus, cursors, the command line and
@@ -100,10 +127,12 @@ pub struct Ui {
     pub color: bool,
     /// Run computations inline (headless replay, tests) instead of on a worker thread.
     pub sync: bool,
-    /// A computation asked for and not yet started (threaded mode).
-    pub pending: Option<Job>,
     /// The computation running on the worker thread.
     pub running: Option<Running>,
+    /// Commands given while a job ran, applied in order once it is done.
+    pub queue: VecDeque<Command>,
+    /// A recompute (inverse dynamics of the active take) waits for the running job.
+    recompute: bool,
     /// The last error, shown in the status line until the next command.
     pub error: Option<String>,
     pub quit: bool,
@@ -133,8 +162,9 @@ impl Ui {
             pitch: 0.15,
             color: std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty()),
             sync: false,
-            pending: None,
             running: None,
+            queue: VecDeque::new(),
+            recompute: false,
             error: None,
             quit: false,
             size: (80, 24),
@@ -155,47 +185,68 @@ impl Ui {
     }
 
     /// Applies a command from a key, the command line or the initial list, reporting errors in
-    /// the status line. `run` goes to the worker (or runs inline in sync mode); a `set` or
-    /// `load` that makes the results stale starts a recompute.
+    /// the status line. Long commands go to the worker (or run inline in sync mode); a `set`
+    /// or `load` that makes the results stale starts a recompute.
     pub fn exec(&mut self, wb: &mut Workbench, cmd: &Command) {
         if let Err(e) = self.try_exec(wb, cmd) {
-            let msg = e.to_string();
-            wb.messages.push(format!("error: {msg}"));
-            self.error = Some(msg);
+            self.show_error(wb, e);
         }
+    }
+
+    fn show_error(&mut self, wb: &mut Workbench, e: SessionError) {
+        let msg = e.to_string();
+        wb.messages.push(format!("error: {msg}"));
+        self.error = Some(msg);
+    }
+
+    /// True while a job other than a recompute runs, or commands wait for one: then every
+    /// command but the view's (`frame`, `select`, `play`, `pause`, `screen`, `quit`) waits its
+    /// turn, so commands apply in the order given, as a replay applies them.
+    pub fn busy(&self) -> bool {
+        self.running.as_ref().is_some_and(|r| !r.replaceable) || !self.queue.is_empty()
     }
 
     /// [`exec`](Self::exec), returning the error instead of showing it.
     pub fn try_exec(&mut self, wb: &mut Workbench, cmd: &Command) -> Result<Outcome, SessionError> {
         self.error = None;
+        let view = matches!(
+            cmd,
+            Command::Frame(_)
+                | Command::Play
+                | Command::Pause
+                | Command::Select(_)
+                | Command::Quit
+                | Command::Screen { .. }
+                | Command::Expect(Expectation::ScreenContains(_))
+        );
+        if !self.sync && !view && self.busy() {
+            self.queue.push_back(cmd.clone());
+            return Ok(Outcome::default());
+        }
         let outcome = match cmd {
-            Command::Run(_) => {
-                if let Some(job) = wb.prepare(cmd)? {
-                    self.start(wb, job)?;
-                }
-                Outcome::default()
-            }
             Command::Quit => {
                 self.quit = true;
                 Outcome::default()
             }
-            _ => {
-                let o = apply_with(wb, self, cmd)?;
-                if o.quit {
-                    self.quit = true;
+            // threaded: long commands go to the worker; the screen is the one shown now
+            _ if !self.sync => match wb.prepare(cmd)? {
+                Some(job) => {
+                    if changes_take(cmd) {
+                        self.recompute = true;
+                    }
+                    self.submit(cmd, job)?;
+                    Outcome::default()
                 }
-                o
-            }
+                None => apply_frontend(wb, self, cmd, false)?,
+            },
+            _ => apply_with(wb, self, cmd)?,
         };
+        if outcome.quit {
+            self.quit = true;
+        }
         // keep results in step with the parameters and the take
-        if matches!(
-            cmd,
-            Command::Set { .. }
-                | Command::Load { .. }
-                | Command::Blend { .. }
-                | Command::Trajectory { .. }
-                | Command::Scene { .. }
-        ) && wb.frames() > 0
+        if (changes_take(cmd) || matches!(cmd, Command::Set { .. }))
+            && wb.frames() > 0
             && wb.fresh_results().is_none()
         {
             self.try_exec(wb, &Command::Run(RunKind::Id))?;
@@ -203,26 +254,121 @@ impl Ui {
         Ok(outcome)
     }
 
-    fn start(&mut self, wb: &mut Workbench, job: Job) -> Result<(), SessionError> {
-        if self.sync {
-            let done = job.run(&Control::default());
-            wb.finish(done)?;
-        } else {
-            if let Some(r) = &self.running {
+    /// Starts `job` (for `cmd`) on a worker thread. A running recompute is cancelled (a new
+    /// one replaces it; another job computes the results it needs, and the recompute follows
+    /// if they are still stale); a recompute asked for while another job runs follows it.
+    fn submit(&mut self, cmd: &Command, job: Job) -> Result<(), SessionError> {
+        if let Some(r) = &self.running {
+            if r.replaceable {
                 r.control.cancel();
+                if !job.is_inverse_dynamics() {
+                    self.recompute = true;
+                }
+            } else if job.is_inverse_dynamics() {
+                self.recompute = true;
+                return Ok(());
+            } else {
+                self.queue.push_back(cmd.clone());
+                return Ok(());
             }
-            self.pending = Some(job);
         }
+        let control = Arc::new(Control::default());
+        let (tx, rx) = mpsc::channel();
+        let c = control.clone();
+        let label = job.label().to_string();
+        let replaceable = job.is_inverse_dynamics();
+        std::thread::Builder::new()
+            .name("articula-worker".into())
+            .spawn(move || {
+                // the receiver is gone when the job was replaced or the UI quit
+                let _ = tx.send(job.run(&c));
+            })
+            .map_err(|e| SessionError::Engine(crate::error::Error::io("worker thread", e)))?;
+        self.running = Some(Running {
+            label,
+            control,
+            replaceable,
+            rx,
+        });
         Ok(())
     }
 
-    /// Takes what the worker computed.
+    /// Takes what the worker finished, if it did, then applies the commands that waited for
+    /// it and the recompute that followed it. Returns true when a job finished.
+    pub fn poll(&mut self, wb: &mut Workbench) -> bool {
+        let Some(r) = &self.running else {
+            return false;
+        };
+        let done = match r.rx.try_recv() {
+            Ok(done) => done,
+            Err(TryRecvError::Empty) => return false,
+            Err(TryRecvError::Disconnected) => {
+                // the job panicked: nothing was stored
+                let label = r.label.clone();
+                self.running = None;
+                self.show_error(wb, SessionError::Command(format!("{label} failed")));
+                self.next(wb);
+                return true;
+            }
+        };
+        self.finish(wb, done);
+        true
+    }
+
+    /// Takes what the worker computed, then starts what waits.
     pub fn finish(&mut self, wb: &mut Workbench, done: JobResult) {
         self.running = None;
-        if let Err(e) = wb.finish(done) {
-            let msg = e.to_string();
-            wb.messages.push(format!("error: {msg}"));
-            self.error = Some(msg);
+        if done.is_cancelled() {
+            wb.messages.push(format!("cancelled {}", done.label()));
+        } else if let Err(e) = wb.finish(done) {
+            self.show_error(wb, e);
+        }
+        self.next(wb);
+    }
+
+    /// Applies the queued commands until one starts a job, then the recompute that waits.
+    fn next(&mut self, wb: &mut Workbench) {
+        // taken out of the queue, so that they apply now instead of waiting again
+        let mut waiting = std::mem::take(&mut self.queue);
+        while self.running.as_ref().is_none_or(|r| r.replaceable) {
+            let Some(cmd) = waiting.pop_front() else {
+                break;
+            };
+            // an error is shown and the next command still runs, as if typed one by one
+            self.exec(wb, &cmd);
+        }
+        waiting.append(&mut self.queue);
+        self.queue = waiting;
+        if self.running.is_none()
+            && std::mem::take(&mut self.recompute)
+            && wb.frames() > 0
+            && wb.fresh_results().is_none()
+        {
+            self.exec(wb, &Command::Run(RunKind::Id));
+        }
+    }
+
+    /// Cancels the running job and drops the commands that wait for it (Esc).
+    pub fn cancel(&mut self, wb: &mut Workbench) {
+        self.recompute = false;
+        let dropped = std::mem::take(&mut self.queue).len();
+        if let Some(r) = &self.running {
+            r.control.cancel();
+            let mut msg = format!("cancelling {}", r.label);
+            if dropped > 0 {
+                msg.push_str(&format!("; dropped {dropped} waiting command(s)"));
+            }
+            wb.messages.push(msg);
+        }
+    }
+
+    /// Cancels the running job and waits up to `wait` for it to stop (quit): the loops check
+    /// for cancel every few dozen frames, so this is quick unless the job is parsing a file.
+    pub fn shutdown(&mut self, wait: std::time::Duration) {
+        self.queue.clear();
+        if let Some(r) = self.running.take() {
+            r.control.cancel();
+            let _ = r.rx.recv_timeout(wait);
         }
     }
 
@@ -268,8 +414,8 @@ impl Ui {
     /// Handles one key.
     pub fn handle_key(&mut self, wb: &mut Workbench, key: KeyEvent) {
         if key.modifiers.contains(KeyModifiers::CONTROL) && key.code == KeyCode::Char('c') {
-            if let Some(r) = &self.running {
-                r.control.cancel();
+            if self.running.is_some() {
+                self.cancel(wb);
             } else {
                 self.quit = true;
             }
@@ -301,10 +447,7 @@ impl Ui {
                 self.completions.clear();
             }
             KeyCode::Esc => {
-                if let Some(r) = &self.running {
-                    r.control.cancel();
-                    wb.messages.push(format!("cancelling {}", r.label));
-                }
+                self.cancel(wb);
                 self.error = None;
             }
             KeyCode::Tab => self.focus = self.focus.next(false),
