@@ -154,6 +154,28 @@ pub fn estimate_ground_reactions_with_feet(
     up: usize,
     params: &ContactParams,
 ) -> Result<GroundReactions, Error> {
+    estimate_ground_reactions_progress(model, feet, time, q, v, a, up, params, &mut |_| true)
+}
+
+/// Frames between two calls of the progress callback of [`estimate_ground_reactions_progress`].
+pub const PROGRESS_EVERY: usize = 64;
+
+/// [`estimate_ground_reactions_with_feet`] that reports its progress (0‥1) to `keep_going`
+/// every [`PROGRESS_EVERY`] frames of its two passes over the take and stops with
+/// [`Error::Cancelled`] when it returns false (the callback is called by reference; nothing is
+/// allocated for it).
+#[allow(clippy::too_many_arguments)]
+pub fn estimate_ground_reactions_progress(
+    model: &Model,
+    feet: &[Foot],
+    time: &[f64],
+    q: &[Vec<f64>],
+    v: &[Vec<f64>],
+    a: &[Vec<f64>],
+    up: usize,
+    params: &ContactParams,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<GroundReactions, Error> {
     let n = time.len();
     check_inputs(model, time, q, v, a, up)?;
     let root = floating_root(model).ok_or_else(|| {
@@ -186,6 +208,9 @@ pub fn estimate_ground_reactions_with_feet(
     // the whole-body wrench each frame needs (world axes, about the world origin)
     let mut needed = Vec::with_capacity(n);
     for k in 0..n {
+        if k % PROGRESS_EVERY == 0 && !keep_going(0.5 * k as f64 / n as f64) {
+            return Err(Error::Cancelled);
+        }
         forward_kinematics(model, &mut ws, &q[k]);
         rnea(model, &mut ws, &q[k], &v[k], &a[k], None);
         needed.push(root_wrench(model, &ws));
@@ -213,6 +238,9 @@ pub fn estimate_ground_reactions_with_feet(
     let mut support = vec![Support::default(); nf];
     let e_up = Vector3::ith(up, 1.0);
     for k in 0..n {
+        if k % PROGRESS_EVERY == 0 && !keep_going(0.5 + 0.5 * k as f64 / n as f64) {
+            return Err(Error::Cancelled);
+        }
         // whole-body wrench the motion needs (world axes, about the world origin)
         forward_kinematics(model, &mut ws, &q[k]);
         let w = needed[k];

@@ -367,7 +367,19 @@ pub fn read_take(path: &Path, keep_first_frame: bool) -> Result<(Bvh, Option<Str
 }
 
 /// Stages 2–7 on an already parsed take.
-pub fn take_from_bvh(path: &Path, mut bvh: Bvh, opts: &TakeOptions) -> Result<Take, Error> {
+pub fn take_from_bvh(path: &Path, bvh: Bvh, opts: &TakeOptions) -> Result<Take, Error> {
+    take_from_bvh_with(path, bvh, opts, &mut |_| true)
+}
+
+/// [`take_from_bvh`] that reports its progress (0‥1) to `keep_going` (the smoothing once per
+/// coordinate group, [`unwrap_and_smooth_with`]) and stops with [`Error::Cancelled`] when it
+/// returns false.
+pub fn take_from_bvh_with(
+    path: &Path,
+    mut bvh: Bvh,
+    opts: &TakeOptions,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<Take, Error> {
     // axes and unit
     let up = opts.up.unwrap_or_else(|| bvh::detect_up(&bvh));
     let (unit, scale_to_m) = match (opts.stature_m, opts.unit) {
@@ -424,7 +436,12 @@ pub fn take_from_bvh(path: &Path, mut bvh: Bvh, opts: &TakeOptions) -> Result<Ta
     apply_damping(&mut model, &opts.damping).map_err(|e| at_file(path, e))?;
 
     // q, smooth, v, a
-    let states = take_states(&bvh, &model, &map, &opts.smooth)?;
+    if !keep_going(0.1) {
+        return Err(Error::Cancelled);
+    }
+    let states = take_states_with(&bvh, &model, &map, &opts.smooth, &mut |f| {
+        keep_going(0.1 + 0.9 * f)
+    })?;
     Ok(Take {
         path: path.to_path_buf(),
         bvh,
@@ -455,11 +472,26 @@ pub fn take_states(
     map: &BvhMap,
     smooth: &SmoothSpec,
 ) -> Result<States, Error> {
+    take_states_with(bvh, model, map, smooth, &mut |_| true)
+}
+
+/// [`take_states`] with progress and cancel ([`unwrap_and_smooth_with`]; the derivatives are
+/// the last tenth).
+pub fn take_states_with(
+    bvh: &Bvh,
+    model: &Model,
+    map: &BvhMap,
+    smooth: &SmoothSpec,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<States, Error> {
     let traj = crate::motion::take::Trajectory::from_bvh(bvh, model, map);
     let dt = bvh.frame_time;
     let mut q = traj.q;
     make_euler_triples_continuous(bvh, map, &mut q);
-    unwrap_and_smooth(model, &mut q, dt, smooth)?;
+    unwrap_and_smooth_with(model, &mut q, dt, smooth, &mut |f| keep_going(0.9 * f))?;
+    if !keep_going(0.9) {
+        return Err(Error::Cancelled);
+    }
     let (v, a) = derivatives(model, &q, dt);
     Ok(States {
         time: traj.time,
@@ -505,11 +537,28 @@ pub fn unwrap_and_smooth(
     dt: f64,
     smooth: &SmoothSpec,
 ) -> Result<(), Error> {
+    unwrap_and_smooth_with(model, q, dt, smooth, &mut |_| true)
+}
+
+/// [`unwrap_and_smooth`] that reports its progress (0‥1) to `keep_going` before each joint's
+/// coordinates and stops with [`Error::Cancelled`] when it returns false (`q` is then partly
+/// smoothed: the caller drops it).
+pub fn unwrap_and_smooth_with(
+    model: &Model,
+    q: &mut [Vec<f64>],
+    dt: f64,
+    smooth: &SmoothSpec,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<(), Error> {
     if q.is_empty() {
         return Ok(());
     }
     let mut smoother = Smoother::new(*smooth, dt)?;
-    for i in 1..model.nbodies() {
+    let nb = model.nbodies();
+    for i in 1..nb {
+        if !keep_going((i - 1) as f64 / (nb - 1) as f64) {
+            return Err(Error::Cancelled);
+        }
         let iq = model.idx_q[i];
         match model.joints[i] {
             JointKind::Revolute { .. } | JointKind::Prismatic { .. } => {
@@ -839,10 +888,19 @@ pub fn inverse_dynamics_with(
 pub fn ground_reactions(
     take: &Take,
 ) -> Result<Option<crate::dynamics::grf::GroundReactions>, Error> {
+    ground_reactions_with(take, &mut |_| true)
+}
+
+/// [`ground_reactions`] that reports its progress (0‥1) to `keep_going` every
+/// [`PROGRESS_EVERY`] frames and stops with [`Error::Cancelled`] when it returns false.
+pub fn ground_reactions_with(
+    take: &Take,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<Option<crate::dynamics::grf::GroundReactions>, Error> {
     if take.options.contact == Contact::None {
         return Ok(None);
     }
-    estimate_take_ground_reactions(take).map(Some)
+    estimate_take_ground_reactions_with(take, keep_going).map(Some)
 }
 
 /// Ground reactions of a take whatever its `contact` option: the feet found through the BVH
@@ -852,12 +910,21 @@ pub fn ground_reactions(
 pub fn estimate_take_ground_reactions(
     take: &Take,
 ) -> Result<crate::dynamics::grf::GroundReactions, Error> {
+    estimate_take_ground_reactions_with(take, &mut |_| true)
+}
+
+/// [`estimate_take_ground_reactions`] with progress and cancel
+/// ([`estimate_ground_reactions_progress`](crate::dynamics::grf::estimate_ground_reactions_progress)).
+pub fn estimate_take_ground_reactions_with(
+    take: &Take,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<crate::dynamics::grf::GroundReactions, Error> {
     use crate::motion::contact::{ContactParams, feet_of_bvh};
     let s = &take.states;
     let params = ContactParams::for_take(&take.options.smooth, take.bvh.frame_time)
         .map_err(|e| at_file(&take.path, e))?;
     let feet = feet_of_bvh(&take.bvh, &take.map, &take.model);
-    crate::dynamics::grf::estimate_ground_reactions_with_feet(
+    crate::dynamics::grf::estimate_ground_reactions_progress(
         &take.model,
         &feet,
         &s.time,
@@ -866,6 +933,7 @@ pub fn estimate_take_ground_reactions(
         &s.a,
         take.up.index(),
         &params,
+        keep_going,
     )
     .map_err(|e| at_file(&take.path, e))
 }

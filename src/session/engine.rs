@@ -461,16 +461,20 @@ impl Engine for Builtin {
         let (model, states, scale, grf) = match &take.data {
             TakeData::Bvh(bvh) => {
                 // the pipeline's stages: axes and unit, model, q, unwrap, smooth, differentiate
-                let t = pipeline::take_from_bvh(
+                // (progress: the smoothing per coordinate, then the ground reactions or RNEA
+                // per frame)
+                let t = pipeline::take_from_bvh_with(
                     Path::new(&take.source),
                     (**bvh).clone(),
                     &params.take,
+                    &mut ctl.stage(0.0, 0.2),
                 )?;
                 ctl.set_progress(0.2);
                 ctl.check()?;
                 let scale = t.scale_to_m;
                 // with `contact feet`: the torques with the estimated ground reactions
-                let grf = pipeline::ground_reactions(&t)?.map(|g| g.tau);
+                let grf =
+                    pipeline::ground_reactions_with(&t, &mut ctl.stage(0.2, 1.0))?.map(|g| g.tau);
                 ctl.check()?;
                 (Arc::new(t.model), Arc::new(t.states), scale, grf)
             }
@@ -508,10 +512,11 @@ impl Engine for Builtin {
         ctl.check()?;
         let (model, states, scale) = match &take.data {
             TakeData::Bvh(bvh) => {
-                let t = pipeline::take_from_bvh(
+                let t = pipeline::take_from_bvh_with(
                     Path::new(&take.source),
                     (**bvh).clone(),
                     &params.take,
+                    &mut ctl.stage(0.0, 0.05),
                 )?;
                 (Arc::new(t.model), Arc::new(t.states), t.scale_to_m)
             }
@@ -604,7 +609,12 @@ impl Engine for Builtin {
             ))
         })?;
         // the pipeline's take under the current options: its q are what the user sees
-        let mut t = pipeline::take_from_bvh(Path::new(&take.source), bvh.clone(), &params.take)?;
+        let mut t = pipeline::take_from_bvh_with(
+            Path::new(&take.source),
+            bvh.clone(),
+            &params.take,
+            &mut ctl.stage(0.0, 0.9),
+        )?;
         if let Some(m) = motion {
             if m.q.rows() != t.states.len() || m.q.names != t.model.q_names {
                 return Err(Error::Invalid(format!(
