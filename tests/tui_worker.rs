@@ -399,3 +399,76 @@ fn commands_given_during_a_job_apply_in_order_when_it_ends() {
     let r = wb.fresh_results().unwrap();
     assert!((r.model.total_mass() - 90.0).abs() < 1e-9);
 }
+
+/// xorshift64*: a tiny deterministic generator.
+struct Rng(u64);
+impl Rng {
+    fn below(&mut self, n: usize) -> usize {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) % n as u64) as usize
+    }
+}
+
+/// Random keys against the threaded UI (jobs start, wait, get replaced and cancelled while
+/// keys keep coming): no panic on the UI thread or in a worker, and the workbench stays
+/// consistent after every event. The interleaving varies from run to run; the invariants do
+/// not depend on it.
+#[test]
+fn random_keys_with_jobs_on_the_worker_never_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut wb = Workbench::new(Arc::new(Builtin), dir.path(), dir.path());
+    let mut ui = Ui::new();
+    ui.exec(&mut wb, &parse_line("load demo:walk", 1).unwrap().unwrap());
+    wait_for(&mut ui, &mut wb, "results", |ui, wb| {
+        ui.running.is_none() && wb.fresh_results().is_some()
+    });
+    // whole commands now and then, so that long jobs really start
+    const LINES: [&str; 8] = [
+        ":set body.mass 70<Enter>",
+        ":compare weights 60,90 joint LeftLeg c.csv<Enter>",
+        ":export svg s.svg<Enter>",
+        ":set smooth gaussian:0.02<Enter>",
+        ":run sim<Enter>",
+        ":load demo:walk as w2<Enter>",
+        ":expect peak LeftLeg.Xrotation torque between 0 1e9<Enter>",
+        ":report motor m.csv<Enter>",
+    ];
+    const KEYS: &str = "qhjkl[]{}gG<>r?+-= x";
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let mut term = Terminal::new(TestBackend::new(80, 24)).unwrap();
+    for i in 0..1500 {
+        match rng.below(40) {
+            0 => press(&mut ui, &mut wb, LINES[rng.below(LINES.len())]),
+            1 => press(&mut ui, &mut wb, "<Esc>"),
+            2 => press(&mut ui, &mut wb, "<Tab>"),
+            _ => {
+                let c = KEYS.chars().nth(rng.below(KEYS.len())).unwrap();
+                ui.handle_key(&mut wb, KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE));
+            }
+        }
+        ui.quit = false;
+        ui.poll(&mut wb);
+        term.draw(|f| draw::draw(&ui, &wb, f)).unwrap();
+        assert!(
+            wb.frame < wb.frames().max(1),
+            "event {i}: frame {}",
+            wb.frame
+        );
+        if let (Some(sel), Some(r)) = (&wb.selection, wb.fresh_results()) {
+            assert!(r.model.v_index(sel).is_some(), "event {i}: selection {sel}");
+        }
+    }
+    // let everything started finish (or cancel it), then nothing panicked anywhere
+    press(&mut ui, &mut wb, "<Esc>");
+    wait_for(&mut ui, &mut wb, "the last job", idle);
+    assert!(
+        !wb.messages.iter().any(|m| m.contains("worker panicked")),
+        "{:?}",
+        wb.messages
+            .iter()
+            .filter(|m| m.contains("panicked"))
+            .collect::<Vec<_>>()
+    );
+}

@@ -501,7 +501,7 @@ avatar        ←/→ yaw, ↑/↓ pitch (also < and > anywhere), r resets the v
 parameters    ↑/↓ choose, ←/→ or -/+ change (results recompute), Enter edits as :set
 timeline      ←/→ one frame, ↑/↓ ten frames, click to jump
 anywhere      Space play/pause, [ ] one frame, { } ten frames, g/G first/last frame
-Esc           cancel a running computation, clear an error
+Esc           cancel the running job (⟳ in the status line) and what waits for it; clear an error
 Commands are the session language: load, set, run, select, frame, export, expect, ...";
 
 fn draw_help(ui: &Ui, f: &mut Frame, area: Rect) {

@@ -306,7 +306,12 @@ impl Ui {
                 // the job panicked: nothing was stored
                 let label = r.label.clone();
                 self.running = None;
-                self.show_error(wb, SessionError::Command(format!("{label} failed")));
+                self.show_error(
+                    wb,
+                    SessionError::Command(format!(
+                        "{label} stopped unexpectedly (the worker panicked); nothing was changed"
+                    )),
+                );
                 self.next(wb);
                 return true;
             }
