@@ -114,6 +114,9 @@ pub enum Cmd {
         opts: TakeArgs,
         #[arg(long)]
         json: bool,
+        /// Batches of at least 2 ms each; the median is reported.
+        #[arg(long, default_value_t = 7)]
+        batches: usize,
     },
     /// Measure the speed/accuracy trade of integrators, steps and joint models.
     Tradeoff {
@@ -450,9 +453,14 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 print!("{}", summary.text());
             }
         }
-        Cmd::Bench { src, opts, json } => {
+        Cmd::Bench {
+            src,
+            opts,
+            json,
+            batches,
+        } => {
             let model = pipeline::load_model(&src.source()?, &opts.options()?)?;
-            let r = pipeline::bench(&model)?;
+            let r = pipeline::bench_batches(&model, batches)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&r.json())?);
             } else {

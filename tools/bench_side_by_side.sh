@@ -13,7 +13,7 @@
 # tests/dynamics_take_urdf.rs proves the two agree to 1e-10), as tools/take_urdf_fixtures.sh.
 # Both sides: 16 random states (revolute angles uniform in [-pi, pi), prismatic in [-0.5, 0.5),
 # v and a uniform in [-1, 1), tau = 0 for aba), batches of at least 2 ms, median of BATCHES
-# (default 7) batches. Set PIN_VENV for another Pinocchio venv.
+# (default 7; more ride out a busy machine) batches. Set PIN_VENV for another Pinocchio venv.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 REAL="${1:-../shared/data/bvh}"
@@ -24,7 +24,7 @@ TMP="$(mktemp -d)"; trap 'rm -rf "$TMP"' EXIT
 run() {  # name, articula args, pinocchio urdf, pinocchio args
     local name="$1" a="$2" urdf="$3" p="$4"
     # shellcheck disable=SC2086
-    target/release/articula bench $a --json > "$TMP/$name.articula.json"
+    target/release/articula bench $a --json --batches "$BATCHES" > "$TMP/$name.articula.json"
     # shellcheck disable=SC2086
     tools/pinocchio_cpp_bench/run.sh "$urdf" $p --batches "$BATCHES" > "$TMP/$name.pinocchio.json" 2>/dev/null
     echo "$name" >> "$TMP/order"

@@ -19,8 +19,8 @@ mod sim;
 
 pub use edit::{blend_files, export_smoothed_bvh};
 pub use sim::{
-    Bench, SimSettings, SimSummary, Tradeoff, TradeoffRow, bench, passive_energy_drift, reference,
-    simulate, simulate_states, tradeoff, tradeoff_grid,
+    Bench, SimSettings, SimSummary, Tradeoff, TradeoffRow, bench, bench_batches,
+    passive_energy_drift, reference, simulate, simulate_states, tradeoff, tradeoff_grid,
 };
 
 use crate::dynamics::{self, Workspace};

@@ -192,10 +192,16 @@ impl Bench {
     }
 }
 
-/// `articula bench`.
+/// `articula bench`: the median of 7 batches.
 pub fn bench(model: &Model) -> Result<Bench, Error> {
+    bench_batches(model, 7)
+}
+
+/// `articula bench --batches N`: the median of `batches` batches (more batches ride out a busy
+/// machine better).
+pub fn bench_batches(model: &Model, batches: usize) -> Result<Bench, Error> {
     Ok(Bench {
-        result: dynamics::bench::time_algorithms(model, 7)?,
+        result: dynamics::bench::time_algorithms(model, batches)?,
         model: model.name.clone(),
     })
 }
