@@ -157,6 +157,10 @@ pub enum Cmd {
         /// Up axis of the takes (x, y, z); default: detected from the first take.
         #[arg(long)]
         up: Option<String>,
+        /// Keep frame 0 of each take even when it is a rest pose before the motion (dropped by
+        /// default, as every other command does).
+        #[arg(long)]
+        keep_first_frame: bool,
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -492,10 +496,23 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             offset,
             time_scale,
             up,
+            keep_first_frame,
             output,
         } => {
             let up = up.map(|u| u.parse()).transpose()?;
-            pipeline::blend_files(&takes, &window, &align, offset, time_scale, up, &output)?;
+            let notes = pipeline::blend_files(
+                &takes,
+                &window,
+                &align,
+                offset,
+                time_scale,
+                up,
+                keep_first_frame,
+                &output,
+            )?;
+            for n in notes {
+                eprintln!("{n}");
+            }
             eprintln!("wrote {}", output.display());
         }
         Cmd::Run { session, out } => {

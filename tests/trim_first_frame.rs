@@ -149,3 +149,57 @@ fn the_cmu_takes_lose_their_rest_frame_and_the_others_keep_frame_zero() {
     );
     assert!(kept > 3.0 && dropped < 1.5, "{kept} {dropped}");
 }
+
+/// `articula blend` reads its takes as every other command does: a rest frame 0 is dropped,
+/// so the blend starts with the motion (root height 90, not the rest pose's 120), and
+/// `--keep-first-frame` keeps it.
+#[test]
+fn blend_drops_a_rest_frame_unless_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let with = write_take(dir.path(), "rest.bvh", true);
+    let plain = write_take(dir.path(), "plain.bvh", false);
+    let blend = |extra: &[&str], out: &str| {
+        let out = dir.path().join(out);
+        let o = Command::cargo_bin("articula")
+            .unwrap()
+            .arg("blend")
+            .arg(&with)
+            .arg(&plain)
+            .args(["--window", "0.4:0.6", "--align", "none"])
+            .args(extra)
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{o:?}");
+        let stderr = String::from_utf8(o.stderr).unwrap();
+        (articula::io::bvh::read(&out).unwrap(), stderr)
+    };
+    let (dropped, said) = blend(&[], "dropped.bvh");
+    // frame 0: Xposition Yposition … of the first take's motion
+    assert_eq!(dropped.motion[1], 90.0, "{:?}", &dropped.motion[..6]);
+    assert!(said.contains("frame 0 was dropped"), "{said}");
+    let (kept, said) = blend(&["--keep-first-frame"], "kept.bvh");
+    assert_eq!(kept.motion[1], 120.0, "{:?}", &kept.motion[..6]);
+    assert!(!said.contains("dropped"), "{said}");
+}
+
+/// Sessions read takes the same way, and `set keep_first_frame true|false` chooses, for the
+/// takes loaded after it.
+#[test]
+fn a_session_keeps_the_rest_frame_on_request() {
+    let dir = tempfile::tempdir().unwrap();
+    write_take(dir.path(), "rest.bvh", true);
+    let session = dir.path().join("keep.session");
+    std::fs::write(
+        &session,
+        "load rest.bvh as a\nexpect frames 60\nset keep_first_frame true\nload rest.bvh as b\n\
+         expect frames 61\nset keep_first_frame false\nload rest.bvh as c\nexpect frames 60\n",
+    )
+    .unwrap();
+    articula::session::run_session(&session, dir.path()).unwrap();
+    // and a wrong value is an error naming the key
+    std::fs::write(&session, "set keep_first_frame yes\n").unwrap();
+    let e = articula::session::run_session(&session, dir.path()).unwrap_err();
+    assert!(e.to_string().contains("keep_first_frame"), "{e}");
+}

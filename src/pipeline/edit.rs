@@ -22,7 +22,11 @@ pub fn export_smoothed_bvh(take: &Take, path: &Path) -> Result<(), Error> {
 }
 
 /// `articula blend`: takes[0] into takes[1] (into takes[2] …) through one window per
-/// transition, written as BVH.
+/// transition, written as BVH. Each take is read as every other job reads it
+/// ([`super::read_take`]: a rest pose stored as frame 0 is dropped unless
+/// `keep_first_frame`), so the windows are on the clock of the motion; returns what the reader
+/// changed (one note per take it trimmed), for the user.
+#[allow(clippy::too_many_arguments)]
 pub fn blend_files(
     takes: &[PathBuf],
     windows: &[String],
@@ -30,8 +34,9 @@ pub fn blend_files(
     offset_s: f64,
     time_scale: f64,
     up: Option<UpAxis>,
+    keep_first_frame: bool,
     path: &Path,
-) -> Result<(), Error> {
+) -> Result<Vec<String>, Error> {
     use crate::motion::blend::{Align, BlendOptions, TimeMap, WarpWindow, blend_chain};
     if takes.len() < 2 {
         return Err(Error::Invalid("blend needs two takes or more".into()));
@@ -44,10 +49,13 @@ pub fn blend_files(
             windows.len()
         )));
     }
-    let bvhs = takes
-        .iter()
-        .map(|p| bvh::read(p))
-        .collect::<Result<Vec<_>, _>>()?;
+    let mut bvhs = Vec::with_capacity(takes.len());
+    let mut notes = vec![];
+    for p in takes {
+        let (b, note) = super::read_take(p, keep_first_frame)?;
+        bvhs.push(b);
+        notes.extend(note.map(|n| format!("{}: {n}", p.display())));
+    }
     let windows = windows
         .iter()
         .map(|w| parse_flag::<WarpWindow>("window", w))
@@ -72,5 +80,6 @@ pub fn blend_files(
     let refs: Vec<&Bvh> = bvhs.iter().collect();
     let maps = vec![map; takes.len() - 1];
     let out = blend_chain(&refs, &windows, &maps, &opts)?;
-    bvh::write(&out, path)
+    bvh::write(&out, path)?;
+    Ok(notes)
 }

@@ -173,6 +173,7 @@ pub const SET_KEYS: &[&str] = &[
     "joints",
     "smooth",
     "contact",
+    "keep_first_frame",
     "kp",
     "kv",
     "integrator",

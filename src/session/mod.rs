@@ -37,7 +37,9 @@
 //! `body.mass KG`, `body.sex male|female`, `unit auto|m|dm|cm|mm|in|cmu|METRES`,
 //! `stature auto|M`, `up auto|x|y|z`, `positions auto|add|replace`, `subtree none|JOINT`,
 //! `joints euler|ball`, `smooth none|gaussian:W|butterworth:F[hz][:ORDER]` (W in s, F in Hz),
-//! `contact none|feet`, `link.<joint>.mass KG`, `lock J1,J2,…` (or `none`); of the simulation:
+//! `contact none|feet`, `link.<joint>.mass KG`, `lock J1,J2,…` (or `none`),
+//! `keep_first_frame true|false` (keep a rest pose stored as frame 0, `--keep-first-frame`; it
+//! acts when a take is read, so it applies to the takes loaded after it); of the simulation:
 //! `kp X`, `kv X`, `integrator euler|semi-implicit|rk4|dopri5`, `dt S`; `blend.window S`.
 //! A robot's masses are those of its DH table or URDF.
 //!

@@ -1159,6 +1159,7 @@ impl Workbench {
             "joints" => p.take.joints = parsed(key, value)?,
             "smooth" => p.take.smooth = parsed::<SmoothSpec>(key, value)?,
             "contact" => p.take.contact = parsed(key, value)?,
+            "keep_first_frame" => p.take.keep_first_frame = parsed::<bool>(key, value)?,
             "kp" => p.kp = num("a gain in 1/s²")?,
             "kv" => p.kv = num("a gain in 1/s")?,
             "integrator" => {
