@@ -215,7 +215,10 @@ fn check_walk(name: &str) {
              over {} steps (per step: {:?}); at {:.0} % of stance, {} of them in double \
              support; knee flexed {at:.0}° at the peak, stance flexion peak {flex:.0}°",
             steps.len(),
-            steps.iter().map(|s| format!("{:.2}", s.0)).collect::<Vec<_>>(),
+            steps
+                .iter()
+                .map(|s| format!("{:.2}", s.0))
+                .collect::<Vec<_>>(),
             100.0 * when,
             steps.iter().filter(|s| s.4).count(),
         );
@@ -223,7 +226,11 @@ fn check_walk(name: &str) {
         // gait (Winter 2009; Kadaba et al. 1989 report it as the external flexion moment)
         assert!(!steps.is_empty(), "{name} {f}: no whole step");
         for s in &steps {
-            assert!(s.0 > 0.0, "{name} {f}: loading-response moment {} N·m/kg", s.0);
+            assert!(
+                s.0 > 0.0,
+                "{name} {f}: loading-response moment {} N·m/kg",
+                s.0
+            );
         }
         assert!((0.3..2.0).contains(&m), "{name} {f}: {m} N·m/kg");
         assert!(with > 5.0 * without, "{name} {f}: {with} vs {without}");
@@ -397,7 +404,10 @@ fn loading_response_peaks(
 ) -> Vec<(f64, f64, f64, f64, bool)> {
     let k_flex = knee_flexion(take, joint);
     let q: Vec<f64> = take.states.q.iter().map(|q| q[k_flex]).collect();
-    let extreme = q.iter().copied().fold(0.0, |m: f64, x| if x.abs() > m.abs() { x } else { m });
+    let extreme = q
+        .iter()
+        .copied()
+        .fold(0.0, |m: f64, x| if x.abs() > m.abs() { x } else { m });
     let flexion = extreme.signum();
     let n = q.len();
     let mass = take.model.total_mass();
@@ -415,7 +425,9 @@ fn loading_response_peaks(
             let half = start..start + (k - start).div_ceil(2);
             let peak = half
                 .clone()
-                .max_by(|&a, &b| (-flexion * gr.tau[a][k_flex]).total_cmp(&(-flexion * gr.tau[b][k_flex])))
+                .max_by(|&a, &b| {
+                    (-flexion * gr.tau[a][k_flex]).total_cmp(&(-flexion * gr.tau[b][k_flex]))
+                })
                 .unwrap();
             let most_flexed = half.map(|i| flexion * q[i]).fold(f64::MIN, f64::max);
             steps.push((
