@@ -191,22 +191,28 @@ fn a_running_comparison_shows_progress_keeps_keys_and_esc_leaves_the_workbench_u
         let s = screen(&ui, &wb, w, h);
         assert_eq!(s.lines().count(), h as usize);
     }
-    // a parameter change waits for the job (commands apply in order, as in a replay)
-    press(&mut ui, &mut wb, ":set body.mass 90<Enter>");
+    // another long command waits for the job, and so does a `set` typed after it (commands
+    // apply in order, as in a replay)
+    press(
+        &mut ui,
+        &mut wb,
+        ":export csv all.csv<Enter>:set body.mass 90<Enter>",
+    );
     assert_eq!(wb.params.take.body.mass_kg, 75.0);
     assert!(
-        screen(&ui, &wb, 100, 30).contains("(Esc cancels, 1 command(s) wait)"),
+        screen(&ui, &wb, 100, 30).contains("(Esc cancels, 2 command(s) wait)"),
         "{}",
         screen(&ui, &wb, 100, 30)
     );
     assert!(ui.running.is_some(), "held at the gate until cancelled");
 
-    // Esc: the job stops at its next check, nothing is written, the waiting set is dropped
+    // Esc: the job stops at its next check, nothing is written, what waited is dropped
     press(&mut ui, &mut wb, "<Esc>");
     assert!(ctl.is_cancelled());
     wait_for(&mut ui, &mut wb, "the end of the job", idle);
     assert_eq!(gate.stopped.load(Ordering::SeqCst), 1);
     assert!(!dir.path().join("knee.svg").exists());
+    assert!(!dir.path().join("all.csv").exists());
     assert!(
         wb.messages
             .iter()
@@ -235,6 +241,49 @@ fn a_running_comparison_shows_progress_keeps_keys_and_esc_leaves_the_workbench_u
         wb.last_message()
             .starts_with("compared LeftLeg.Xrotation torque")
     );
+}
+
+/// A parameter changed while a job runs applies at once (the panel shows it; the job computes
+/// from its own snapshot) and the recompute it needs follows the job.
+#[test]
+fn a_parameter_changed_during_a_job_applies_at_once_and_its_recompute_follows() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut ui, mut wb, gate) = gated_demo(dir.path());
+    gate.armed.store(true, Ordering::SeqCst);
+    press(
+        &mut ui,
+        &mut wb,
+        ":compare weights 60,100 joint LeftLeg knee.csv<Enter>",
+    );
+    wait_for(&mut ui, &mut wb, "the first mass", |_, _| {
+        gate.reached.load(Ordering::SeqCst) == 1
+    });
+    // the body mass row of the parameter panel, one step up
+    press(&mut ui, &mut wb, "<Tab><Tab><Right>");
+    assert_eq!(wb.params.take.body.mass_kg, 80.0);
+    assert!(screen(&ui, &wb, 100, 30).contains("80 kg"));
+    assert!(wb.fresh_results().is_none());
+    assert!(
+        ui.running
+            .as_ref()
+            .unwrap()
+            .label
+            .starts_with("compare weights")
+    );
+    // the comparison ends with its own masses; then the results are recomputed at 80 kg
+    *gate.open.lock().unwrap() = true;
+    wait_for(&mut ui, &mut wb, "the recompute", |ui, wb| {
+        ui.running.is_none() && wb.fresh_results().is_some()
+    });
+    assert!(ui.error.is_none(), "{:?}", ui.error);
+    let csv = std::fs::read_to_string(dir.path().join("knee.csv")).unwrap();
+    assert!(
+        csv.starts_with("t_s,tau_60kg_Nm,tau_100kg_Nm"),
+        "{}",
+        &csv[..60]
+    );
+    let r = wb.fresh_results().unwrap();
+    assert!((r.model.total_mass() - 80.0).abs() < 1e-9);
 }
 
 #[test]

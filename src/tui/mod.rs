@@ -14,9 +14,11 @@
 //! results are stale. Its [`Control`](crate::session::Control) carries progress (shown with
 //! the job's label in the status line) and cancel (`Esc`, `Ctrl-C`; `q` cancels and quits).
 //! The loop polls input every 30 ms ([`POLL`]), so keys, mouse and resizes are handled while a
-//! job runs. While a job other than a recompute runs, commands wait in [`Ui::queue`] and apply
-//! in order when it ends (the view's commands — `frame`, `select`, `play`, `pause`, `screen` —
-//! apply at once); a newer recompute replaces a running one. A cancelled job changes nothing
+//! job runs. While a job other than a recompute runs, another long command waits in
+//! [`Ui::queue`], and so does every command after it; they apply in order when the job ends
+//! (the view's commands — `frame`, `select`, `play`, `pause`, `screen` — apply at once). A
+//! `set` with nothing waiting applies at once (the job computes from its own snapshot) and its
+//! recompute follows the job; a newer recompute replaces a running one. A cancelled job changes nothing
 //! (outputs are written last, atomically). In sync mode ([`Ui::headless`]: replays, tests) the
 //! same jobs run inline. The terminal is restored on exit, on error and on panic (a
 //! panic hook). `NO_COLOR` turns colours off. Keys: see [`draw::HELP`] (`?` in the UI).

@@ -199,9 +199,12 @@ impl Ui {
         self.error = Some(msg);
     }
 
-    /// True while a job other than a recompute runs, or commands wait for one: then every
-    /// command but the view's (`frame`, `select`, `play`, `pause`, `screen`, `quit`) waits its
-    /// turn, so commands apply in the order given, as a replay applies them.
+    /// True while a job other than a recompute runs, or commands wait for one. Then a command
+    /// that needs the worker waits its turn, and so does every later command but the view's
+    /// (`frame`, `select`, `play`, `pause`, `screen`, `quit`), so that commands apply in the
+    /// order given, as a replay applies them. A command that needs no job (`set`) applies at
+    /// once when nothing waits: the running job computes from its own snapshot; the recompute
+    /// it asks for follows the job.
     pub fn busy(&self) -> bool {
         self.running.as_ref().is_some_and(|r| !r.replaceable) || !self.queue.is_empty()
     }
@@ -219,7 +222,7 @@ impl Ui {
                 | Command::Screen { .. }
                 | Command::Expect(Expectation::ScreenContains(_))
         );
-        if !self.sync && !view && self.busy() {
+        if !self.sync && !view && !self.queue.is_empty() {
             self.queue.push_back(cmd.clone());
             return Ok(Outcome::default());
         }
