@@ -64,6 +64,20 @@ impl MotionVec {
             lin: self.ang.cross(&f.lin),
         }
     }
+    /// `self ×ₘ (w e_k, 0)`: the cross product with a rotation rate `w` about coordinate axis
+    /// `k` (the velocity-product term of a revolute joint about x, y or z).
+    #[inline]
+    pub fn cross_axis(&self, k: usize, w: f64) -> MotionVec {
+        let cross = |u: &Vector3<f64>| match k {
+            0 => Vector3::new(0.0, u.z * w, -u.y * w),
+            1 => Vector3::new(-u.z * w, 0.0, u.x * w),
+            _ => Vector3::new(u.y * w, -u.x * w, 0.0),
+        };
+        MotionVec {
+            ang: cross(&self.ang),
+            lin: cross(&self.lin),
+        }
+    }
     /// The scalar product with a force (power, W).
     #[inline]
     pub fn dot(&self, f: &ForceVec) -> f64 {
@@ -666,6 +680,16 @@ mod tests {
                     x.act_force(&f).to_vector6()
                 ) < 1e-14
             );
+        }
+    }
+
+    #[test]
+    fn cross_axis_is_the_motion_cross_product() {
+        let m = MotionVec::new(Vector3::new(1.0, -2.0, 0.5), Vector3::new(0.3, 0.7, -1.1));
+        for k in 0..3 {
+            let s = MotionVec::new(Vector3::ith(k, 1.7), Vector3::zeros());
+            let d = m.cross_axis(k, 1.7).to_vector6() - m.cross_motion(&s).to_vector6();
+            assert!(d.norm() < 1e-15, "axis {k}");
         }
     }
 

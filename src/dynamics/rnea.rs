@@ -58,10 +58,23 @@ pub(crate) fn rnea_terms(
         let (joint, p) = (&model.joints[i], model.parent[i]);
         let iv = model.idx_v[i];
         let x = model.parent_transform(i, q);
-        let vj = v.map_or(MotionVec::ZERO, |v| joint.motion(&v[iv..iv + joint.nv()]));
-        let aj = a.map_or(MotionVec::ZERO, |a| joint.motion(&a[iv..iv + joint.nv()]));
-        let vi = x.act_inv_motion(&ws.v[p]) + vj;
-        let ai = x.act_inv_motion(&ws.a[p]) + aj + vi.cross_motion(&vj);
+        let mut vi = x.act_inv_motion(&ws.v[p]);
+        let mut ai = x.act_inv_motion(&ws.a[p]);
+        match joint.revolute_coordinate_axis() {
+            // S = e_k (angular): the same sums with S q̇ a single component
+            Some(k) => {
+                let qd = v.map_or(0.0, |v| v[iv]);
+                vi.ang[k] += qd;
+                ai.ang[k] += a.map_or(0.0, |a| a[iv]);
+                ai += vi.cross_axis(k, qd);
+            }
+            None => {
+                let vj = v.map_or(MotionVec::ZERO, |v| joint.motion(&v[iv..iv + joint.nv()]));
+                let aj = a.map_or(MotionVec::ZERO, |a| joint.motion(&a[iv..iv + joint.nv()]));
+                vi += vj;
+                ai += aj + vi.cross_motion(&vj);
+            }
+        }
         let inertia = &model.inertia[i];
         let mut fi = if inertia.is_zero() {
             ForceVec::ZERO
@@ -84,7 +97,10 @@ pub(crate) fn rnea_terms(
         let iv = model.idx_v[i];
         let nv = joint.nv();
         let tau = &mut ws.tau.as_mut_slice()[iv..iv + nv];
-        joint.project_force(&ws.f[i], tau);
+        match joint.revolute_coordinate_axis() {
+            Some(k) => tau[0] = ws.f[i].ang[k],
+            None => joint.project_force(&ws.f[i], tau),
+        }
         if let Some(v) = v {
             for ((t, b), vk) in tau
                 .iter_mut()
