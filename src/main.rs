@@ -10,10 +10,16 @@ fn main() -> ExitCode {
     match cli::run(args) {
         Ok(code) => code,
         Err(err) => {
-            // print the whole error chain, ripgrep-style
-            eprintln!("articula: error: {err}");
+            // print the whole error chain, ripgrep-style, without repeating a cause whose
+            // text the line above already shows (typed errors often embed their source)
+            let mut last = err.to_string();
+            eprintln!("articula: error: {last}");
             for cause in err.chain().skip(1) {
-                eprintln!("  caused by: {cause}");
+                let text = cause.to_string();
+                if !last.contains(&text) {
+                    eprintln!("  caused by: {text}");
+                }
+                last = text;
             }
             ExitCode::from(2)
         }

@@ -514,3 +514,20 @@ fn damping_adds_exactly_b_times_the_joint_rate_to_the_torques() {
         .failure()
         .stderr(predicates::str::contains("damping Tail=1"));
 }
+
+#[test]
+fn an_error_names_the_missing_file_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let session = dir.path().join("s.session");
+    std::fs::write(&session, "load no_such_take.bvh\n").unwrap();
+    let out = articula().arg("run").arg(&session).assert().failure();
+    let err = String::from_utf8_lossy(&out.get_output().stderr).into_owned();
+    assert!(err.contains("s.session:1"), "{err}");
+    assert_eq!(err.matches("no_such_take.bvh: ").count(), 1, "{err}");
+    let out = articula()
+        .args(["info", "no_such_take.bvh"])
+        .assert()
+        .failure();
+    let err = String::from_utf8_lossy(&out.get_output().stderr).into_owned();
+    assert_eq!(err.matches("no_such_take.bvh").count(), 1, "{err}");
+}
