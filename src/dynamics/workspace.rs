@@ -2,6 +2,7 @@
 //! `Data`, MuJoCo's `mjData`). Each field says its shape, frame, unit and which function
 //! writes it.
 
+use super::crba::WorldInertia;
 use crate::model::Model;
 use crate::spatial::{FastTransform, ForceVec, MotionVec, SpatialTransform};
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
@@ -37,10 +38,12 @@ pub struct Workspace {
     /// Generalized forces (`nv`, N·m or N); written by `rnea` (and the bias-term functions,
     /// which run it).
     pub tau: DVector<f64>,
-    /// 6×6 spatial inertia of body i, angular first (`nbodies`, kg, kg·m, kg·m²): the
-    /// composite rigid-body inertia `I^c_i` in world coordinates about the world origin after
-    /// `crba`; the articulated-body inertia `I^A_i` in body i's frame about its origin after
-    /// `aba`.
+    /// Composite rigid-body inertia `I^c_i` of the subtree of body i (`nbodies`, kg, kg·m,
+    /// kg·m²), world axes, about `crba`'s reference point (the origin of the first body with
+    /// mass); written by `crba`.
+    pub ycrb: Vec<WorldInertia>,
+    /// 6×6 articulated-body inertia `I^A_i` of body i, angular first, body frame about its
+    /// origin (`nbodies`, kg, kg·m, kg·m²); written by `aba`.
     pub inertia6: Vec<Matrix6<f64>>,
     /// Articulated bias force `p^A_i`, body frame (`nbodies`, N·m, N); written by `aba`.
     pub p_a: Vec<ForceVec>,
@@ -56,7 +59,8 @@ pub struct Workspace {
     /// `aba`.
     pub u_vec: Vec<Vector6<f64>>,
     /// The joint-space inertia (mass) matrix `D(q)` (`nv × nv`, symmetric, kg·m² / kg);
-    /// written by `crba`.
+    /// written by `crba`, which writes only the entries of coordinates on one path to the root:
+    /// the others are zero from here on and must stay so (nothing else writes this matrix).
     pub mass_matrix: DMatrix<f64>,
     /// Gravity term `c(q)` (`nv`, N·m or N); written by `gravity_terms`.
     pub gravity: DVector<f64>,
@@ -92,6 +96,7 @@ impl Workspace {
             a: vec![MotionVec::ZERO; n],
             f: vec![ForceVec::ZERO; n],
             tau: DVector::zeros(nv),
+            ycrb: vec![WorldInertia::default(); n],
             inertia6: vec![Matrix6::zeros(); n],
             p_a: vec![ForceVec::ZERO; n],
             c: vec![MotionVec::ZERO; n],
