@@ -89,46 +89,41 @@ impl WorldInertia {
 ///
 /// Symmetric; positive definite unless the model has a massless chain or an euler joint model
 /// is in gimbal lock. Bodies without mass or inertia (the fictitious links of a BVH euler model)
-/// add nothing and are skipped. Writes `ws.x_up`, `ws.o_x_i` (poses relative to that point),
+/// add nothing and are skipped. Writes `ws.o_x_i` (poses relative to that point),
 /// `ws.s_world`, `ws.ycrb` (composite inertias, world axes, about that point) and
 /// `ws.mass_matrix`, and returns `&ws.mass_matrix`.
 pub fn crba<'w>(model: &Model, ws: &'w mut Workspace, q: &[f64]) -> &'w DMatrix<f64> {
     let nv = model.nv;
     let n = model.nbodies();
 
-    // reference point: the origin of the first body with mass (an avatar's pelvis, an arm's
-    // base), so that lever arms stay short wherever the take walks to (world-frame sums lose
-    // digits as |lever|²)
-    let mut r = SpatialTransform::IDENTITY;
+    // forward pass: world poses 0X_i = 0X_λ λX_i, and the first body with mass
+    let mut first_massive = None;
     for i in 1..n {
-        let p = model.parent[i];
-        let op = if p == 0 { r } else { ws.o_x_i[p] };
-        let o = then(&op, &model.parent_transform(i, q));
-        ws.o_x_i[i] = o;
-        if !model.inertia[i].is_zero() {
-            r = SpatialTransform::from_translation(-o.trans);
-            break;
+        let o = then(&ws.o_x_i[model.parent[i]], &model.parent_transform(i, q));
+        if first_massive.is_none() && !model.inertia[i].is_zero() {
+            first_massive = Some(i);
         }
+        ws.o_x_i[i] = o;
     }
 
-    // forward pass: poses, inertias and motion subspaces in world axes about that point
+    // inertias and motion subspaces in world axes about the origin of that body (an avatar's
+    // pelvis, an arm's base), so that lever arms stay short wherever the take walks to
+    // (world-frame sums lose digits as |lever|²; the shift itself is exact to round-off)
+    let r = first_massive.map_or(Vector3::zeros(), |b| ws.o_x_i[b].trans);
     for i in 1..n {
-        let x = model.parent_transform(i, q);
-        let p = model.parent[i];
-        let o = then(if p == 0 { &r } else { &ws.o_x_i[p] }, &x);
+        let o = &mut ws.o_x_i[i];
+        o.trans -= r;
         let inertia = &model.inertia[i];
         ws.ycrb[i] = if inertia.is_zero() {
             WorldInertia::default()
         } else {
-            WorldInertia::of_body(inertia, &o)
+            WorldInertia::of_body(inertia, o)
         };
         let joint = &model.joints[i];
         let iv = model.idx_v[i];
         for k in 0..joint.nv() {
             ws.s_world[iv + k] = o.act_motion(&joint.subspace_col(k));
         }
-        ws.x_up[i] = x;
-        ws.o_x_i[i] = o;
     }
 
     // backward pass: composite inertias I^c_λ += I^c_i

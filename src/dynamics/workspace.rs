@@ -17,7 +17,7 @@ pub struct Workspace {
     /// `forward_kinematics` and the energy functions.
     pub li_x_i: Vec<SpatialTransform>,
     /// The same pose in the fast form of `Model::parent_transform` (`nbodies`); written by
-    /// `rnea`, `crba` and `aba`.
+    /// `rnea` and `aba`.
     pub x_up: Vec<FastTransform>,
     /// Pose of body i in the world frame (`nbodies`); written by `forward_kinematics` and the
     /// energy functions; `crba` writes it relative to the origin of the first body with mass
