@@ -276,12 +276,13 @@ pub struct SimArgs {
     /// Step (s).
     #[arg(long, default_value_t = 0.001)]
     pub dt: f64,
-    /// Position gain (1/s²).
-    #[arg(long, default_value_t = 400.0)]
-    pub kp: f64,
-    /// Velocity gain (1/s).
-    #[arg(long, default_value_t = 40.0)]
-    pub kv: f64,
+    /// Position gain Kp (1/s²): a number for every coordinate (default 400), or JOINT=X for one
+    /// joint's coordinates or one coordinate (repeatable: --kp 400 --kp LeftLeg=900).
+    #[arg(long, value_name = "X|JOINT=X")]
+    pub kp: Vec<String>,
+    /// Velocity gain Kv (1/s): a number (default 40) or JOINT=X, as --kp.
+    #[arg(long, value_name = "X|JOINT=X")]
+    pub kv: Vec<String>,
     /// Relative error of the controller's link masses (0.1 = 10 % heavy).
     #[arg(long, default_value_t = 0.0)]
     pub mass_error: f64,
@@ -442,11 +443,17 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             json,
         } => {
             let take = pipeline::load_take(&take, &opts.options()?)?;
+            let (mut kp, mut kv) = (
+                pipeline::PerJoint::all(400.0),
+                pipeline::PerJoint::all(40.0),
+            );
+            pipeline::parse_per_joint("kp", &sim.kp, &mut kp, "1/s²", "400 or LeftLeg=900")?;
+            pipeline::parse_per_joint("kv", &sim.kv, &mut kv, "1/s", "40 or LeftLeg=60")?;
             let settings = pipeline::SimSettings::parse(
                 &sim.integrator,
                 sim.dt,
-                sim.kp,
-                sim.kv,
+                &kp,
+                &kv,
                 sim.mass_error,
                 sim.duration,
             )?;

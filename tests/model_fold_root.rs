@@ -85,7 +85,15 @@ fn a_massless_helper_root_is_folded_into_the_hips_and_welded() {
     assert!(worst < 1e-6, "torques differ by {worst:e} (relative)");
 
     // D(q) is regular: a short tracked simulation runs and tracks
-    let settings = sim::SimSettings::parse("rk4", 0.001, 400.0, 40.0, 0.0, Some(0.2)).unwrap();
+    let settings = sim::SimSettings::parse(
+        "rk4",
+        0.001,
+        &articula::pipeline::PerJoint::all(400.0),
+        &articula::pipeline::PerJoint::all(40.0),
+        0.0,
+        Some(0.2),
+    )
+    .unwrap();
     let summary = sim::simulate(&wrapped, &settings, None).unwrap();
     assert!(summary.result.max_error_rad() < 1e-2, "{}", summary.text());
 }
@@ -113,7 +121,15 @@ fn bandai_takes_simulate_after_folding() {
     ] {
         let take = load_take(&dir.join(name), &TakeOptions::default()).unwrap();
         assert_eq!(take.notes.len(), 1, "{name}: {:?}", take.notes);
-        let settings = sim::SimSettings::parse("rk4", 0.001, 400.0, 40.0, 0.0, Some(0.1)).unwrap();
+        let settings = sim::SimSettings::parse(
+            "rk4",
+            0.001,
+            &articula::pipeline::PerJoint::all(400.0),
+            &articula::pipeline::PerJoint::all(40.0),
+            0.0,
+            Some(0.1),
+        )
+        .unwrap();
         let summary = sim::simulate(&take, &settings, None)
             .unwrap_or_else(|e| panic!("{name}: simulation failed: {e}"));
         assert!(

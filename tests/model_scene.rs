@@ -6,7 +6,7 @@ mod common;
 
 use articula::io::bvh::{LengthUnit, PositionMode, UpAxis, resolve_position_modes};
 use articula::io::generate::{WalkParams, walk};
-use articula::io::scene;
+use articula::io::scene::{self, PerJoint};
 use articula::model::bvh::{BvhModelOptions, build_bvh_model};
 
 #[test]
@@ -17,7 +17,10 @@ fn the_scene_example_builds_the_model_it_describes() {
     assert_eq!(s.unit, Some(LengthUnit::Cm));
     assert_eq!(s.up, None);
     assert_eq!(s.position, PositionMode::Auto);
-    assert_eq!(s.gains.unwrap().kp, 400.0);
+    let gains = s.gains.clone().unwrap();
+    assert_eq!(gains.kp, PerJoint::all(400.0));
+    assert_eq!(gains.kv.all, 40.0);
+    assert_eq!(gains.kv.joints.get("LeftLeg"), Some(&60.0));
 
     let take = walk(&WalkParams::default());
     let modes = resolve_position_modes(&take, s.position);

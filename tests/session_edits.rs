@@ -116,7 +116,7 @@ fn a_scene_applies_stature_up_positions_and_subtree_as_the_cli_does() {
     let mut wb = wb_in(dir.path());
     let msg = ok(&mut wb, "scene s.toml");
     assert!(!msg.contains("not applied"), "{msg}");
-    assert_eq!((wb.params.kp, wb.params.kv), (900.0, 60.0));
+    assert_eq!((wb.params.kp.all, wb.params.kv.all), (900.0, 60.0));
     ok(&mut wb, "run id");
     let r = wb.fresh_results().unwrap().clone();
     // the CLI's path: the same options from the same file, the same take
@@ -164,7 +164,15 @@ fn inverse_dynamics_reports_progress_and_stops_when_asked() {
 fn a_simulation_stops_mid_way_when_cancelled() {
     let take =
         pipeline::load_take(&common::repo("data/demo_walk.bvh"), &TakeOptions::default()).unwrap();
-    let settings = pipeline::SimSettings::parse("euler", 0.001, 400.0, 40.0, 0.0, None).unwrap();
+    let settings = pipeline::SimSettings::parse(
+        "euler",
+        0.001,
+        &articula::pipeline::PerJoint::all(400.0),
+        &articula::pipeline::PerJoint::all(40.0),
+        0.0,
+        None,
+    )
+    .unwrap();
     let mut last = 0.0;
     let mut calls = 0;
     let e = pipeline::simulate_states(&take.model, &take.states, &settings, &mut |f| {
@@ -237,4 +245,59 @@ fn export_bvh_of_the_ball_model_writes_its_smoothed_rotations() {
         let d = max_diff(&a, &b);
         assert!(d < 1e-9, "{c}: {d}");
     }
+}
+
+/// `set kp.<joint>` / `set kv.<joint>` give one joint its own gains in `run sim`. With the
+/// controller's model exact, feed-forward alone tracks up to the reference's interpolation and
+/// the integrator's error, which the PD terms mop up: with zero gains on the left knee, the
+/// knee's error grows, and the right knee, whose gains did not change, tracks as before. A name
+/// that is no coordinate is refused once a take is loaded.
+#[test]
+fn gains_per_joint_reach_the_simulation() {
+    let dir = tempfile::tempdir().unwrap();
+    let walk = articula::io::generate::walk(&articula::io::generate::WalkParams {
+        duration_s: 1.0,
+        ..Default::default()
+    });
+    articula::io::bvh::write(&walk, &dir.path().join("w.bvh")).unwrap();
+    let mut wb = wb_in(dir.path());
+    ok(&mut wb, "load w.bvh");
+    // one step per frame, so that the simulation is recorded at the take's own frames
+    ok(&mut wb, &format!("set dt {}", walk.frame_time));
+    ok(&mut wb, "run id");
+    let err = |wb: &Workbench, c: &str| {
+        let (sim, _) = wb.sim.as_ref().unwrap();
+        let q = sim.q.column(sim.q.col_index(c).unwrap());
+        let want = wb
+            .results
+            .as_ref()
+            .unwrap()
+            .0
+            .q
+            .column(sim.q.col_index(c).unwrap());
+        assert_eq!(q.len(), want.len());
+        max_diff(&q, &want)
+    };
+    ok(&mut wb, "run sim");
+    let (left, right) = (
+        err(&wb, "LeftLeg.Xrotation"),
+        err(&wb, "RightLeg.Xrotation"),
+    );
+    ok(&mut wb, "set kp.LeftLeg 0");
+    ok(&mut wb, "set kv.LeftLeg 0");
+    assert_eq!(wb.params.kp.joints.get("LeftLeg"), Some(&0.0));
+    ok(&mut wb, "run sim");
+    let (limp, right_again) = (
+        err(&wb, "LeftLeg.Xrotation"),
+        err(&wb, "RightLeg.Xrotation"),
+    );
+    assert!(limp > 3.0 * left, "limp {limp} vs tracked {left}");
+    assert!(
+        (right_again - right).abs() < 0.5 * right,
+        "{right_again} vs {right}"
+    );
+    let e = wb
+        .apply(&parse_line("set kp.Knee 5", 1).unwrap().unwrap())
+        .unwrap_err();
+    assert!(e.to_string().contains("no coordinate"), "{e}");
 }

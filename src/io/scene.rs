@@ -18,8 +18,8 @@
 //! [link_mass]
 //! LeftUpLeg = 9.5
 //! [gains]
-//! kp = 400.0
-//! kv = 40.0
+//! kp = 400.0                      # 1/s², every coordinate (or a table by joint, "*" the rest)
+//! kv = { "*" = 40.0, LeftLeg = 60.0 }
 //! ```
 //!
 //! Values are checked while reading, and a bad one is reported with its line and column (from
@@ -34,16 +34,55 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
-/// Computed-torque gains: `q̈_cmd = q̈_ref + kv (q̇_ref − q̇) + kp (q_ref − q)`.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+/// Computed-torque gains: `q̈_cmd = q̈_ref + kv (q̇_ref − q̇) + kp (q_ref − q)`, diagonal: each
+/// a number for every coordinate or a table by joint or coordinate name (`"*"` for the rest):
+///
+/// ```toml
+/// [gains]
+/// kp = 400.0                      # 1/s², every coordinate
+/// kv = { "*" = 40.0, LeftLeg = 60.0, "LeftLeg.Xrotation" = 80.0 }
+/// ```
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Gains {
-    /// Position gain (1/s²), > 0.
-    #[serde(deserialize_with = "positive")]
-    pub kp: f64,
-    /// Velocity gain (1/s), > 0.
-    #[serde(deserialize_with = "positive")]
-    pub kv: f64,
+    /// Position gains (1/s²), > 0; default 400.
+    #[serde(default = "default_kp", deserialize_with = "gain_kp")]
+    pub kp: PerJoint,
+    /// Velocity gains (1/s), > 0; default 40.
+    #[serde(default = "default_kv", deserialize_with = "gain_kv")]
+    pub kv: PerJoint,
+}
+
+fn default_kp() -> PerJoint {
+    PerJoint::all(400.0)
+}
+fn default_kv() -> PerJoint {
+    PerJoint::all(40.0)
+}
+
+/// A value for every joint coordinate (`all`) with overrides by BVH joint name (all its
+/// coordinates) or coordinate name (`LeftLeg.Xrotation`, `LeftLeg:wx`, `j2`): viscous friction
+/// and the computed-torque gains. `pipeline::per_coordinate` matches the names to a model.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PerJoint {
+    /// The value of every coordinate without an override.
+    pub all: f64,
+    /// Overrides by joint or coordinate name.
+    pub joints: BTreeMap<String, f64>,
+}
+
+impl PerJoint {
+    /// `x` on every coordinate, no override.
+    pub fn all(x: f64) -> Self {
+        PerJoint {
+            all: x,
+            joints: BTreeMap::new(),
+        }
+    }
+    /// Zero everywhere.
+    pub fn is_none(&self) -> bool {
+        self.all == 0.0 && self.joints.values().all(|&b| b == 0.0)
+    }
 }
 
 /// Viscous joint friction `τ = b q̇` (the paper's `bᵢ q̇ᵢ`): `all` for every joint coordinate
@@ -51,55 +90,64 @@ pub struct Gains {
 /// (all its coordinates) or coordinate name (`LeftLeg.Xrotation`). The 6 root coordinates of a
 /// floating avatar never get damping (they are a residual actuator, not a joint). In a scene:
 /// `damping = 0.5`, or a table `[damping]` of `JOINT = B` with an optional `"*" = B` for the rest.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Damping {
-    /// Coefficient of every joint coordinate without an override, ≥ 0.
-    pub all: f64,
-    /// Overrides by joint or coordinate name, each ≥ 0.
-    pub joints: BTreeMap<String, f64>,
-}
+pub type Damping = PerJoint;
 
-impl Damping {
-    /// No damping anywhere.
-    pub fn is_none(&self) -> bool {
-        self.all == 0.0 && self.joints.values().all(|&b| b == 0.0)
-    }
-}
-
-fn damping<'de, D: Deserializer<'de>>(d: D) -> Result<Damping, D::Error> {
+/// A number, or a table of numbers by name with `"*"` for the rest (`rest` when absent), each
+/// passing `check`.
+fn per_joint<'de, D: Deserializer<'de>>(
+    d: D,
+    rest: f64,
+    check: impl Fn(f64) -> Result<f64, String>,
+) -> Result<PerJoint, D::Error> {
     #[derive(Deserialize)]
     #[serde(untagged)]
     enum Spec {
         All(f64),
         Table(BTreeMap<String, f64>),
     }
-    let check = |b: f64| {
-        if b.is_finite() && b >= 0.0 {
-            Ok(b)
-        } else {
-            Err(D::Error::custom(format!(
-                "damping {b}: a viscous friction coefficient must be ≥ 0 (N·m·s/rad)"
-            )))
-        }
-    };
-    Ok(match Spec::deserialize(d)? {
-        Spec::All(b) => Damping {
-            all: check(b)?,
-            joints: BTreeMap::new(),
-        },
+    let spec = Spec::deserialize(d)
+        .map_err(|_| D::Error::custom("expected a number, or a table of numbers by joint name"))?;
+    Ok(match spec {
+        Spec::All(x) => PerJoint::all(check(x).map_err(D::Error::custom)?),
         Spec::Table(t) => {
-            let mut out = Damping::default();
-            for (name, b) in t {
-                let b = check(b)?;
+            let mut out = PerJoint::all(rest);
+            for (name, x) in t {
+                let x = check(x).map_err(D::Error::custom)?;
                 if name == "*" {
-                    out.all = b;
+                    out.all = x;
                 } else {
-                    out.joints.insert(name, b);
+                    out.joints.insert(name, x);
                 }
             }
             out
         }
     })
+}
+
+fn damping<'de, D: Deserializer<'de>>(d: D) -> Result<Damping, D::Error> {
+    per_joint(d, 0.0, |b| {
+        if b.is_finite() && b >= 0.0 {
+            Ok(b)
+        } else {
+            Err(format!(
+                "damping {b}: a viscous friction coefficient must be ≥ 0 (N·m·s/rad)"
+            ))
+        }
+    })
+}
+
+fn positive_gain(x: f64) -> Result<f64, String> {
+    if x.is_finite() && x > 0.0 {
+        Ok(x)
+    } else {
+        Err(format!("expected a positive number, found {x}"))
+    }
+}
+fn gain_kp<'de, D: Deserializer<'de>>(d: D) -> Result<PerJoint, D::Error> {
+    per_joint(d, default_kp().all, positive_gain)
+}
+fn gain_kv<'de, D: Deserializer<'de>>(d: D) -> Result<PerJoint, D::Error> {
+    per_joint(d, default_kv().all, positive_gain)
 }
 
 /// A study: takes and every parameter the pipeline needs. Units are SI.

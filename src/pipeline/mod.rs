@@ -26,7 +26,7 @@ pub use sim::{
 use crate::dynamics::{self, Workspace};
 use crate::error::Error;
 use crate::io::bvh::{self, Bvh, LengthUnit, PositionMode, ResolvedPosition, UpAxis};
-pub use crate::io::scene::Damping;
+pub use crate::io::scene::{Damping, PerJoint};
 use crate::model::anthropometry::{BodyParams, Sex};
 use crate::model::bvh::{BvhMap, BvhModelOptions, JointModel, build_bvh_model};
 use crate::model::{JointKind, Model};
@@ -231,42 +231,48 @@ impl TakeOptions {
         if f.keep_first_frame {
             self.keep_first_frame = true;
         }
-        for d in f.damping {
-            let (name, b) = match d.split_once('=') {
-                Some((name, b)) => (Some(name.trim()), b),
-                None => (None, d.as_str()),
-            };
-            let b: f64 = parse_flag("damping", b.trim())?;
-            if !(b.is_finite() && b >= 0.0) {
-                return Err(Error::Invalid(format!(
-                    "--damping {d}: expected B or JOINT=B with B ≥ 0 (N·m·s/rad), e.g. 0.5 or \
-                     LeftLeg=2"
-                )));
-            }
-            match name {
-                Some(n) => {
-                    self.damping.joints.insert(n.to_string(), b);
-                }
-                None => self.damping.all = b,
-            }
-        }
+        parse_per_joint(
+            "damping",
+            f.damping,
+            &mut self.damping,
+            "N·m·s/rad",
+            "0.5 or LeftLeg=2",
+        )?;
         Ok(())
     }
 }
 
-/// Sets `model.damping` from `d`: `d.all` on every coordinate, then the overrides, matched to
-/// coordinates by name (a joint name covers `<joint>`, `<joint>.<channel>` and
-/// `<joint>:<comp>`), skipping the root residual coordinates of a floating avatar
-/// ([`dynamics::floating_root_nv`]: they are not a joint, so friction there means nothing).
+/// Sets `model.damping` from `d` ([`per_coordinate`]), skipping the root residual coordinates of
+/// a floating avatar ([`dynamics::floating_root_nv`]: they are not a joint, so friction there
+/// means nothing).
 ///
 /// # Errors
 /// An override that names no coordinate, or only root coordinates.
 pub fn apply_damping(model: &mut Model, d: &Damping) -> Result<(), Error> {
     let root = dynamics::floating_root_nv(model);
-    for b in &mut model.damping[root..] {
-        *b = d.all;
+    let b = per_coordinate(model, d, root, "damping")?;
+    model.damping = b;
+    Ok(())
+}
+
+/// One value per velocity coordinate from `p`: `p.all` on every coordinate from `first` on
+/// (0 before it), then the overrides, matched to coordinates by name — a joint name covers
+/// `<joint>`, `<joint>.<channel>` and `<joint>:<comp>`, a coordinate name itself. `what` names
+/// the setting in errors (`damping`, `kp`, `kv`).
+///
+/// # Errors
+/// An override that names no coordinate from `first` on.
+pub fn per_coordinate(
+    model: &Model,
+    p: &PerJoint,
+    first: usize,
+    what: &str,
+) -> Result<Vec<f64>, Error> {
+    let mut out = vec![0.0; model.nv];
+    for x in &mut out[first..] {
+        *x = p.all;
     }
-    for (name, &b) in &d.joints {
+    for (name, &x) in &p.joints {
         let covers = |v: &str| {
             v == name
                 || v.strip_prefix(name.as_str())
@@ -275,15 +281,15 @@ pub fn apply_damping(model: &mut Model, d: &Damping) -> Result<(), Error> {
         let hits: Vec<usize> = (0..model.nv)
             .filter(|&k| covers(&model.v_names[k]))
             .collect();
-        if hits.is_empty() || hits.iter().all(|&k| k < root) {
-            let what = if hits.is_empty() {
+        if hits.is_empty() || hits.iter().all(|&k| k < first) {
+            let why = if hits.is_empty() {
                 "no coordinate of the model is named so"
             } else {
                 "those are the floating root's coordinates, which get no damping"
             };
             return Err(Error::Invalid(format!(
-                "damping {name}={b}: {what} (coordinates are e.g. {})",
-                model.v_names[root.min(model.nv.saturating_sub(1))..]
+                "{what} {name}={x}: {why} (coordinates are e.g. {})",
+                model.v_names[first.min(model.nv.saturating_sub(1))..]
                     .iter()
                     .take(3)
                     .cloned()
@@ -291,8 +297,42 @@ pub fn apply_damping(model: &mut Model, d: &Damping) -> Result<(), Error> {
                     .join(", ")
             )));
         }
-        for k in hits.into_iter().filter(|&k| k >= root) {
-            model.damping[k] = b;
+        for k in hits.into_iter().filter(|&k| k >= first) {
+            out[k] = x;
+        }
+    }
+    Ok(out)
+}
+
+/// Parses repeatable `--FLAG X` / `--FLAG JOINT=X` values into `into` (a plain value sets
+/// every coordinate's, `JOINT=X` one joint's or coordinate's), each `≥ 0` and finite. `unit`
+/// and `example` complete the error message.
+pub fn parse_per_joint(
+    flag: &str,
+    values: &[String],
+    into: &mut PerJoint,
+    unit: &str,
+    example: &str,
+) -> Result<(), Error> {
+    for d in values {
+        let (name, x) = match d.split_once('=') {
+            Some((name, x)) => (Some(name.trim()), x),
+            None => (None, d.as_str()),
+        };
+        let bad = || {
+            Error::Invalid(format!(
+                "--{flag} {d}: expected X or JOINT=X with X ≥ 0 ({unit}), e.g. {example}"
+            ))
+        };
+        let x: f64 = x.trim().parse().map_err(|_| bad())?;
+        if !(x.is_finite() && x >= 0.0) {
+            return Err(bad());
+        }
+        match name {
+            Some(n) => {
+                into.joints.insert(n.to_string(), x);
+            }
+            None => into.all = x,
         }
     }
     Ok(())

@@ -1,7 +1,7 @@
 //! Simulation jobs: computed-torque tracking of a take, the `bench` timings and the
 //! speed/accuracy `tradeoff` table.
 
-use super::{States, Take, TakeOptions, load_take, parse_flag, write_rows};
+use super::{PerJoint, States, Take, TakeOptions, load_take, parse_flag, write_rows};
 use crate::dynamics::{self, Workspace};
 use crate::error::Error;
 use crate::model::bvh::JointModel;
@@ -11,7 +11,12 @@ use std::path::Path;
 /// Settings of a tracked simulation, validated.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimSettings {
+    /// Integrator, step and mass error; its gains are replaced by `kp`/`kv` resolved against
+    /// the model when a simulation starts ([`SimSettings::options_for`]).
     pub options: dynamics::simulate::SimOptions,
+    /// Computed-torque gains (1/s², 1/s), per coordinate by joint or coordinate name.
+    pub kp: PerJoint,
+    pub kv: PerJoint,
     /// Simulated time from the start of the take (s); `None`: the whole take.
     pub duration_s: Option<f64>,
 }
@@ -22,8 +27,8 @@ impl SimSettings {
     pub fn parse(
         integrator: &str,
         dt: f64,
-        kp: f64,
-        kv: f64,
+        kp: &PerJoint,
+        kv: &PerJoint,
         mass_error: f64,
         duration_s: Option<f64>,
     ) -> Result<Self, Error> {
@@ -44,9 +49,19 @@ impl SimSettings {
                 "--duration {d}: expected seconds > 0"
             )));
         }
-        let gains = dynamics::control::Gains::scalar(kp, kv);
-        gains.validate(1)?;
+        for (what, g) in [("kp", kp), ("kv", kv)] {
+            for x in std::iter::once(&g.all).chain(g.joints.values()) {
+                if !(x.is_finite() && *x >= 0.0) {
+                    return Err(Error::Invalid(format!(
+                        "--{what} {x}: expected a gain ≥ 0 (1/s² for kp, 1/s for kv)"
+                    )));
+                }
+            }
+        }
+        let gains = dynamics::control::Gains::scalar(kp.all, kv.all);
         Ok(Self {
+            kp: kp.clone(),
+            kv: kv.clone(),
             options: dynamics::simulate::SimOptions {
                 integrator: parse_flag("integrator", integrator)?,
                 dt,
@@ -56,6 +71,22 @@ impl SimSettings {
             },
             duration_s,
         })
+    }
+
+    /// The simulation options for `model`: the gains per coordinate (`kp`, `kv` matched by
+    /// name, [`super::per_coordinate`]), the rest as parsed.
+    ///
+    /// # Errors
+    /// A gain override that names no coordinate of `model`.
+    pub fn options_for(&self, model: &Model) -> Result<dynamics::simulate::SimOptions, Error> {
+        let mut o = self.options.clone();
+        if !(self.kp.joints.is_empty() && self.kv.joints.is_empty()) {
+            o.gains = dynamics::control::Gains {
+                kp: super::per_coordinate(model, &self.kp, 0, "kp")?,
+                kv: super::per_coordinate(model, &self.kv, 0, "kv")?,
+            };
+        }
+        Ok(o)
     }
 }
 
@@ -126,7 +157,8 @@ pub fn simulate(
     output: Option<&Path>,
 ) -> Result<SimSummary, Error> {
     let reference = reference(&take.states, settings.duration_s);
-    let result = dynamics::simulate::simulate(&take.model, &reference, &settings.options)?;
+    let options = settings.options_for(&take.model)?;
+    let result = dynamics::simulate::simulate(&take.model, &reference, &options)?;
     if let Some(path) = output {
         let m = &take.model;
         let mut h = vec!["time".to_string()];
@@ -157,8 +189,8 @@ pub fn simulate_states(
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<SimSummary, Error> {
     let reference = reference(states, settings.duration_s);
-    let result =
-        dynamics::simulate::simulate_with(model, &reference, &settings.options, keep_going)?;
+    let options = settings.options_for(model)?;
+    let result = dynamics::simulate::simulate_with(model, &reference, &options, keep_going)?;
     Ok(SimSummary { result })
 }
 
@@ -268,7 +300,14 @@ pub fn tradeoff_grid(
         let reference = reference(&take.states, Some(duration_s));
         let run =
             |integrator: &str, dt: f64| -> Result<(dynamics::simulate::SimResult, f64), Error> {
-                let s = SimSettings::parse(integrator, dt, 400.0, 40.0, 0.0, None)?;
+                let s = SimSettings::parse(
+                    integrator,
+                    dt,
+                    &PerJoint::all(400.0),
+                    &PerJoint::all(40.0),
+                    0.0,
+                    None,
+                )?;
                 let start = std::time::Instant::now();
                 let r = dynamics::simulate::simulate(&take.model, &reference, &s.options)?;
                 Ok((r, start.elapsed().as_secs_f64()))

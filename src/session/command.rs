@@ -176,6 +176,8 @@ pub const SET_KEYS: &[&str] = &[
     "keep_first_frame",
     "kp",
     "kv",
+    "kp.<joint>",
+    "kv.<joint>",
     "integrator",
     "dt",
     "link.<name>.mass",
@@ -201,6 +203,9 @@ pub fn is_set_key(key: &str) -> bool {
     (SET_KEYS.contains(&key) && !key.contains('<'))
         || per_joint("link.", &["mass"])
         || per_joint("motor.", &["km", "gear", "efficiency"])
+        || ["kp.", "kv."]
+            .iter()
+            .any(|p| key.strip_prefix(p).is_some_and(|j| !j.is_empty()))
 }
 
 /// A joint value of a pose: a number, or a multiple of π (`pi`, `-pi/2`, `3pi/4`, `0.5*pi`).

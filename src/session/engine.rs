@@ -9,6 +9,7 @@ use crate::error::Error;
 use crate::io::bvh::{Bvh, detect_up};
 use crate::model::Model;
 use crate::motion::blend::{Align, BlendOptions, TimeMap, WarpWindow};
+use crate::pipeline::PerJoint;
 use crate::pipeline::{self, TakeOptions};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -129,9 +130,10 @@ pub struct Params {
     /// subtree, contact), exactly what the CLI's flags and `--scene` set. Robot models (DH,
     /// URDF) carry their own masses and use none of these.
     pub take: TakeOptions,
-    /// Computed-torque gains (1/s², 1/s).
-    pub kp: f64,
-    pub kv: f64,
+    /// Computed-torque gains (1/s², 1/s), diagonal: every coordinate's, and overrides by joint
+    /// or coordinate name (`set kp.LeftLeg 800`).
+    pub kp: PerJoint,
+    pub kv: PerJoint,
     /// Integrator name (`euler`, `semi-implicit`, `rk4`, `dopri5`).
     pub integrator: String,
     /// Simulation step (s).
@@ -151,8 +153,8 @@ impl Default for Params {
         Self {
             // the CLI's defaults: 75 kg male, euler joints, butterworth:6hz, no contact
             take: TakeOptions::default(),
-            kp: 400.0,
-            kv: 40.0,
+            kp: PerJoint::all(400.0),
+            kv: PerJoint::all(40.0),
             integrator: "rk4".into(),
             dt: 0.001,
             blend_window: 0.5,
@@ -530,8 +532,8 @@ impl Engine for Builtin {
         let settings = pipeline::SimSettings::parse(
             &params.integrator,
             params.dt,
-            params.kp,
-            params.kv,
+            &params.kp,
+            &params.kv,
             0.0,
             None,
         )?;

@@ -40,7 +40,9 @@
 //! `contact none|feet`, `link.<joint>.mass KG`, `lock J1,J2,…` (or `none`),
 //! `keep_first_frame true|false` (keep a rest pose stored as frame 0, `--keep-first-frame`; it
 //! acts when a take is read, so it applies to the takes loaded after it); of the simulation:
-//! `kp X`, `kv X`, `integrator euler|semi-implicit|rk4|dopri5`, `dt S`; `blend.window S`.
+//! `kp X`, `kv X` (every coordinate's gain, 1/s² and 1/s), `kp.<joint> X`, `kv.<joint> X` (one
+//! joint's coordinates or one coordinate: diagonal gains, as `--kp LeftLeg=900`),
+//! `integrator euler|semi-implicit|rk4|dopri5`, `dt S`; `blend.window S`.
 //! A robot's masses are those of its DH table or URDF.
 //!
 //! Motor drives for `report motor` (the gear relations of report::motor: `τ_m = τ/(N·η)`,

@@ -4,7 +4,7 @@ use super::SessionError;
 use super::command::{Command, Expectation, ExportKind, Quantity, RunKind, Statistic};
 use super::engine::{Analysis, Builtin, Control, Engine, Params, SmoothSpec, Take, TakeData};
 use crate::model::{JointKind, Model};
-use crate::pipeline::TakeOptions;
+use crate::pipeline::{PerJoint, TakeOptions};
 use crate::report::chart::{Panel, Series, stacked_svg};
 use crate::report::knee::{self, MassRun};
 use crate::report::motor::{self, JointMotion};
@@ -118,7 +118,7 @@ enum Output {
     /// A scene's options, gains and takes.
     Scene {
         options: Box<TakeOptions>,
-        gains: Option<(f64, f64)>,
+        gains: Option<(PerJoint, PerJoint)>,
         takes: Vec<Take>,
         message: String,
     },
@@ -1160,8 +1160,8 @@ impl Workbench {
             "smooth" => p.take.smooth = parsed::<SmoothSpec>(key, value)?,
             "contact" => p.take.contact = parsed(key, value)?,
             "keep_first_frame" => p.take.keep_first_frame = parsed::<bool>(key, value)?,
-            "kp" => p.kp = num("a gain in 1/s²")?,
-            "kv" => p.kv = num("a gain in 1/s")?,
+            "kp" => p.kp.all = num("a gain in 1/s²")?,
+            "kv" => p.kv.all = num("a gain in 1/s")?,
             "integrator" => {
                 const KNOWN: [&str; 4] = ["euler", "semi-implicit", "rk4", "dopri5"];
                 if !KNOWN.contains(&value) {
@@ -1197,6 +1197,30 @@ impl Workbench {
                     self.motor_classes = motor::read_catalogue(&file)?;
                     self.params.motor_catalogue = Some(file);
                 }
+            }
+            _ if key.starts_with("kp.") || key.starts_with("kv.") => {
+                // a diagonal gain of one joint or coordinate (`kp.LeftLeg`, `kv.j2`)
+                let (which, name) = (&key[..2], &key[3..]);
+                let x = num("a gain ≥ 0 (1/s² for kp, 1/s for kv)")?;
+                if x.is_nan() || x < 0.0 || name.is_empty() {
+                    return Err(err(format!(
+                        "set {key}: expected kp.<joint> or kv.<joint> and a gain ≥ 0"
+                    )));
+                }
+                // checked against the robot's model, or the latest results of a take
+                let model = match self.take().and_then(|t| t.robot()) {
+                    Some(rb) => Some(rb.model.clone()),
+                    None => self.latest_results().map(|r| r.model.clone()),
+                };
+                if let Some(m) = model {
+                    let mut one = PerJoint::default();
+                    one.joints.insert(name.to_string(), x);
+                    crate::pipeline::per_coordinate(&m, &one, 0, which)
+                        .map_err(|e| err(format!("set {key}: {e}")))?;
+                }
+                let p = &mut self.params;
+                let g = if which == "kp" { &mut p.kp } else { &mut p.kv };
+                g.joints.insert(name.to_string(), x);
             }
             _ if key.starts_with("motor.") => {
                 let x = num("a positive number")?;

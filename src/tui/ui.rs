@@ -591,8 +591,8 @@ impl Ui {
             "body.mass" => (key.into(), format!("{}", p.take.body.mass_kg)),
             "smooth" => (key.into(), p.take.smooth.to_string()),
             "blend.window" => (key.into(), format!("{}", p.blend_window)),
-            "kp" => (key.into(), format!("{}", p.kp)),
-            "kv" => (key.into(), format!("{}", p.kv)),
+            "kp" => (key.into(), format!("{}", p.kp.all)),
+            "kv" => (key.into(), format!("{}", p.kv.all)),
             "integrator" => (key.into(), p.integrator.clone()),
             "dt" => (key.into(), format!("{}", p.dt)),
             _ => {
