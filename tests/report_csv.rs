@@ -59,14 +59,20 @@ fn round_trip_is_bit_exact() {
     }
 }
 
+/// Never a NaN in a file: a non-finite value fails the export, naming its column and row (and
+/// `write_columns` leaves no file); a file read in may hold them.
 #[test]
-fn non_finite_values_survive() {
-    let text = columns_to_string(
-        &names(&["x"]),
-        &[&[f64::INFINITY, f64::NEG_INFINITY, f64::NAN]],
-    )
-    .unwrap();
-    let (_, cols) = parse_columns(&text, Path::new("mem.csv")).unwrap();
+fn non_finite_values_are_not_written_but_read() {
+    for bad in [f64::INFINITY, f64::NEG_INFINITY, f64::NAN] {
+        let e = columns_to_string(&names(&["x", "y"]), &[&[1.0, 2.0], &[0.5, bad]]).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.contains("\"y\"") && msg.contains("row 2"), "{msg}");
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.csv");
+        assert!(write_columns(&path, &names(&["x"]), &[&[bad]]).is_err());
+        assert!(!path.exists());
+    }
+    let (_, cols) = parse_columns("x\ninf\n-inf\nNaN\n", Path::new("mem.csv")).unwrap();
     assert_eq!(cols[0][0], f64::INFINITY);
     assert_eq!(cols[0][1], f64::NEG_INFINITY);
     assert!(cols[0][2].is_nan());

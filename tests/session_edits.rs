@@ -301,3 +301,30 @@ fn gains_per_joint_reach_the_simulation() {
         .unwrap_err();
     assert!(e.to_string().contains("no coordinate"), "{e}");
 }
+
+/// Regression: `set body.mass 1e308` made every torque infinite, and `export csv` and
+/// `compare weights` wrote NaN into files. Now the inverse dynamics fails with what to change,
+/// and no file is written.
+#[test]
+fn an_absurd_body_mass_writes_no_nan() {
+    let dir = tempfile::tempdir().unwrap();
+    let walk = articula::io::generate::walk(&articula::io::generate::WalkParams {
+        duration_s: 0.3,
+        ..Default::default()
+    });
+    articula::io::bvh::write(&walk, &dir.path().join("w.bvh")).unwrap();
+    let mut wb = wb_in(dir.path());
+    ok(&mut wb, "load w.bvh");
+    ok(&mut wb, "set body.mass 1e308");
+    for line in [
+        "export csv huge.csv",
+        "compare weights 60,1e308 joint LeftLeg.Xrotation huge_cmp.csv",
+    ] {
+        let e = wb
+            .apply(&parse_line(line, 1).unwrap().unwrap())
+            .unwrap_err();
+        assert!(e.to_string().contains("not finite"), "{line}: {e}");
+    }
+    assert!(!dir.path().join("huge.csv").exists());
+    assert!(!dir.path().join("huge_cmp.csv").exists());
+}

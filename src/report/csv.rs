@@ -2,7 +2,8 @@
 //!
 //! Numbers are printed by `ryu` (Adams 2018, *Ryū: fast float-to-string conversion*, PLDI): the
 //! shortest text that parses back to the same `f64`, so a write → read round trip is exact to the
-//! bit (non-finite values print as `NaN`, `inf`, `-inf` and read back as such). The values are
+//! bit. A non-finite value (NaN, ±∞) is never written: the export fails naming its column and
+//! row, and nothing is written (a file read in may hold `NaN`, `inf`, `-inf`). The values are
 //! whatever SI quantities the caller puts in; the header names carry the unit (e.g.
 //! `"knee_tau_Nm"`, `"t_s"`). Files are written atomically ([`crate::io::write_atomic`]).
 
@@ -11,8 +12,8 @@ use std::path::Path;
 
 /// The CSV text of `columns` under `header`: a header line, then row `i` holds `columns[j][i]`.
 ///
-/// Errors when `header` and `columns` differ in length, when the columns differ in length, or
-/// when there are no columns.
+/// Errors when `header` and `columns` differ in length, when the columns differ in length, when
+/// there are no columns, or when a value is not finite.
 pub fn columns_to_string(header: &[String], columns: &[&[f64]]) -> Result<String, Error> {
     // shape checks: one header per column, every column the same length
     if columns.is_empty() {
@@ -35,6 +36,19 @@ pub fn columns_to_string(header: &[String], columns: &[&[f64]]) -> Result<String
             header[j],
             c.len(),
             header[0]
+        )));
+    }
+
+    if let Some((j, i)) = columns
+        .iter()
+        .enumerate()
+        .find_map(|(j, c)| c.iter().position(|x| !x.is_finite()).map(|i| (j, i)))
+    {
+        return Err(Error::Numerical(format!(
+            "CSV export: column {:?} is {} at row {}; nothing written",
+            header[j],
+            columns[j][i],
+            i + 1
         )));
     }
 

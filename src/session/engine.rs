@@ -497,6 +497,17 @@ impl Engine for Builtin {
             }
         };
         ctl.set_progress(1.0);
+        // a non-finite torque (an absurd mass, a singular pose) is an error here, so that no
+        // view, expect or file ever shows one
+        for (k, row) in tau.iter().enumerate() {
+            if let Some(j) = row.iter().position(|x| !x.is_finite()) {
+                return Err(Error::Numerical(format!(
+                    "inverse dynamics: the torque on `{}` is not finite at frame {k} ({} kg \
+                     body): check body.mass and the link masses",
+                    model.v_names[j], params.take.body.mass_kg
+                )));
+            }
+        }
         Ok(Analysis {
             q: table(&model.q_names, &states.q),
             v: table(&model.v_names, &states.v),
