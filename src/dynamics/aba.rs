@@ -108,7 +108,7 @@ pub fn aba<'w>(
                 }
             }
             let d_inv = spd_inverse(&d, nvi, &scale)
-                .map_err(|(k, ratio)| singular_error(model, iv + k, ratio))?;
+                .map_err(|(k, pivot)| singular_error(model, iv + k, pivot, scale[k]))?;
             let ud = u * d_inv;
             ws.u_mat[i] = u;
             ws.d_inv[i] = d_inv;
@@ -170,13 +170,12 @@ pub(crate) fn check_pivot(
     if pivot > SINGULAR_RTOL * scale && pivot.is_finite() {
         Ok(())
     } else {
-        Err(singular_error(model, coord, pivot / scale))
+        Err(singular_error(model, coord, pivot, scale))
     }
 }
 
 /// The inverse of the symmetric `n × n` top-left block of `d` (n ≤ 6) by Cholesky, checking
-/// each pivot against `SINGULAR_RTOL · scale[k]`; `Err((k, pivot / scale))` names the failing
-/// row.
+/// each pivot against `SINGULAR_RTOL · scale[k]`; `Err((k, pivot))` names the failing row.
 fn spd_inverse(d: &Matrix6<f64>, n: usize, scale: &[f64; 6]) -> Result<Matrix6<f64>, (usize, f64)> {
     // d = L Lᵀ
     let mut l = Matrix6::zeros();
@@ -186,7 +185,7 @@ fn spd_inverse(d: &Matrix6<f64>, n: usize, scale: &[f64; 6]) -> Result<Matrix6<f
             pivot -= l[(k, j)] * l[(k, j)];
         }
         if !(pivot > SINGULAR_RTOL * scale[k] && pivot.is_finite()) {
-            return Err((k, pivot / scale[k]));
+            return Err((k, pivot));
         }
         let lkk = pivot.sqrt();
         l[(k, k)] = lkk;
@@ -221,14 +220,71 @@ fn spd_inverse(d: &Matrix6<f64>, n: usize, scale: &[f64; 6]) -> Result<Matrix6<f
 }
 
 /// The error for a singular joint-space pivot at velocity coordinate `coord`.
-pub(crate) fn singular_error(model: &Model, coord: usize, ratio: f64) -> Error {
+pub(crate) fn singular_error(model: &Model, coord: usize, pivot: f64, scale: f64) -> Error {
     let body = model.body_of_v(coord);
     let name = model.v_names.get(coord).map_or("?", String::as_str);
-    Error::Numerical(format!(
-        "the mass matrix D(q) is singular at coordinate `{name}` (joint `{}`, body `{}`): its \
-         pivot is {ratio:.1e} of its scale. This is a gimbal lock of the euler joint model (two \
-         rotation axes of one joint aligned) or a chain of massless bodies; use the ball joint \
-         model (`--joints ball`), or give the bodies mass",
-        model.joint_names[body], model.body_names[body]
-    ))
+    let (joint, body) = (&model.joint_names[body], &model.body_names[body]);
+    let ratio = pivot / scale;
+    if scale > 0.0 && ratio.is_finite() {
+        Error::Numerical(format!(
+            "the mass matrix D(q) is singular at coordinate `{name}` (joint `{joint}`, body \
+             `{body}`): its pivot is {ratio:.1e} of the inertia it moves. This is a gimbal lock \
+             of the euler joint model (two rotation axes of one joint aligned) or a chain of \
+             massless bodies; use the ball joint model (`--joints ball`), or give the bodies mass"
+        ))
+    } else {
+        // the subtree's own inertia along the coordinate is zero to round-off: no ratio to give
+        Error::Numerical(format!(
+            "the mass matrix D(q) is singular at coordinate `{name}` (joint `{joint}`, body \
+             `{body}`): nothing with mass resists motion along it (pivot {pivot:.1e}): the \
+             bodies it moves are massless, or the joints below it can undo its motion (a \
+             massless joint whose children turn about its own point); give those bodies mass \
+             (`--link-mass JOINT=KG`) or lock the joint (`--lock JOINT`)"
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! A singular D(q) is an error naming the coordinate and what to change: a gimbal lock
+    //! (the pivot a tiny fraction of the inertia the coordinate moves) or a coordinate that
+    //! moves nothing with mass (no ratio to give).
+    use super::*;
+    use crate::model::{JointKind, ModelBuilder};
+    use crate::spatial::{SpatialInertia, SpatialTransform};
+    use nalgebra::Matrix3;
+
+    #[test]
+    fn a_joint_moving_nothing_with_mass_is_named_with_what_to_change() {
+        let mut mb = ModelBuilder::new("t", Vector3::new(0.0, 0.0, -9.81));
+        let ball =
+            SpatialInertia::new(1.0, Vector3::new(0.3, 0.0, 0.0), Matrix3::identity() * 0.01);
+        let arm = mb.add_body(
+            0,
+            "arm",
+            "shoulder",
+            JointKind::Revolute { axis: Vector3::z() },
+            SpatialTransform::IDENTITY,
+            ball,
+        );
+        mb.add_body(
+            arm,
+            "marker",
+            "marker_hinge",
+            JointKind::Revolute { axis: Vector3::x() },
+            SpatialTransform::from_translation(Vector3::new(0.5, 0.0, 0.0)),
+            SpatialInertia::ZERO,
+        );
+        let model = mb.build();
+        let mut ws = Workspace::new(&model);
+        let e = aba(&model, &mut ws, &[0.1, 0.2], &[0.0, 0.0], &[0.0, 0.0], None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`marker_hinge`"), "{e}");
+        assert!(
+            e.contains("nothing with mass resists motion along it"),
+            "{e}"
+        );
+        assert!(e.contains("--lock") && e.contains("--link-mass"), "{e}");
+    }
 }

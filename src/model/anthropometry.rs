@@ -479,6 +479,19 @@ pub fn distribute(bones: &[Bone], body: &BodyParams) -> Result<Vec<LinkMass>, Er
         let inherited = b.parent.and_then(|p| class[p]);
         class.push(classify(&b.name).or(inherited));
     }
+    // a humanoid's root whose name says nothing but which branches (MakeHuman's `Root` above
+    // `Hips` and `Spine1`, both at one point) is the body's hub, the pelvis: trunk. Left
+    // massless, its rotation would be undone by its children's and D(q) would be singular; a
+    // root with one child is a helper, which the pipeline folds into that child.
+    let humanoid = class.iter().any(|c| matches!(c, Some((Segment::Trunk, _))));
+    let branching = |j: usize| bones.iter().filter(|c| c.parent == Some(j)).count() > 1;
+    if let Some(r) = (0..n).find(|&j| bones[j].parent.is_none())
+        && humanoid
+        && class[r].is_none()
+        && branching(r)
+    {
+        class[r] = Some((Segment::Trunk, Side::Center));
+    }
     let has_trunk = class.iter().any(|c| matches!(c, Some((Segment::Trunk, _))));
 
     let mut mass = vec![0.0; n];
@@ -814,6 +827,22 @@ mod tests {
         body.link_mass.remove("Nope");
         body.link_mass.insert("Spine".into(), 65.0);
         assert!(distribute(&chain(), &body).is_err());
+    }
+
+    #[test]
+    fn a_humanoids_branching_root_without_a_segment_name_is_the_pelvis() {
+        // MakeHuman: `Root` above `Hips` (the legs) and `Spine` at one point
+        let mut bones = chain();
+        bones[0].name = "Root".into();
+        let links = distribute(&bones, &BodyParams::new(75.0, Sex::Male)).unwrap();
+        assert!(links[0].mass > 0.5, "{}", links[0].mass);
+        // a helper root with one child stays massless (the pipeline folds it)
+        let mut helper = chain();
+        helper[0].name = "joint_Root".into();
+        helper[0].ends.truncate(1);
+        helper[2].parent = Some(1); // the thigh hangs from the spine: the root has one child
+        let links = distribute(&helper, &BodyParams::new(75.0, Sex::Male)).unwrap();
+        assert_eq!(links[0].mass, 0.0);
     }
 
     #[test]
