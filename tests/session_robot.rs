@@ -185,3 +185,30 @@ fn a_motor_catalogue_file_replaces_the_bundled_one() {
     // j2 carries tens of N·m: through 100:1 more than 1 mN·m, so "huge"; j6 carries nothing
     assert!(m.contains("j2 huge") && m.contains("j6 tiny"), "{m}");
 }
+
+/// Regression: loading an arm after selecting an avatar's knee kept `RightLeg.Xrotation`
+/// selected, and the parameter panel and sparklines named a coordinate the arm does not have.
+/// A load keeps the selection only where the new take has it.
+#[test]
+fn loading_an_arm_after_a_take_selects_one_of_its_joints() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut wb = wb_in(dir.path());
+    ok(&mut wb, "load demo:walk as walk");
+    ok(&mut wb, "select RightLeg");
+    assert_eq!(wb.selection.as_deref(), Some("RightLeg.Xrotation"));
+    let dh = articula_data("stanford.toml");
+    ok(&mut wb, &format!("load {dh} as arm"));
+    assert_eq!(wb.selection.as_deref(), Some("j1"));
+    // back on the take, a coordinate of the take: none until its results choose one
+    ok(&mut wb, "load demo:walk as walk2");
+    ok(&mut wb, "run id");
+    let sel = wb.selection.clone().unwrap();
+    assert!(
+        wb.fresh_results().unwrap().model.v_index(&sel).is_some(),
+        "{sel}"
+    );
+}
+
+fn articula_data(name: &str) -> String {
+    format!("{}/data/{name}", env!("CARGO_MANIFEST_DIR"))
+}

@@ -548,6 +548,30 @@ fn selection_for(r: &Analysis, sel: Option<&str>) -> Option<String> {
     })
 }
 
+/// The selection when `take` becomes active: `sel` if the take has it (a robot's coordinate,
+/// or a coordinate of one of a BVH take's joints: `<joint>.<channel>`, `<joint>:<comp>`);
+/// otherwise a robot's first rotation, or none for a take (its results choose).
+fn selection_on_load(take: &Take, sel: Option<&str>) -> Option<String> {
+    match &take.data {
+        TakeData::Robot(r) => sel
+            .filter(|s| r.model.v_index(s).is_some())
+            .map(str::to_string)
+            .or_else(|| {
+                (0..r.model.nv)
+                    .find(|&k| is_angular(&r.model, k))
+                    .map(|k| r.model.v_names[k].clone())
+            }),
+        TakeData::Bvh(b) => sel
+            .filter(|s| {
+                [s.rsplit_once('.'), s.rsplit_once(':')]
+                    .into_iter()
+                    .flatten()
+                    .any(|(joint, _)| b.joints.iter().any(|j| j.name == joint))
+            })
+            .map(str::to_string),
+    }
+}
+
 /// Where an input path is read: relative paths under `in_dir` (`demo:` takes as they are).
 fn resolve_in(in_dir: &Path, p: &Path) -> PathBuf {
     if p.is_absolute() || p.to_string_lossy().starts_with("demo:") {
@@ -863,6 +887,7 @@ impl Workbench {
                 };
                 self.active = Some(i);
                 self.results = None;
+                self.selection = selection_on_load(&self.takes[i], self.selection.as_deref());
                 if blended {
                     self.frame = self.frame.min(self.frames().saturating_sub(1));
                 } else {
