@@ -381,6 +381,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
     match cmd {
         Cmd::Info { take, opts, json } => {
             let take = pipeline::load_take(&take, &opts.options()?)?;
+            print_notes(Some(&take));
             let info = pipeline::info(&take);
             if json {
                 println!("{}", serde_json::to_string_pretty(&info.json())?);
@@ -416,6 +417,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             let job =
                 pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
             pipeline::write_inverse_dynamics(&job, &output)?;
+            print_notes(job.take.as_ref());
             eprintln!("wrote {}", output.display());
         }
         Cmd::Fd {
@@ -538,4 +540,12 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// A take's notes (what the pipeline changed or found: a dropped rest frame, a folded root, a
+/// passage near gimbal lock, a capture glitch) on standard error, before the results.
+fn print_notes(take: Option<&pipeline::Take>) {
+    for n in take.iter().flat_map(|t| &t.notes) {
+        eprintln!("note: {n}");
+    }
 }

@@ -71,3 +71,93 @@ fn euler_branch_flips_are_repicked_and_rotations_kept() {
         assert!((ours - file).norm() < 1e-9, "frame {k}");
     }
 }
+
+/// A take with (a) a spine that passes near gimbal lock — ZXY at X = 88°, where `Rz(θ)·Rx·Ry(−θ)`
+/// barely moves while θ sweeps 40° a frame — and (b) a leg whose rotation jumps 150° for two
+/// frames and back (a solver swap) gets a note for each: the joint, the frame and what it means
+/// for the euler model's torques; `articula id` prints them before writing. A calm take gets
+/// none.
+#[test]
+fn passages_near_gimbal_lock_and_capture_glitches_are_noted() {
+    let n = 40;
+    let mut motion = String::new();
+    for k in 0..n {
+        let t = k as f64;
+        // the spine: near the pole for frames 10..20, calm elsewhere
+        let th = if (10..20).contains(&k) {
+            40.0 * (t - 10.0)
+        } else {
+            0.0
+        };
+        let spine = [th, 88.0, -th];
+        let leg_yaw = if k == 25 || k == 26 { 150.0 } else { 5.0 };
+        motion.push_str(&format!(
+            "0 0 0 0 0 0 {} {} {} 0 0 0 {} 0 0\n",
+            spine[0], spine[1], spine[2], leg_yaw
+        ));
+    }
+    let text = format!(
+        "HIERARCHY\nROOT Hips\n{{\n OFFSET 0 0 0\n CHANNELS 6 Xposition Yposition Zposition \
+         Zrotation Xrotation Yrotation\n JOINT Spine\n {{\n  OFFSET 0 100 0\n  CHANNELS 3 \
+         Zrotation Xrotation Yrotation\n  JOINT Head\n  {{\n   OFFSET 0 70 0\n   CHANNELS 3 \
+         Zrotation Xrotation Yrotation\n   End Site\n   {{\n    OFFSET 0 20 0\n   }}\n  }}\n }}\n \
+         JOINT Leg\n {{\n  OFFSET 0 -90 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  End \
+         Site\n  {{\n   OFFSET 0 -10 0\n  }}\n }}\n}}\nMOTION\nFrames: {n}\nFrame Time: 0.01\n{motion}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("glitch.bvh");
+    std::fs::write(&path, &text).unwrap();
+    let opts = TakeOptions {
+        stature_m: Some(1.75),
+        ..TakeOptions::default()
+    };
+    let take = take_from_bvh(&path, parse_str(&text, &path).unwrap(), &opts).unwrap();
+    let notes = take.notes.join("\n");
+    assert!(
+        notes.contains("`Spine` passes near gimbal lock at frame 1"),
+        "{notes}"
+    );
+    assert!(
+        notes.contains("`Leg` turns 145° in one frame at frame 24"),
+        "{notes}"
+    );
+    assert!(notes.contains("capture glitch"), "{notes}");
+    assert!(
+        !notes.contains("`Head`") && !notes.contains("`Hips`"),
+        "{notes}"
+    );
+
+    let out = assert_cmd::Command::cargo_bin("articula")
+        .unwrap()
+        .args(["id", "--stature", "1.75"])
+        .arg(&path)
+        .arg("-o")
+        .arg(dir.path().join("tau.csv"))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("note: `Spine` passes near gimbal lock"),
+        "{err}"
+    );
+    assert!(err.contains("note: `Leg` turns 145°"), "{err}");
+
+    // the workbench says so after inverse dynamics (the TUI's status line)
+    let mut wb = articula::session::Workbench::new(
+        std::sync::Arc::new(articula::session::Builtin),
+        dir.path(),
+        dir.path(),
+    );
+    for line in ["set stature 1.75", "load glitch.bvh", "run id"] {
+        let cmd = articula::session::parse_line(line, 1).unwrap().unwrap();
+        let msg = wb.apply(&cmd).unwrap().message;
+        if line == "run id" {
+            assert!(
+                msg.contains("note: `Spine` passes near gimbal lock"),
+                "{msg}"
+            );
+            assert!(msg.contains("(+1 more: `articula info`)"), "{msg}");
+        }
+    }
+}

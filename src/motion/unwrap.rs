@@ -7,7 +7,11 @@
 //! smoothly. Differentiating them gives spikes of thousands of degrees per second.
 //!
 //! [`unwrap_angles`] removes full turns from one angle; [`make_euler_continuous`] re-picks
-//! whole triples, which also handles the branch flips.
+//! whole triples, which also handles the branch flips. What no re-pick can remove is a true
+//! passage near gimbal lock: there the triple itself must turn fast while the rotation moves
+//! little, and the euler joint model's velocities, accelerations and torques spike;
+//! [`scan_triples`] finds it (the ball joint model has no such coordinates), and also a rotation
+//! that jumps more than any joint can turn in one frame: a capture glitch.
 
 use crate::rotation::{EulerOrder, euler_to_matrix, matrix_to_euler_near};
 
@@ -54,9 +58,102 @@ pub fn make_euler_continuous(order: EulerOrder, frames: &mut [[f64; 3]]) {
     }
 }
 
+/// A frame step where a continuous Euler triple turns much faster than the rotation it
+/// describes: near gimbal lock.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GimbalPassage {
+    /// The step from frame `frame` to `frame + 1`.
+    pub frame: usize,
+    /// The largest change of one of the three angles over that step (rad).
+    pub coordinate_step: f64,
+    /// The rotation's own change over that step: the angle of `R_kᵀ R_k+1` (rad).
+    pub rotation_step: f64,
+}
+
+/// What [`scan_triples`] finds in one joint's continuous Euler triples.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct TripleScan {
+    /// The worst step where one angle changes by more than 30° and more than 5 times the
+    /// rotation itself: a passage near gimbal lock, where the euler joint model's derivatives
+    /// spike.
+    pub passage: Option<GimbalPassage>,
+    /// The step where the rotation itself turns most, `(frame, angle in rad)`, when that is
+    /// over 90° in one frame: no joint does that (over 2,700°/s at 30 fps), a capture glitch
+    /// (a marker or solver swap) does.
+    pub jump: Option<(usize, f64)>,
+}
+
+/// Scans `frames` (angles in rad, continuous as [`make_euler_continuous`] leaves them) for
+/// passages near gimbal lock and implausible jumps of the rotation. Allocates nothing.
+pub fn scan_triples(order: EulerOrder, frames: &[[f64; 3]]) -> TripleScan {
+    const MIN_STEP: f64 = std::f64::consts::PI / 6.0;
+    const MIN_RATIO: f64 = 5.0;
+    const JUMP: f64 = std::f64::consts::FRAC_PI_2;
+    let mut out = TripleScan::default();
+    let Some(first) = frames.first() else {
+        return out;
+    };
+    let mut prev = euler_to_matrix(order, *first);
+    for k in 1..frames.len() {
+        let r = euler_to_matrix(order, frames[k]);
+        let cos = ((prev.transpose() * r).trace() - 1.0) / 2.0;
+        let rotation_step = cos.clamp(-1.0, 1.0).acos();
+        let step = (0..3)
+            .map(|i| (frames[k][i] - frames[k - 1][i]).abs())
+            .fold(0.0, f64::max);
+        if step > MIN_STEP
+            && step > MIN_RATIO * rotation_step
+            && out
+                .passage
+                .is_none_or(|w| step / rotation_step > w.coordinate_step / w.rotation_step)
+        {
+            out.passage = Some(GimbalPassage {
+                frame: k - 1,
+                coordinate_step: step,
+                rotation_step,
+            });
+        }
+        if rotation_step > JUMP && out.jump.is_none_or(|(_, a)| rotation_step > a) {
+            out.jump = Some((k - 1, rotation_step));
+        }
+        prev = r;
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_pass_near_gimbal_lock_is_found_and_a_smooth_turn_is_not() {
+        // XYZ at b = 88°: Rx(θ)·Ry(b)·Rz(−θ) barely moves as θ sweeps (at b = 90° it would not
+        // move at all), so the outer angles turn 40° a frame while the rotation turns 1.4°
+        let order = EulerOrder::XYZ;
+        let deg = |a: f64, b: f64, c: f64| [a.to_radians(), b.to_radians(), c.to_radians()];
+        let mut frames: Vec<[f64; 3]> = (0..12)
+            .map(|k| {
+                let t = 40.0 * k as f64;
+                deg(t, 88.0, -t)
+            })
+            .collect();
+        make_euler_continuous(order, &mut frames);
+        let scan = scan_triples(order, &frames);
+        let p = scan.passage.expect("passage near gimbal lock");
+        assert!(p.coordinate_step > 5.0 * p.rotation_step, "{p:?}");
+        assert_eq!(scan.jump, None);
+        // far from the singularity the same motion's coordinates follow the rotation
+        let calm: Vec<[f64; 3]> = (0..12).map(|k| deg(40.0 * k as f64, 20.0, 10.0)).collect();
+        assert_eq!(scan_triples(order, &calm), TripleScan::default());
+        // a three-frame glitch: the rotation jumps 126° and back
+        let mut glitch = calm.clone();
+        glitch[5] = deg(200.0, 20.0, 10.0 + 126.0);
+        glitch[6] = glitch[5];
+        let scan = scan_triples(order, &glitch);
+        let (frame, angle) = scan.jump.expect("jump");
+        assert!(frame == 4 || frame == 6, "{frame}");
+        assert!(angle > 90f64.to_radians(), "{angle}");
+    }
 
     #[test]
     fn removes_turns_keeps_small_steps() {

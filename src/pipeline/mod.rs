@@ -479,9 +479,10 @@ pub fn take_from_bvh_with(
     if !keep_going(0.1) {
         return Err(Error::Cancelled);
     }
-    let states = take_states_with(&bvh, &model, &map, &opts.smooth, &mut |f| {
+    let (states, passages) = take_states_noted(&bvh, &model, &map, &opts.smooth, &mut |f| {
         keep_going(0.1 + 0.9 * f)
     })?;
+    notes.extend(passages);
     Ok(Take {
         path: path.to_path_buf(),
         bvh,
@@ -524,28 +525,48 @@ pub fn take_states_with(
     smooth: &SmoothSpec,
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<States, Error> {
+    take_states_noted(bvh, model, map, smooth, keep_going).map(|(s, _)| s)
+}
+
+/// [`take_states_with`], and a note for each euler joint that passes near gimbal lock
+/// ([`make_euler_triples_continuous`]).
+pub fn take_states_noted(
+    bvh: &Bvh,
+    model: &Model,
+    map: &BvhMap,
+    smooth: &SmoothSpec,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<(States, Vec<String>), Error> {
     let traj = crate::motion::take::Trajectory::from_bvh(bvh, model, map);
     let dt = bvh.frame_time;
     let mut q = traj.q;
-    make_euler_triples_continuous(bvh, map, &mut q);
+    let notes = make_euler_triples_continuous(bvh, map, &mut q);
     unwrap_and_smooth_with(model, &mut q, dt, smooth, &mut |f| keep_going(0.9 * f))?;
     if !keep_going(0.9) {
         return Err(Error::Cancelled);
     }
     let (v, a) = derivatives(model, &q, dt);
-    Ok(States {
+    let states = States {
         time: traj.time,
         q,
         v,
         a,
-    })
+    };
+    Ok((states, notes))
 }
 
 /// Euler model: where a joint's three rotation channels flip to the other Tait–Bryan branch
 /// near a singularity (or jump by whole turns), re-picks for every frame the equivalent triple
 /// nearest the previous frame (`motion::unwrap::make_euler_continuous`). The rotation of every
 /// frame is unchanged; only its coordinates become continuous.
-pub fn make_euler_triples_continuous(bvh: &Bvh, map: &BvhMap, q: &mut [Vec<f64>]) {
+///
+/// Returns a note for each joint whose continuous triple still passes near gimbal lock
+/// (`motion::unwrap::scan_triples`): there its coordinates turn much faster than the joint,
+/// and the euler model's velocities, accelerations and torques spike; the ball model has no
+/// such coordinates. And one for each joint that turns more than 90° in one frame (a capture
+/// glitch).
+pub fn make_euler_triples_continuous(bvh: &Bvh, map: &BvhMap, q: &mut [Vec<f64>]) -> Vec<String> {
+    let mut notes = vec![];
     let mut frames: Vec<[f64; 3]> = Vec::with_capacity(q.len());
     for (joint, jm) in bvh.joints.iter().zip(&map.joints) {
         let (Some(order), None) = (joint.euler_order(), jm.quat_q) else {
@@ -566,7 +587,30 @@ pub fn make_euler_triples_continuous(bvh: &Bvh, map: &BvhMap, q: &mut [Vec<f64>]
         for (r, f) in q.iter_mut().zip(&frames) {
             (r[i0], r[i1], r[i2]) = (f[0], f[1], f[2]);
         }
+        let scan = crate::motion::unwrap::scan_triples(order, &frames);
+        if let Some(p) = scan.passage {
+            notes.push(format!(
+                "`{}` passes near gimbal lock at frame {}: its {order} angles turn {:.0}° in one \
+                 frame while the joint turns {:.1}°, so the euler model's torques spike there; \
+                 use the ball joint model (`--joints ball`, `set joints ball`)",
+                joint.name,
+                p.frame,
+                p.coordinate_step.to_degrees(),
+                p.rotation_step.to_degrees()
+            ));
+        }
+        if let Some((frame, angle)) = scan.jump {
+            notes.push(format!(
+                "`{}` turns {:.0}° in one frame at frame {frame} ({:.0}°/s): no joint does that, \
+                 a capture glitch (a marker or solver swap) does; torques near it are not \
+                 physical",
+                joint.name,
+                angle.to_degrees(),
+                angle.to_degrees() / bvh.frame_time
+            ));
+        }
     }
+    notes
 }
 
 /// Unwraps revolute coordinates (±2π jumps) and smooths every coordinate: scalar coordinates

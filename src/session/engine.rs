@@ -460,6 +460,7 @@ impl Engine for Builtin {
         ctl: &Control,
     ) -> Result<Analysis, Error> {
         ctl.check()?;
+        let mut note = String::new();
         let (model, states, scale, grf) = match &take.data {
             TakeData::Bvh(bvh) => {
                 // the pipeline's stages: axes and unit, model, q, unwrap, smooth, differentiate
@@ -474,6 +475,7 @@ impl Engine for Builtin {
                 ctl.set_progress(0.2);
                 ctl.check()?;
                 let scale = t.scale_to_m;
+                note = summarize_notes(&t.notes);
                 // with `contact feet`: the torques with the estimated ground reactions
                 let grf =
                     pipeline::ground_reactions_with(&t, &mut ctl.stage(0.2, 1.0))?.map(|g| g.tau);
@@ -515,7 +517,7 @@ impl Engine for Builtin {
             tau: table(&model.v_names, &tau),
             time: states.time.clone(),
             scale,
-            note: String::new(),
+            note,
             model,
         })
     }
@@ -654,6 +656,21 @@ fn no_motion(take: &Take) -> Error {
          `trajectory POSE POSE … over T` first",
         take.name
     ))
+}
+
+/// The notes worth a user's eye after inverse dynamics (a passage near gimbal lock, a capture
+/// glitch: torques there are not to be trusted), as one status-line message: the first and how
+/// many more.
+fn summarize_notes(notes: &[String]) -> String {
+    let warn: Vec<&String> = notes
+        .iter()
+        .filter(|n| n.contains("gimbal lock") || n.contains("capture glitch"))
+        .collect();
+    match warn.as_slice() {
+        [] => String::new(),
+        [one] => format!("note: {one}"),
+        [first, rest @ ..] => format!("note: {first} (+{} more: `articula info`)", rest.len()),
+    }
 }
 
 #[cfg(test)]
