@@ -371,16 +371,28 @@ where
         fold(|s| &s.x, f64::NEG_INFINITY, f64::max),
         0.02,
     )?;
+    // room above and below the curves for the stacked min / max labels (one line a curve)
+    let label_pad = 0.08 + 0.05 * p.series.len().min(4) as f64;
     let (y0, y1) = padded(
         fold(|s| &s.y, f64::INFINITY, f64::min),
         fold(|s| &s.y, f64::NEG_INFINITY, f64::max),
-        if p.mark_min_max { 0.12 } else { 0.05 },
+        if p.mark_min_max { label_pad } else { 0.05 },
     )?;
+
+    // the legend has a strip of its own right of the plot, so it never covers a curve or a label
+    let legend_chars = p
+        .series
+        .iter()
+        .map(|s| s.label.chars().count())
+        .max()
+        .unwrap_or(0);
+    let legend_w = 40 + (LEGEND_FONT as f64 * 0.6 * legend_chars as f64).ceil() as u32;
 
     // axes, grid and axis titles
     let mut chart = ChartBuilder::on(area)
         .caption(p.title, (FONT, 22))
         .margin(12)
+        .margin_right(12 + legend_w)
         .x_label_area_size(48)
         .y_label_area_size(80)
         .build_cartesian_2d(x0..x1, y0..y1)
@@ -395,7 +407,7 @@ where
         .draw()
         .map_err(plot_err)?;
 
-    // curves with their legend entries, long ones reduced to what the pixels can show
+    // curves, long ones reduced to what the pixels can show
     let columns = chart.plotting_area().dim_in_pixel().0 as usize;
     for (k, s) in p.series.iter().enumerate() {
         let color = PALETTE[k % PALETTE.len()];
@@ -405,52 +417,89 @@ where
                 keep.iter().map(|&i| (s.x[i], s.y[i])),
                 color.stroke_width(2),
             ))
-            .map_err(plot_err)?
-            .label(s.label.as_str())
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-            });
+            .map_err(plot_err)?;
     }
 
-    // min / max markers: a dot on the sample and its value and abscissa beside it
+    // min / max markers: a dot on the sample and its value and abscissa beside it, each label
+    // moved away from its curve (up for a maximum, down for a minimum) until it overlaps no
+    // label placed before it
     if p.mark_min_max {
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        let (px, py) = (xr.start as f64, yr.start as f64);
+        let (pw, ph) = ((xr.end - xr.start) as f64, (yr.end - yr.start) as f64);
+        let mut placed: Vec<[f64; 4]> = vec![];
         for (k, s) in p.series.iter().enumerate() {
             let color = PALETTE[k % PALETTE.len()];
             let (imin, imax) = arg_min_max(&s.y);
-            let marks = [("min", imin, 6), ("max", imax, -18)];
-            for (what, i, dy) in marks {
+            for (what, i, up) in [("max", imax, true), ("min", imin, false)] {
                 let text = format!("{what} {} @ {}", fmt_value(s.y[i]), fmt_value(s.x[i]));
-                // labels in the right quarter extend leftwards so they stay inside the plot
-                let right = s.x[i] > x0 + 0.75 * (x1 - x0);
-                let (anchor, dx) = if right {
-                    (HPos::Right, -6)
+                let (dot_x, dot_y) = chart.backend_coord(&(s.x[i], s.y[i]));
+                let (dot_x, dot_y) = (dot_x as f64, dot_y as f64);
+                let w = MARK_FONT as f64 * 0.6 * text.chars().count() as f64;
+                let h = MARK_FONT as f64 + 2.0;
+                // beside the dot, extending into the plot (leftwards in its right quarter)
+                let left = if dot_x > px + 0.75 * pw {
+                    dot_x - 6.0 - w
                 } else {
-                    (HPos::Left, 6)
+                    dot_x + 6.0
                 };
-                let style = TextStyle::from((FONT, 13).into_font())
+                let mut top = if up { dot_y - 6.0 - h } else { dot_y + 6.0 };
+                let step = if up { -h } else { h };
+                for _ in 0..3 * p.series.len() + 2 {
+                    let b = [left, top, left + w, top + h];
+                    if !placed.iter().any(|q| overlaps(q, &b)) {
+                        break;
+                    }
+                    top += step;
+                }
+                top = top.clamp(py, py + ph - h);
+                placed.push([left, top, left + w, top + h]);
+                let style = TextStyle::from((FONT, MARK_FONT).into_font())
                     .color(&color)
-                    .pos(Pos::new(anchor, VPos::Top));
+                    .pos(Pos::new(HPos::Left, VPos::Top));
                 chart
                     .draw_series(std::iter::once(
                         EmptyElement::at((s.x[i], s.y[i]))
                             + Circle::new((0, 0), 4, color.filled())
-                            + Text::new(text, (dx, dy), style),
+                            + Text::new(
+                                text,
+                                ((left - dot_x).round() as i32, (top - dot_y).round() as i32),
+                                style,
+                            ),
                     ))
                     .map_err(plot_err)?;
             }
         }
     }
 
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font((FONT, 14))
-        .draw()
+    // the legend, in its strip: a line of the curve's colour and its label
+    let (area_w, _) = area.dim_in_pixel();
+    let lx = (area_w - legend_w) as i32;
+    for (k, s) in p.series.iter().enumerate() {
+        let color = PALETTE[k % PALETTE.len()];
+        let y = 48 + 20 * k as i32;
+        area.draw(&PathElement::new(
+            vec![(lx, y), (lx + 22, y)],
+            color.stroke_width(2),
+        ))
         .map_err(plot_err)?;
+        let style = TextStyle::from((FONT, LEGEND_FONT).into_font())
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Left, VPos::Center));
+        area.draw(&Text::new(s.label.as_str(), (lx + 30, y), style))
+            .map_err(plot_err)?;
+    }
     Ok(())
 }
+
+/// True when the boxes `[left, top, right, bottom]` (pixels) overlap.
+fn overlaps(a: &[f64; 4], b: &[f64; 4]) -> bool {
+    a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]
+}
+
+/// Font sizes (px) of the min / max labels and of the legend.
+const MARK_FONT: u32 = 13;
+const LEGEND_FONT: u32 = 14;
 
 /// Draws `t` as a grid of left-aligned text cells in `area`.
 fn draw_table<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, t: &Table) -> Result<(), Error>
