@@ -268,3 +268,58 @@ fn long_series_are_reduced_to_the_pixels_keeping_extremes() {
         texts(&svg)
     );
 }
+
+/// Regression: three body masses of one take peak at the same instant, and their min/max labels
+/// were drawn on top of each other, with the legend box over the right-hand ones. Every label's
+/// box (Hack is 0.6 em a glyph, one em high) overlaps no other label, and all of them lie left
+/// of the legend, which has a strip of its own.
+#[test]
+fn min_max_labels_of_curves_peaking_together_do_not_overlap_or_hide_under_the_legend() {
+    let t: Vec<f64> = (0..1200).map(|i| i as f64 / 120.0).collect();
+    let base: Vec<f64> = t
+        .iter()
+        .map(|&t| {
+            40.0 * (-(t - 9.0f64).powi(2) * 8.0).exp() - 60.0 * (-(t - 7.2f64).powi(2) * 30.0).exp()
+        })
+        .collect();
+    let series: Vec<Series> = [60.0, 80.0, 100.0]
+        .iter()
+        .map(|m| {
+            Series::new(
+                format!("{m} kg"),
+                t.clone(),
+                base.iter().map(|y| y * m / 60.0).collect(),
+            )
+        })
+        .collect();
+    let svg = time_series_svg("knee", "time (s)", "torque (N·m)", &series, true).unwrap();
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let boxes = |pred: &dyn Fn(&str) -> bool| -> Vec<[f64; 4]> {
+        doc.descendants()
+            .filter(|n| n.has_tag_name("text") && pred(n.text().unwrap_or("").trim()))
+            .map(|n| {
+                let num = |a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
+                let (x, y, size) = (num("x"), num("y"), num("font-size"));
+                let len = n.text().unwrap().trim().chars().count() as f64;
+                [x, y, x + 0.6 * size * len, y + size]
+            })
+            .collect()
+    };
+    let labels = boxes(&|s: &str| s.starts_with("max ") || s.starts_with("min "));
+    assert_eq!(labels.len(), 6);
+    for (i, a) in labels.iter().enumerate() {
+        for b in &labels[i + 1..] {
+            let overlap = a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3];
+            assert!(!overlap, "{a:?} overlaps {b:?}");
+        }
+    }
+    let legend = boxes(&|s: &str| s.ends_with(" kg"));
+    assert_eq!(legend.len(), 3);
+    let legend_left = legend.iter().map(|b| b[0]).fold(f64::INFINITY, f64::min);
+    for l in &labels {
+        assert!(
+            l[2] < legend_left,
+            "label {l:?} reaches the legend at x = {legend_left}"
+        );
+    }
+}
