@@ -267,3 +267,31 @@ fn an_explicit_channel_is_kept_and_a_robot_shows_its_joints() {
     );
     let _ = screen(&ui, &wb, 80, 24);
 }
+
+/// Regression: at 80 columns an error longer than the status line was cut off with no way to
+/// read the rest. It now shows whole, wrapped in a box above the status line, until Esc; and
+/// `?` ends with the last message, however long.
+#[test]
+fn a_long_error_is_shown_whole_at_80_columns_and_the_help_holds_the_last_message() {
+    let (mut ui, mut wb) = demo(80, 24);
+    press(
+        &mut ui,
+        &mut wb,
+        ":load /no/such/folder/with/a/rather/long/name/take_number_one.bvh<Enter>",
+    );
+    let e = ui.error.clone().expect("an error");
+    assert!(e.chars().count() + 7 > 80, "{e}");
+    let s = screen(&ui, &wb, 80, 24);
+    assert!(s.contains("Error (Esc closes)"), "{s}");
+    // the end of the message is on screen (wrapped), not cut
+    let joined: String = s
+        .lines()
+        .map(|l| l.trim_matches(|c| c == '│' || c == ' '))
+        .collect();
+    assert!(joined.contains("take_number_one.bvh"), "{s}");
+    press(&mut ui, &mut wb, "<Esc>");
+    assert!(!screen(&ui, &wb, 80, 24).contains("Error (Esc closes)"));
+    press(&mut ui, &mut wb, "?");
+    let s = screen(&ui, &wb, 80, 24);
+    assert!(s.contains("Last message:"), "{s}");
+}

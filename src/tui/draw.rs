@@ -73,8 +73,29 @@ pub fn draw(ui: &Ui, wb: &Workbench, f: &mut Frame) {
     draw_sparks(ui, wb, f, sparks);
     draw_timeline(ui, wb, f, timeline);
     draw_status(ui, wb, f, status);
+    // an error too long for the status line: all of it, wrapped, above the status line
+    if let Some(e) = &ui.error
+        && ui.cmdline.is_none()
+        && !ui.help
+        && e.chars().count() + 7 > area.width as usize
+    {
+        draw_popup(
+            ui,
+            f,
+            area,
+            " Error (Esc closes) ",
+            &format!("error: {e}"),
+            Color::Red,
+        );
+    }
     if ui.help {
-        draw_help(ui, f, area);
+        let last = wb.last_message();
+        let text = if last.is_empty() {
+            HELP.to_string()
+        } else {
+            format!("Last message: {last}\n\n{HELP}")
+        };
+        draw_popup(ui, f, area, " Help ", &text, Color::Yellow);
     }
 }
 
@@ -504,21 +525,36 @@ anywhere      Space play/pause, [ ] one frame, { } ten frames, g/G first/last fr
 Esc           cancel the running job (⟳ in the status line) and what waits for it; clear an error
 Commands are the session language: load, set, run, select, frame, export, expect, ...";
 
-fn draw_help(ui: &Ui, f: &mut Frame, area: Rect) {
+/// A box of wrapped `text` centred in `area` (the help), or low in it (an error), at most as
+/// tall as the area.
+fn draw_popup(ui: &Ui, f: &mut Frame, area: Rect, title: &str, text: &str, color: Color) {
     let w = area.width.saturating_sub(4).min(96);
-    let h = (HELP.lines().count() as u16 + 2).min(area.height);
+    let inner = w.saturating_sub(2).max(1) as usize;
+    // wrapped height: each line takes ⌈chars / inner width⌉ rows (at least one)
+    let rows: usize = text
+        .lines()
+        .map(|l| l.chars().count().div_ceil(inner).max(1))
+        .sum();
+    let h = (rows as u16 + 2).min(area.height);
+    let y = if color == Color::Red {
+        area.y + area.height.saturating_sub(h + 1)
+    } else {
+        area.y + (area.height - h) / 2
+    };
     let rect = Rect {
         x: area.x + (area.width - w) / 2,
-        y: area.y + (area.height - h) / 2,
+        y,
         width: w,
         height: h,
     };
     f.render_widget(Clear, rect);
-    let p = Paragraph::new(HELP).wrap(Wrap { trim: false }).block(
-        Block::default()
-            .borders(Borders::ALL)
-            .title(" Help ")
-            .border_style(ui.fg(Color::Yellow)),
-    );
+    let p = Paragraph::new(text.to_string())
+        .wrap(Wrap { trim: false })
+        .block(
+            Block::default()
+                .borders(Borders::ALL)
+                .title(title.to_string())
+                .border_style(ui.fg(color)),
+        );
     f.render_widget(p, rect);
 }
