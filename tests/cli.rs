@@ -253,6 +253,46 @@ fn simulate_json_summary() {
     assert!(v["max_error_rad"].as_f64().unwrap() < 0.01, "{v}");
 }
 
+/// `simulate -o` records, per step, q, q̇, τ and the tracking error of every coordinate; the
+/// recorded q̇ is the derivative of the recorded q (central differences agree to O(dt²)).
+#[test]
+fn simulate_csv_records_q_v_tau_and_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.3);
+    let csv = dir.path().join("sim.csv");
+    let out = articula()
+        .arg("simulate")
+        .arg(&take)
+        .args(["--dt", "0.002", "-o"])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (h, cols) = articula::report::csv::read_columns(&csv).unwrap();
+    let col = |name: &str| {
+        &cols[h
+            .iter()
+            .position(|x| x == name)
+            .unwrap_or_else(|| panic!("{name} in {h:?}"))]
+    };
+    let c = "LeftLeg.Xrotation";
+    for prefix in ["q:", "v:", "tau:", "err:"] {
+        col(&format!("{prefix}{c}"));
+    }
+    let (t, q, v) = (col("time"), col(&format!("q:{c}")), col(&format!("v:{c}")));
+    let mut worst: f64 = 0.0;
+    for k in 1..t.len() - 1 {
+        let fd = (q[k + 1] - q[k - 1]) / (t[k + 1] - t[k - 1]);
+        worst = worst.max((fd - v[k]).abs());
+    }
+    let vmax = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    assert!(vmax > 0.1 && worst < 0.02 * vmax, "worst {worst} of {vmax}");
+}
+
 /// Diagonal gains by joint: with the controller's masses 30 % off, stiffer knee gains shrink
 /// the knee's tracking error (PD error dynamics: the error falls as the gains rise) and zero
 /// knee gains let the knee drift, while a joint whose gains did not change tracks as before.

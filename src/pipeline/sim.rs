@@ -150,7 +150,7 @@ impl SimSummary {
 }
 
 /// `articula simulate`: computed-torque tracking of the take; optionally writes
-/// `time`, `q:<coord>`, `tau:<coord>`, `err:<coord>` per recorded row.
+/// `time`, `q:<coord>`, `v:<coord>`, `tau:<coord>`, `err:<coord>` per recorded row (SI).
 pub fn simulate(
     take: &Take,
     settings: &SimSettings,
@@ -163,12 +163,14 @@ pub fn simulate(
         let m = &take.model;
         let mut h = vec!["time".to_string()];
         h.extend(m.q_names.iter().map(|n| format!("q:{n}")));
+        h.extend(m.v_names.iter().map(|n| format!("v:{n}")));
         h.extend(m.v_names.iter().map(|n| format!("tau:{n}")));
         h.extend(m.v_names.iter().map(|n| format!("err:{n}")));
         let rows: Vec<Vec<f64>> = (0..result.time.len())
             .map(|k| {
                 let mut r = vec![result.time[k]];
                 r.extend_from_slice(&result.q[k]);
+                r.extend_from_slice(&result.v[k]);
                 r.extend_from_slice(&result.tau[k]);
                 r.extend_from_slice(&result.error[k]);
                 r
