@@ -1148,10 +1148,14 @@ impl Workbench {
         let p = &mut self.params;
         match key {
             "body.mass" => {
-                let m = num("a mass in kg")?;
-                if m <= 0.0 {
-                    return Err(err("set body.mass: the mass must be positive"));
-                }
+                let m = match value.trim_end_matches("kg").parse::<f64>() {
+                    Ok(m) if m.is_finite() && m > 0.0 => m,
+                    _ => {
+                        return Err(err(format!(
+                            "set body.mass: expected a positive mass in kg, found '{value}'"
+                        )));
+                    }
+                };
                 p.take.body.mass_kg = m;
             }
             "body.sex" => p.take.body.sex = parsed(key, value)?,
