@@ -30,14 +30,7 @@ fn euler_branch_flips_are_repicked_and_rotations_kept() {
     }
     let jumps = raw.windows(2).any(|w| (w[1][0] - w[0][0]).abs() > 90.0);
     assert!(jumps, "the test take must contain a branch flip");
-    let text = format!(
-        "HIERARCHY\nROOT Hips\n{{\n OFFSET 0 0 0\n CHANNELS 6 Xposition Yposition Zposition \
-         Zrotation Xrotation Yrotation\n JOINT Spine\n {{\n  OFFSET 0 100 0\n  CHANNELS 3 \
-         Zrotation Xrotation Yrotation\n  JOINT Head\n  {{\n   OFFSET 0 70 0\n   CHANNELS 3 \
-         Zrotation Xrotation Yrotation\n   End Site\n   {{\n    OFFSET 0 20 0\n   }}\n  }}\n }}\n \
-         JOINT Leg\n {{\n  OFFSET 0 -90 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  End \
-         Site\n  {{\n   OFFSET 0 -10 0\n  }}\n }}\n}}\nMOTION\nFrames: {n}\nFrame Time: 0.01\n{motion}"
-    );
+    let text = take_text(n, &motion);
     // the flip is on the Spine (the root stays upright)
     let bvh = parse_str(&text, Path::new("flip.bvh")).unwrap();
     let opts = TakeOptions {
@@ -96,14 +89,7 @@ fn passages_near_gimbal_lock_and_capture_glitches_are_noted() {
             spine[0], spine[1], spine[2], leg_yaw
         ));
     }
-    let text = format!(
-        "HIERARCHY\nROOT Hips\n{{\n OFFSET 0 0 0\n CHANNELS 6 Xposition Yposition Zposition \
-         Zrotation Xrotation Yrotation\n JOINT Spine\n {{\n  OFFSET 0 100 0\n  CHANNELS 3 \
-         Zrotation Xrotation Yrotation\n  JOINT Head\n  {{\n   OFFSET 0 70 0\n   CHANNELS 3 \
-         Zrotation Xrotation Yrotation\n   End Site\n   {{\n    OFFSET 0 20 0\n   }}\n  }}\n }}\n \
-         JOINT Leg\n {{\n  OFFSET 0 -90 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  End \
-         Site\n  {{\n   OFFSET 0 -10 0\n  }}\n }}\n}}\nMOTION\nFrames: {n}\nFrame Time: 0.01\n{motion}"
-    );
+    let text = take_text(n, &motion);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("glitch.bvh");
     std::fs::write(&path, &text).unwrap();
@@ -160,4 +146,17 @@ fn passages_near_gimbal_lock_and_capture_glitches_are_noted() {
             assert!(msg.contains("(+1 more: `articula info`)"), "{msg}");
         }
     }
+}
+
+/// A ZXY skeleton (Hips with six channels; Spine → Head, and Leg, three rotations each) with
+/// `n` frames of `motion` (one line per frame, 15 numbers), at 100 fps.
+fn take_text(n: usize, motion: &str) -> String {
+    format!(
+        "HIERARCHY\nROOT Hips\n{{\n OFFSET 0 0 0\n CHANNELS 6 Xposition Yposition Zposition \
+         Zrotation Xrotation Yrotation\n JOINT Spine\n {{\n  OFFSET 0 100 0\n  CHANNELS 3 \
+         Zrotation Xrotation Yrotation\n  JOINT Head\n  {{\n   OFFSET 0 70 0\n   CHANNELS 3 \
+         Zrotation Xrotation Yrotation\n   End Site\n   {{\n    OFFSET 0 20 0\n   }}\n  }}\n }}\n \
+         JOINT Leg\n {{\n  OFFSET 0 -90 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  End \
+         Site\n  {{\n   OFFSET 0 -10 0\n  }}\n }}\n}}\nMOTION\nFrames: {n}\nFrame Time: 0.01\n{motion}"
+    )
 }
