@@ -381,7 +381,6 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
     match cmd {
         Cmd::Info { take, opts, json } => {
             let take = pipeline::load_take(&take, &opts.options()?)?;
-            print_notes(Some(&take));
             let info = pipeline::info(&take);
             if json {
                 println!("{}", serde_json::to_string_pretty(&info.json())?);
@@ -445,10 +444,19 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             json,
         } => {
             let take = pipeline::load_take(&take, &opts.options()?)?;
-            let (mut kp, mut kv) = (
-                pipeline::PerJoint::all(400.0),
-                pipeline::PerJoint::all(40.0),
-            );
+            print_notes(Some(&take));
+            // gains: the scene's (if any), then the flags over them
+            let gains = match &opts.scene {
+                Some(path) => articula::io::scene::read(path)?.gains,
+                None => None,
+            };
+            let (mut kp, mut kv) = match gains {
+                Some(g) => (g.kp, g.kv),
+                None => (
+                    pipeline::PerJoint::all(400.0),
+                    pipeline::PerJoint::all(40.0),
+                ),
+            };
             pipeline::parse_per_joint("kp", &sim.kp, &mut kp, "1/s²", "400 or LeftLeg=900")?;
             pipeline::parse_per_joint("kv", &sim.kv, &mut kv, "1/s", "40 or LeftLeg=60")?;
             let settings = pipeline::SimSettings::parse(

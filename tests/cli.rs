@@ -329,6 +329,19 @@ fn simulate_takes_gains_per_joint() {
     let base = run(&[]);
     let stiff = run(&["--kp", "400", "--kp", "LeftLeg=4000", "--kv", "LeftLeg=120"]);
     let limp = run(&["--kp", "LeftLeg=0", "--kv", "LeftLeg=0"]);
+    // the same limp knee from a scene's [gains] tables (regression: --scene dropped them)
+    let scene = dir.path().join("limp.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            "takes = [{:?}]\n[gains]\nkp = {{ \"*\" = 400.0, LeftLeg = 0.0 }}\n\
+             kv = {{ \"*\" = 40.0, LeftLeg = 0.0 }}\n",
+            take.display().to_string()
+        ),
+    )
+    .unwrap();
+    let scene_arg = scene.display().to_string();
+    let from_scene = run(&["--scene", &scene_arg]);
     let (knee, other) = ("LeftLeg.Xrotation", "RightLeg.Xrotation");
     assert!(base[knee] > 0.0);
     assert!(
@@ -342,6 +355,12 @@ fn simulate_takes_gains_per_joint() {
         "{} vs {}",
         limp[knee],
         base[knee]
+    );
+    assert!(
+        (from_scene[knee] - limp[knee]).abs() < 1e-9 * limp[knee],
+        "scene {} vs flags {}",
+        from_scene[knee],
+        limp[knee]
     );
     for r in [&stiff, &limp] {
         assert!(

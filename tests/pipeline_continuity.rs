@@ -128,6 +128,22 @@ fn passages_near_gimbal_lock_and_capture_glitches_are_noted() {
         "{err}"
     );
     assert!(err.contains("note: `Leg` turns 145°"), "{err}");
+    let out = assert_cmd::Command::cargo_bin("articula")
+        .unwrap()
+        .args(["simulate", "--stature", "1.75", "--duration", "0.05"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("note: `Spine` passes near gimbal lock"),
+        "simulate: {err}"
+    );
 
     // the workbench says so after inverse dynamics (the TUI's status line)
     let mut wb = articula::session::Workbench::new(

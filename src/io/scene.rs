@@ -45,10 +45,10 @@ use std::str::FromStr;
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Gains {
-    /// Position gains (1/s²), > 0; default 400.
+    /// Position gains (1/s²), ≥ 0 (0: no position feedback); default 400.
     #[serde(default = "default_kp", deserialize_with = "gain_kp")]
     pub kp: PerJoint,
-    /// Velocity gains (1/s), > 0; default 40.
+    /// Velocity gains (1/s), ≥ 0; default 40.
     #[serde(default = "default_kv", deserialize_with = "gain_kv")]
     pub kv: PerJoint,
 }
@@ -136,18 +136,18 @@ fn damping<'de, D: Deserializer<'de>>(d: D) -> Result<Damping, D::Error> {
     })
 }
 
-fn positive_gain(x: f64) -> Result<f64, String> {
-    if x.is_finite() && x > 0.0 {
+fn gain(x: f64) -> Result<f64, String> {
+    if x.is_finite() && x >= 0.0 {
         Ok(x)
     } else {
-        Err(format!("expected a positive number, found {x}"))
+        Err(format!("expected a gain ≥ 0, found {x}"))
     }
 }
 fn gain_kp<'de, D: Deserializer<'de>>(d: D) -> Result<PerJoint, D::Error> {
-    per_joint(d, default_kp().all, positive_gain)
+    per_joint(d, default_kp().all, gain)
 }
 fn gain_kv<'de, D: Deserializer<'de>>(d: D) -> Result<PerJoint, D::Error> {
-    per_joint(d, default_kv().all, positive_gain)
+    per_joint(d, default_kv().all, gain)
 }
 
 /// A study: takes and every parameter the pipeline needs. Units are SI.
@@ -429,7 +429,7 @@ mod tests {
             ("takes = [\"a.bvh\"]\ncontact = \"hands\"\n", 2),
             ("takes = [\"a.bvh\"]\nposition = \"both\"\n", 2),
             ("takes = [\"a.bvh\"]\n[link_mass]\nLeftUpLeg = -1\n", 3),
-            ("takes = [\"a.bvh\"]\n[gains]\nkp = 0\nkv = 1\n", 3),
+            ("takes = [\"a.bvh\"]\n[gains]\nkp = -1\nkv = 1\n", 3),
             ("takes = [\"a.bvh\"]\ndamping = -0.5\n", 2),
             ("takes = [\"a.bvh\"]\n\ndamping = \"lots\"\n", 3),
             ("takes = [\"a.bvh\"]\nmas = 70\n", 2),
