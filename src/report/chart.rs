@@ -435,6 +435,11 @@ where
                 let text = format!("{what} {} @ {}", fmt_value(s.y[i]), fmt_value(s.x[i]));
                 let (dot_x, dot_y) = chart.backend_coord(&(s.x[i], s.y[i]));
                 let (dot_x, dot_y) = (dot_x as f64, dot_y as f64);
+                let style = TextStyle::from((FONT, MARK_FONT).into_font())
+                    .color(&color)
+                    .pos(Pos::new(HPos::Left, VPos::Top));
+                // a box that holds the text in any face a viewer substitutes: 0.6 em a glyph at
+                // the nominal size (the SVG draws it smaller, the substitutes are wider)
                 let w = MARK_FONT as f64 * 0.6 * text.chars().count() as f64;
                 let h = MARK_FONT as f64 + 2.0;
                 // beside the dot, extending into the plot (leftwards in its right quarter)
@@ -443,29 +448,34 @@ where
                 } else {
                     dot_x + 6.0
                 };
-                let mut top = if up { dot_y - 6.0 - h } else { dot_y + 6.0 };
-                let step = if up { -h } else { h };
-                for _ in 0..3 * p.series.len() + 2 {
-                    let b = [left, top, left + w, top + h];
-                    if !placed.iter().any(|q| overlaps(q, &b)) {
-                        break;
-                    }
-                    top += step;
-                }
-                top = top.clamp(py, py + ph - h);
+                // candidates: away from the curve first (up for a maximum, down for a
+                // minimum), then towards it, every one inside the plot; the first free one
+                let start = if up { dot_y - 6.0 - h } else { dot_y + 6.0 };
+                let away = if up { -h } else { h };
+                let inside = |t: f64| t >= py && t + h <= py + ph;
+                let free = |t: f64| {
+                    !placed
+                        .iter()
+                        .any(|q| overlaps(q, &[left, t, left + w, t + h]))
+                };
+                let n = (ph / h) as i32 + 1;
+                let top = (0..n)
+                    .map(|k| start + away * k as f64)
+                    .chain((1..n).map(|k| start - away * k as f64))
+                    .find(|&t| inside(t) && free(t))
+                    .unwrap_or_else(|| start.clamp(py, (py + ph - h).max(py)));
                 placed.push([left, top, left + w, top + h]);
-                let style = TextStyle::from((FONT, MARK_FONT).into_font())
-                    .color(&color)
-                    .pos(Pos::new(HPos::Left, VPos::Top));
+                let (dx, dy) = ((left - dot_x).round() as i32, (top - dot_y).round() as i32);
                 chart
                     .draw_series(std::iter::once(
                         EmptyElement::at((s.x[i], s.y[i]))
                             + Circle::new((0, 0), 4, color.filled())
-                            + Text::new(
-                                text,
-                                ((left - dot_x).round() as i32, (top - dot_y).round() as i32),
-                                style,
-                            ),
+                            // a light backing, so that curves crossing the label do not hide it
+                            + Rectangle::new(
+                                [(dx - 1, dy - 1), (dx + w.ceil() as i32 + 1, dy + h as i32)],
+                                WHITE.mix(0.75).filled(),
+                            )
+                            + Text::new(text, (dx, dy), style),
                     ))
                     .map_err(plot_err)?;
             }
