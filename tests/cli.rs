@@ -293,6 +293,42 @@ fn simulate_csv_records_q_v_tau_and_error() {
     assert!(vmax > 0.1 && worst < 0.02 * vmax, "worst {worst} of {vmax}");
 }
 
+/// A one-frame take is a pose: `simulate` says it needs a motion instead of "tracking" zero
+/// steps; `id` gives the pose's static load.
+#[test]
+fn simulate_refuses_a_one_frame_take() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 1.0);
+    let text = std::fs::read_to_string(&take).unwrap();
+    let (head, motion) = text.split_once("MOTION").unwrap();
+    let first = motion.lines().nth(3).unwrap();
+    let one = dir.path().join("pose.bvh");
+    std::fs::write(
+        &one,
+        format!("{head}MOTION\nFrames: 1\nFrame Time: 0.00833333\n{first}\n"),
+    )
+    .unwrap();
+    let out = articula().arg("simulate").arg(&one).output().unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("needs a motion of at least two frames"),
+        "{err}"
+    );
+    let out = articula()
+        .arg("id")
+        .arg(&one)
+        .arg("-o")
+        .arg(dir.path().join("t.csv"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 /// Diagonal gains by joint: with the controller's masses 30 % off, stiffer knee gains shrink
 /// the knee's tracking error (PD error dynamics: the error falls as the gains rise) and zero
 /// knee gains let the knee drift, while a joint whose gains did not change tracks as before.

@@ -262,6 +262,11 @@ fn gains_per_joint_reach_the_simulation() {
     articula::io::bvh::write(&walk, &dir.path().join("w.bvh")).unwrap();
     let mut wb = wb_in(dir.path());
     ok(&mut wb, "load w.bvh");
+    // before any results, a name that is no joint of the take is refused too
+    let e = wb
+        .apply(&parse_line("set kv.Knee 5", 1).unwrap().unwrap())
+        .unwrap_err();
+    assert!(e.to_string().contains("no joint 'Knee'"), "{e}");
     // one step per frame, so that the simulation is recorded at the take's own frames
     ok(&mut wb, &format!("set dt {}", walk.frame_time));
     ok(&mut wb, "run id");

@@ -590,22 +590,24 @@ pub fn make_euler_triples_continuous(bvh: &Bvh, map: &BvhMap, q: &mut [Vec<f64>]
         let scan = crate::motion::unwrap::scan_triples(order, &frames);
         if let Some(p) = scan.passage {
             notes.push(format!(
-                "`{}` passes near gimbal lock at frame {}: its {order} angles turn {:.0}° in one \
-                 frame while the joint turns {:.1}°, so the euler model's torques spike there; \
-                 use the ball joint model (`--joints ball`, `set joints ball`)",
+                "`{}` passes near gimbal lock between frames {} and {}: its {order} angles turn \
+                 {:.0}° in one frame while the joint turns {:.1}°, so the euler model's torques \
+                 spike there; use the ball joint model (`--joints ball`, `set joints ball`)",
                 joint.name,
                 p.frame,
+                p.frame + 1,
                 p.coordinate_step.to_degrees(),
                 p.rotation_step.to_degrees()
             ));
         }
         if let Some((frame, angle)) = scan.jump {
             notes.push(format!(
-                "`{}` turns {:.0}° in one frame at frame {frame} ({:.0}°/s): no joint does that, \
-                 a capture glitch (a marker or solver swap) does; torques near it are not \
+                "`{}` turns {:.0}° between frames {frame} and {} ({:.0}°/s): no joint does \
+                 that, a capture glitch (a marker or solver swap) does; torques near it are not \
                  physical",
                 joint.name,
                 angle.to_degrees(),
+                frame + 1,
                 angle.to_degrees() / bvh.frame_time
             ));
         }

@@ -110,6 +110,18 @@ pub fn reference(states: &States, duration_s: Option<f64>) -> dynamics::control:
     }
 }
 
+/// A tracked simulation needs a motion: at least two samples.
+fn check_motion(states: &States) -> Result<(), Error> {
+    if states.len() < 2 {
+        return Err(Error::Invalid(format!(
+            "the take has {} frame(s): a simulation needs a motion of at least two frames to \
+             track (a one-frame take is a pose; `articula id` gives its static load)",
+            states.len()
+        )));
+    }
+    Ok(())
+}
+
 /// What `articula simulate` prints.
 #[derive(Debug, Clone)]
 pub struct SimSummary {
@@ -156,6 +168,7 @@ pub fn simulate(
     settings: &SimSettings,
     output: Option<&Path>,
 ) -> Result<SimSummary, Error> {
+    check_motion(&take.states)?;
     let reference = reference(&take.states, settings.duration_s);
     let options = settings.options_for(&take.model)?;
     let result = dynamics::simulate::simulate(&take.model, &reference, &options)?;
@@ -190,6 +203,7 @@ pub fn simulate_states(
     settings: &SimSettings,
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<SimSummary, Error> {
+    check_motion(states)?;
     let reference = reference(states, settings.duration_s);
     let options = settings.options_for(model)?;
     let result = dynamics::simulate::simulate_with(model, &reference, &options, keep_going)?;

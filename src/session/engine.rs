@@ -504,7 +504,7 @@ impl Engine for Builtin {
         for (k, row) in tau.iter().enumerate() {
             if let Some(j) = row.iter().position(|x| !x.is_finite()) {
                 return Err(Error::Numerical(format!(
-                    "inverse dynamics: the torque on `{}` is not finite at frame {k} ({} kg \
+                    "inverse dynamics: the torque on `{}` is not finite at frame {k} ({:.4e} kg \
                      body): check body.mass and the link masses",
                     model.v_names[j], params.take.body.mass_kg
                 )));
@@ -669,7 +669,10 @@ fn summarize_notes(notes: &[String]) -> String {
     match warn.as_slice() {
         [] => String::new(),
         [one] => format!("note: {one}"),
-        [first, rest @ ..] => format!("note: {first} (+{} more: `articula info`)", rest.len()),
+        [first, rest @ ..] => format!(
+            "note: {first} (+{} more of these; `articula info` lists every note)",
+            rest.len()
+        ),
     }
 }
 

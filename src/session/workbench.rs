@@ -1202,11 +1202,14 @@ impl Workbench {
                 p.integrator = value.to_string();
             }
             "dt" => {
-                let dt = num("a step in seconds")?;
-                if dt <= 0.0 {
-                    return Err(err("set dt: the step must be positive"));
-                }
-                p.dt = dt;
+                p.dt = match value.trim_end_matches('s').parse::<f64>() {
+                    Ok(dt) if dt.is_finite() && dt > 0.0 => dt,
+                    _ => {
+                        return Err(err(format!(
+                            "set dt: expected a positive step in seconds, found '{value}'"
+                        )));
+                    }
+                };
             }
             "lock" => {
                 p.take.lock = value
@@ -1246,6 +1249,20 @@ impl Workbench {
                     one.joints.insert(name.to_string(), x);
                     crate::pipeline::per_coordinate(&m, &one, 0, which)
                         .map_err(|e| err(format!("set {key}: {e}")))?;
+                } else if let Some(b) = self.take().and_then(|t| t.bvh()) {
+                    // no model yet: a joint of the take, or one of its coordinates
+                    let joint = |n: &str| b.joints.iter().any(|j| j.name == n);
+                    let known = joint(name)
+                        || [name.rsplit_once('.'), name.rsplit_once(':')]
+                            .into_iter()
+                            .flatten()
+                            .any(|(j, _)| joint(j));
+                    if !known {
+                        return Err(err(format!(
+                            "set {key}: the take has no joint '{name}' (expected e.g. {})",
+                            b.joints.get(1).map_or("", |j| j.name.as_str())
+                        )));
+                    }
                 }
                 let p = &mut self.params;
                 let g = if which == "kp" { &mut p.kp } else { &mut p.kv };
