@@ -684,6 +684,10 @@ impl Ui {
 
     /// Keys while the `:` command line is open.
     fn cmdline_key(&mut self, wb: &mut Workbench, key: KeyEvent) {
+        // the completion hint belongs to the last Tab; any other key makes it stale
+        if key.code != KeyCode::Tab {
+            self.completions.clear();
+        }
         let Some(line) = self.cmdline.as_mut() else {
             return;
         };
