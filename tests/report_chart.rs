@@ -323,3 +323,29 @@ fn min_max_labels_of_curves_peaking_together_do_not_overlap_or_hide_under_the_le
         );
     }
 }
+
+/// A very long series name does not squeeze the plot: the legend strip takes at most a quarter
+/// of the chart's width and the name is shortened with an ellipsis.
+#[test]
+fn a_long_legend_entry_is_shortened_not_allowed_to_squeeze_the_plot() {
+    let mut series = walk();
+    series[0].label = "knee flexion of the left leg of subject 17, trial 4, after surgery".into();
+    let svg = time_series_svg("knee", "time (s)", "torque (N·m)", &series, false).unwrap();
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let width: f64 = doc
+        .root_element()
+        .attribute("width")
+        .unwrap()
+        .parse()
+        .unwrap();
+    let entry = doc
+        .descendants()
+        .find(|n| {
+            n.has_tag_name("text") && n.text().unwrap_or("").trim().starts_with("knee flexion")
+        })
+        .expect("legend entry");
+    let text = entry.text().unwrap().trim();
+    assert!(text.ends_with('…'), "{text}");
+    let x: f64 = entry.attribute("x").unwrap().parse().unwrap();
+    assert!(x > 0.7 * width, "legend entry at x = {x} of {width}");
+}

@@ -386,7 +386,11 @@ where
         .map(|s| s.label.chars().count())
         .max()
         .unwrap_or(0);
-    let legend_w = 40 + (LEGEND_FONT as f64 * 0.6 * legend_chars as f64).ceil() as u32;
+    // at most a quarter of the width: longer labels are shortened with an ellipsis
+    let glyph = LEGEND_FONT as f64 * 0.6;
+    let max_chars = ((area.dim_in_pixel().0 as f64 / 4.0 - 40.0) / glyph).max(4.0) as usize;
+    let legend_chars = legend_chars.min(max_chars);
+    let legend_w = 40 + (glyph * legend_chars as f64).ceil() as u32;
 
     // axes, grid and axis titles
     let mut chart = ChartBuilder::on(area)
@@ -421,8 +425,8 @@ where
     }
 
     // min / max markers: a dot on the sample and its value and abscissa beside it, each label
-    // moved away from its curve (up for a maximum, down for a minimum) until it overlaps no
-    // label placed before it
+    // at the nearest place inside the plot, away from its curve first (up for a maximum, down
+    // for a minimum), where it overlaps no label placed before it
     if p.mark_min_max {
         let (xr, yr) = chart.plotting_area().get_pixel_range();
         let (px, py) = (xr.start as f64, yr.start as f64);
@@ -496,7 +500,14 @@ where
         let style = TextStyle::from((FONT, LEGEND_FONT).into_font())
             .color(&BLACK)
             .pos(Pos::new(HPos::Left, VPos::Center));
-        area.draw(&Text::new(s.label.as_str(), (lx + 30, y), style))
+        let label: String = if s.label.chars().count() > legend_chars {
+            let mut t: String = s.label.chars().take(legend_chars - 1).collect();
+            t.push('…');
+            t
+        } else {
+            s.label.clone()
+        };
+        area.draw(&Text::new(label, (lx + 30, y), style))
             .map_err(plot_err)?;
     }
     Ok(())
