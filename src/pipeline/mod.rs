@@ -287,9 +287,11 @@ pub fn per_coordinate(
             } else {
                 "those are the floating root's coordinates, which get no damping"
             };
+            // examples from the joints, past a floating avatar's root coordinates
+            let from = first.max(dynamics::floating_root_nv(model));
             return Err(Error::Invalid(format!(
-                "{what} {name}={x}: {why} (coordinates are e.g. {})",
-                model.v_names[first.min(model.nv.saturating_sub(1))..]
+                "{what} {name}={x}: {why} (joints' coordinates are e.g. {})",
+                model.v_names[from.min(model.nv.saturating_sub(1))..]
                     .iter()
                     .take(3)
                     .cloned()
