@@ -49,16 +49,10 @@ impl SimSettings {
                 "--duration {d}: expected seconds > 0"
             )));
         }
-        for (what, g) in [("kp", kp), ("kv", kv)] {
-            for x in std::iter::once(&g.all).chain(g.joints.values()) {
-                if !(x.is_finite() && *x >= 0.0) {
-                    return Err(Error::Invalid(format!(
-                        "--{what} {x}: expected a gain ≥ 0 (1/s² for kp, 1/s for kv)"
-                    )));
-                }
-            }
-        }
+        // every coordinate's gains here; the overrides, once matched to a model, by the
+        // controller (`ComputedTorque::new` validates the gains it is given)
         let gains = dynamics::control::Gains::scalar(kp.all, kv.all);
+        gains.validate(1)?;
         Ok(Self {
             kp: kp.clone(),
             kv: kv.clone(),
