@@ -481,7 +481,7 @@ pub fn take_from_bvh_with(
     if !keep_going(0.1) {
         return Err(Error::Cancelled);
     }
-    let (states, passages) = take_states_noted(&bvh, &model, &map, &opts.smooth, &mut |f| {
+    let (states, passages) = take_states_with(&bvh, &model, &map, &opts.smooth, &mut |f| {
         keep_going(0.1 + 0.9 * f)
     })?;
     notes.extend(passages);
@@ -515,24 +515,13 @@ pub fn take_states(
     map: &BvhMap,
     smooth: &SmoothSpec,
 ) -> Result<States, Error> {
-    take_states_with(bvh, model, map, smooth, &mut |_| true)
+    take_states_with(bvh, model, map, smooth, &mut |_| true).map(|(s, _)| s)
 }
 
 /// [`take_states`] with progress and cancel ([`unwrap_and_smooth_with`]; the derivatives are
-/// the last tenth).
-pub fn take_states_with(
-    bvh: &Bvh,
-    model: &Model,
-    map: &BvhMap,
-    smooth: &SmoothSpec,
-    keep_going: &mut dyn FnMut(f64) -> bool,
-) -> Result<States, Error> {
-    take_states_noted(bvh, model, map, smooth, keep_going).map(|(s, _)| s)
-}
-
-/// [`take_states_with`], and a note for each euler joint that passes near gimbal lock
+/// the last tenth), and a note for each euler joint that passes near gimbal lock or jumps
 /// ([`make_euler_triples_continuous`]).
-pub fn take_states_noted(
+pub fn take_states_with(
     bvh: &Bvh,
     model: &Model,
     map: &BvhMap,
