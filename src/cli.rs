@@ -293,8 +293,19 @@ pub struct SimArgs {
 
 impl TakeArgs {
     fn options(&self) -> Result<TakeOptions> {
-        let mut o = match &self.scene {
-            Some(path) => TakeOptions::from_scene_file(path)?,
+        Ok(self.options_and_gains()?.0)
+    }
+
+    /// The take options (the scene's, then the flags over them) and the scene's gains, reading
+    /// the scene file once.
+    fn options_and_gains(&self) -> Result<(TakeOptions, Option<articula::io::scene::Gains>)> {
+        let scene = self
+            .scene
+            .as_deref()
+            .map(articula::io::scene::read)
+            .transpose()?;
+        let mut o = match &scene {
+            Some(s) => TakeOptions::from_scene(s)?,
             None => TakeOptions::default(),
         };
         o.apply_flags(&pipeline::Flags {
@@ -313,7 +324,7 @@ impl TakeArgs {
             keep_first_frame: self.keep_first_frame,
             damping: &self.damping,
         })?;
-        Ok(o)
+        Ok((o, scene.and_then(|s| s.gains)))
     }
 }
 
@@ -443,13 +454,10 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             output,
             json,
         } => {
-            let take = pipeline::load_take(&take, &opts.options()?)?;
+            let (options, gains) = opts.options_and_gains()?;
+            let take = pipeline::load_take(&take, &options)?;
             print_notes(Some(&take));
             // gains: the scene's (if any), then the flags over them
-            let gains = match &opts.scene {
-                Some(path) => articula::io::scene::read(path)?.gains,
-                None => None,
-            };
             let (mut kp, mut kv) = match gains {
                 Some(g) => (g.kp, g.kv),
                 None => (
