@@ -561,15 +561,19 @@ fn selection_on_load(take: &Take, sel: Option<&str>) -> Option<String> {
                     .find(|&k| is_angular(&r.model, k))
                     .map(|k| r.model.v_names[k].clone())
             }),
-        TakeData::Bvh(b) => sel
-            .filter(|s| {
-                [s.rsplit_once('.'), s.rsplit_once(':')]
-                    .into_iter()
-                    .flatten()
-                    .any(|(joint, _)| b.joints.iter().any(|j| j.name == joint))
-            })
-            .map(str::to_string),
+        TakeData::Bvh(b) => sel.filter(|s| names_a_joint(b, s)).map(str::to_string),
     }
+}
+
+/// True when `name` is a joint of the take or one of its coordinates (`<joint>.<channel>`,
+/// `<joint>:<comp>`), before any model of it is built.
+fn names_a_joint(b: &crate::io::bvh::Bvh, name: &str) -> bool {
+    let joint = |n: &str| b.joints.iter().any(|j| j.name == n);
+    joint(name)
+        || [name.rsplit_once('.'), name.rsplit_once(':')]
+            .into_iter()
+            .flatten()
+            .any(|(j, _)| joint(j))
 }
 
 /// Where an input path is read: relative paths under `in_dir` (`demo:` takes as they are).
@@ -690,6 +694,15 @@ impl Workbench {
     /// The latest results, even if parameters changed since (for drawing while recomputing).
     pub fn latest_results(&self) -> Option<&Arc<Analysis>> {
         self.results.as_ref().map(|(r, _)| r)
+    }
+
+    /// The model a per-joint setting is checked against: the active robot's, or that of the
+    /// latest results of a take (none before a take's first results).
+    fn model_to_check(&self) -> Option<Arc<Model>> {
+        match self.take().and_then(|t| t.robot()) {
+            Some(rb) => Some(rb.model.clone()),
+            None => self.latest_results().map(|r| r.model.clone()),
+        }
     }
 
     /// The last message.
@@ -1135,6 +1148,12 @@ impl Workbench {
                 ))),
             }
         };
+        let positive = |what: &str| -> Result<f64, SessionError> {
+            match value.trim_end_matches("kg").parse::<f64>() {
+                Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+                _ => Err(err(format!("set {key}: expected {what}, found '{value}'"))),
+            }
+        };
         // the pipeline's own parsers, so the values mean what the CLI's flags mean
         fn parsed<T: std::str::FromStr>(key: &str, value: &str) -> Result<T, SessionError>
         where
@@ -1147,17 +1166,7 @@ impl Workbench {
         let auto = matches!(value, "auto" | "none");
         let p = &mut self.params;
         match key {
-            "body.mass" => {
-                let m = match value.trim_end_matches("kg").parse::<f64>() {
-                    Ok(m) if m.is_finite() && m > 0.0 => m,
-                    _ => {
-                        return Err(err(format!(
-                            "set body.mass: expected a positive mass in kg, found '{value}'"
-                        )));
-                    }
-                };
-                p.take.body.mass_kg = m;
-            }
+            "body.mass" => p.take.body.mass_kg = positive("a positive mass in kg")?,
             "body.sex" => p.take.body.sex = parsed(key, value)?,
             "unit" => {
                 p.take.unit = if auto {
@@ -1201,16 +1210,7 @@ impl Workbench {
                 }
                 p.integrator = value.to_string();
             }
-            "dt" => {
-                p.dt = match value.trim_end_matches('s').parse::<f64>() {
-                    Ok(dt) if dt.is_finite() && dt > 0.0 => dt,
-                    _ => {
-                        return Err(err(format!(
-                            "set dt: expected a positive step in seconds, found '{value}'"
-                        )));
-                    }
-                };
-            }
+            "dt" => p.dt = positive("a positive step in seconds")?,
             "lock" => {
                 p.take.lock = value
                     .split([',', ' '])
@@ -1233,31 +1233,18 @@ impl Workbench {
             _ if key.starts_with("kp.") || key.starts_with("kv.") => {
                 // a diagonal gain of one joint or coordinate (`kp.LeftLeg`, `kv.j2`)
                 let (which, name) = (&key[..2], &key[3..]);
-                let x = num("a gain ≥ 0 (1/s² for kp, 1/s for kv)")?;
-                if x.is_nan() || x < 0.0 || name.is_empty() {
-                    return Err(err(format!(
-                        "set {key}: expected kp.<joint> or kv.<joint> and a gain ≥ 0"
-                    )));
+                let x = num("a gain (1/s² for kp, 1/s for kv)")?;
+                if name.is_empty() {
+                    return Err(err(format!("set {key}: expected kp.<joint> or kv.<joint>")));
                 }
-                // checked against the robot's model, or the latest results of a take
-                let model = match self.take().and_then(|t| t.robot()) {
-                    Some(rb) => Some(rb.model.clone()),
-                    None => self.latest_results().map(|r| r.model.clone()),
-                };
-                if let Some(m) = model {
+                if let Some(m) = self.model_to_check() {
                     let mut one = PerJoint::default();
                     one.joints.insert(name.to_string(), x);
                     crate::pipeline::per_coordinate(&m, &one, 0, which)
                         .map_err(|e| err(format!("set {key}: {e}")))?;
                 } else if let Some(b) = self.take().and_then(|t| t.bvh()) {
                     // no model yet: a joint of the take, or one of its coordinates
-                    let joint = |n: &str| b.joints.iter().any(|j| j.name == n);
-                    let known = joint(name)
-                        || [name.rsplit_once('.'), name.rsplit_once(':')]
-                            .into_iter()
-                            .flatten()
-                            .any(|(j, _)| joint(j));
-                    if !known {
+                    if !names_a_joint(b, name) {
                         return Err(err(format!(
                             "set {key}: the take has no joint '{name}' (expected e.g. {})",
                             b.joints.get(1).map_or("", |j| j.name.as_str())
@@ -1287,12 +1274,7 @@ impl Workbench {
                         _ => return Err(err(format!("unknown setting '{key}'"))),
                     }
                 } else {
-                    // checked against the robot's model, or the latest results of a take
-                    let model = match self.take().and_then(|t| t.robot()) {
-                        Some(rb) => Some(rb.model.clone()),
-                        None => self.latest_results().map(|r| r.model.clone()),
-                    };
-                    if let Some(m) = model.filter(|m| m.v_index(joint).is_none()) {
+                    if let Some(m) = self.model_to_check().filter(|m| m.v_index(joint).is_none()) {
                         return Err(err(format!(
                             "set {key}: no coordinate '{joint}' (expected e.g. {})",
                             m.v_names.first().map_or("", String::as_str)
