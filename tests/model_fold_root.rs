@@ -85,15 +85,7 @@ fn a_massless_helper_root_is_folded_into_the_hips_and_welded() {
     assert!(worst < 1e-6, "torques differ by {worst:e} (relative)");
 
     // D(q) is regular: a short tracked simulation runs and tracks
-    let settings = sim::SimSettings::parse(
-        "rk4",
-        0.001,
-        &articula::pipeline::PerJoint::all(400.0),
-        &articula::pipeline::PerJoint::all(40.0),
-        0.0,
-        Some(0.2),
-    )
-    .unwrap();
+    let settings = rk4_settings(0.2);
     let summary = sim::simulate(&wrapped, &settings, None).unwrap();
     assert!(summary.result.max_error_rad() < 1e-2, "{}", summary.text());
 }
@@ -125,15 +117,7 @@ fn bandai_takes_simulate_after_folding() {
             .iter()
             .filter(|n| n.contains("was folded into `Hips`"));
         assert_eq!(folded.count(), 1, "{name}: {:?}", take.notes);
-        let settings = sim::SimSettings::parse(
-            "rk4",
-            0.001,
-            &articula::pipeline::PerJoint::all(400.0),
-            &articula::pipeline::PerJoint::all(40.0),
-            0.0,
-            Some(0.1),
-        )
-        .unwrap();
+        let settings = rk4_settings(0.1);
         let summary = sim::simulate(&take, &settings, None)
             .unwrap_or_else(|e| panic!("{name}: simulation failed: {e}"));
         assert!(
@@ -142,4 +126,18 @@ fn bandai_takes_simulate_after_folding() {
             summary.text()
         );
     }
+}
+
+/// RK4 at 1 ms with the default gains (400, 40), exact masses, for `duration` s of the take.
+fn rk4_settings(duration: f64) -> sim::SimSettings {
+    let gains = |x| articula::pipeline::PerJoint::all(x);
+    sim::SimSettings::parse(
+        "rk4",
+        0.001,
+        &gains(400.0),
+        &gains(40.0),
+        0.0,
+        Some(duration),
+    )
+    .unwrap()
 }
