@@ -284,10 +284,7 @@ pub fn estimate_ground_reactions_progress(
             out.grf[k][j] = load.force;
             out.cop[k][j] = load.cop;
             out.free_moment[k][j] = load.free_moment;
-            let w_j = ForceVec::new(
-                load.cop.cross(&load.force) + e_up * load.free_moment,
-                load.force,
-            );
+            let w_j = load.wrench(&e_up);
             f_ext[foot.ankle_body] += ws.o_x_i[foot.ankle_body].act_inv_force(&w_j);
         }
 
@@ -566,6 +563,16 @@ struct FootLoad {
     free_moment: f64,
 }
 
+impl FootLoad {
+    /// The load as a wrench about the world origin (world axes), `e_up` the vertical.
+    fn wrench(&self, e_up: &Vector3<f64>) -> ForceVec {
+        ForceVec::new(
+            self.cop.cross(&self.force) + e_up * self.free_moment,
+            self.force,
+        )
+    }
+}
+
 /// The centre of pressure of wrench `w` (about the world origin) on the floor plane at height
 /// `floor`, and the free moment about the vertical there; `None` if the wrench does not press
 /// on the floor. With `(i, j, u)` a right-handed permutation of the axes, `u` vertical, the
@@ -718,17 +725,15 @@ fn assign_step(
         free_moment: last.free_moment * share,
     };
     let e_up = Vector3::ith(up, 1.0);
-    let wrench =
-        |l: &FootLoad| ForceVec::new(l.cop.cross(&l.force) + e_up * l.free_moment, l.force);
     // early in the double support the leading foot presses lightly: the horizontal force it
     // cannot hold within its friction cone stays with the trailing foot
-    let rest = *w - wrench(&loads[t]);
+    let rest = *w - loads[t].wrench(&e_up);
     let horizontal = rest.lin - e_up * rest.lin[up];
     let limit = params.friction * rest.lin[up].max(0.0);
     if horizontal.norm() > limit {
         loads[t].force += horizontal * (1.0 - limit / horizontal.norm());
     }
-    let rest = *w - wrench(&loads[t]);
+    let rest = *w - loads[t].wrench(&e_up);
     let Some((p, free)) = centre_of_pressure(&rest, up, floor) else {
         return;
     };
@@ -803,12 +808,7 @@ mod tests {
             },
         ];
         let params = ContactParams::default();
-        let wrench = |l: &FootLoad| {
-            ForceVec::new(
-                l.cop.cross(&l.force) + Vector3::z() * l.free_moment,
-                l.force,
-            )
-        };
+        let wrench = |l: &FootLoad| l.wrench(&Vector3::z());
         // alone, the trailing foot pushed off (forward and up) near its toe
         let last = FootLoad {
             force: Vector3::new(80.0, 5.0, 700.0),
