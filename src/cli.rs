@@ -426,8 +426,11 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         Cmd::Id { src, opts, output } => {
             let job =
                 pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
-            pipeline::write_inverse_dynamics(&job, &output)?;
+            let quality = pipeline::write_inverse_dynamics(&job, &output)?;
             print_notes(job.take.as_ref());
+            if let Some(q) = quality {
+                eprintln!("{q}");
+            }
             eprintln!("wrote {}", output.display());
         }
         Cmd::Fd {

@@ -7,6 +7,7 @@ mod common;
 
 use articula::report::csv::read_columns;
 use assert_cmd::Command;
+use predicates::prelude::*;
 use std::path::{Path, PathBuf};
 
 fn articula() -> Command {
@@ -551,7 +552,8 @@ fn scene_file_sets_the_options_and_flags_override_it() {
     };
     assert!((info(&[])["mass_kg"].as_f64().unwrap() - 60.0).abs() < 1e-9);
     assert!((info(&["--mass", "80"])["mass_kg"].as_f64().unwrap() - 80.0).abs() < 1e-9);
-    // contact = "feet" from the scene: the torque file gains ground reaction columns
+    // contact = "feet" from the scene: the torque file gains ground reaction columns, and the
+    // run says how far the feet give the force the motion needs
     let out = dir.path().join("t.csv");
     articula()
         .arg("id")
@@ -561,7 +563,11 @@ fn scene_file_sets_the_options_and_flags_override_it() {
         .arg("-o")
         .arg(&out)
         .assert()
-        .success();
+        .success()
+        .stderr(
+            predicates::str::contains("ground reactions: in ")
+                .and(predicates::str::contains("single-support frames")),
+        );
     let (h, c) = read_columns(&out).unwrap();
     for name in ["grf:left:y", "cop:right:z", "residual:fy", "residual:tz"] {
         assert!(h.iter().any(|x| x == name), "{name} missing: {h:?}");

@@ -449,6 +449,37 @@ fn in_single_stance_the_knee_and_hip_torques_equal_those_of_the_leg_rooted_at_th
         // and the top-down value, hanging from the pelvis, is far from it
         let hanging = rnea(&top_down, &mut ws_td, &q[k], &v[k], &a[k], None)[lknee];
         max_change = max_change.max((hanging - tau[lknee]).abs());
+        assert!(gr.cop_gap[k] < 1e-9, "frame {k}: gap {}", gr.cop_gap[k]);
     }
     assert!(max_change > 20.0, "{max_change}");
+    assert_eq!(gr.quality().outside_frames, 0);
+    assert_eq!(gr.quality().single_support_frames, n);
+
+    // with the foot's real support region (5 cm around the heel–toe line) the centre of
+    // pressure this motion needs leaves it (the biped has no hip roll to bring its weight over
+    // the foot): the foot's load keeps it inside, and the gap is the moment left at the root —
+    // the root's force is still zero, so its horizontal moment is the gap times the vertical
+    // force, about any point
+    let params = ContactParams {
+        friction: 10.0,
+        ..ContactParams::default()
+    };
+    let gr = estimate_ground_reactions(&top_down, &time, &q, &v, &a, 1, &params).unwrap();
+    for k in 0..n {
+        let r = &gr.residual[k];
+        assert!(r[..3].iter().all(|f| f.abs() < 1e-7), "{r:?}");
+        let moment = r[3].hypot(r[5]);
+        let f_up = gr.wrench[k][1];
+        assert!(
+            (moment - gr.cop_gap[k] * f_up).abs() < 1e-7 * f_up,
+            "frame {k}: moment {moment} vs gap {} × {f_up}",
+            gr.cop_gap[k]
+        );
+    }
+    let quality = gr.quality();
+    assert!(quality.outside_share() > 0.5, "{quality:?}");
+    assert!(
+        quality.to_string().contains("outside the foot"),
+        "{quality}"
+    );
 }

@@ -18,9 +18,10 @@ band there, in N.m/kg, and likewise the knee flexion angle's loading-response pe
 It then prints, from the same package, the per-subject statistics of Schwartz et al.'s original
 spreadsheet (`openAccessData/schwartz 2008/Original- Schwartz2008.xls`, sheet `ANOVA`): for
 each speed class, the number of subjects, the mean, SD, smallest and largest of each subject's
-dimensionless speed, largest stance knee extensor moment, first vertical ground force peak,
-mid-stance vertical minimum and peak braking force. Those are the published ranges the real-take
-test compares articula's figures with (`tests/contact_real.rs`). Reading the .xls needs `xlrd`
+dimensionless speed, cadence and step length (Hof 1996: v/sqrt(g leg), steps per second times
+sqrt(leg/g), step length/leg), largest stance knee extensor moment, first vertical ground force
+peak, mid-stance vertical minimum, peak braking and peak propulsive force. Those are the
+published ranges the real-take test compares articula's figures with (`tests/contact_real.rs`). Reading the .xls needs `xlrd`
 (`pip install xlrd`).
 
 Run: python3 tools/normative_knee.py [DIR]   (DIR: where to download the package; default a
@@ -71,10 +72,13 @@ def main() -> None:
 
 PER_SUBJECT = [
     "Dimensionless Speed",
+    "Dimensionless Cadence",
+    "Dimensionless Step Length",
     "Max Knee Ext Mom (stance)",
     "First Vertical Peak Force",
     "Mid Stance Force Min",
     "Peak Braking Force",
+    "Peak Propuls Force",
     "Knee Flex at Foot Cont",
 ]
 

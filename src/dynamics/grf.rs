@@ -20,7 +20,9 @@
 //!    centre of pressure and free moment), scaled down from 1 to 0 by the C² ramp
 //!    `1 − (10u³ − 15u⁴ + 6u⁵)` between that frame and the leading foot's first single-support
 //!    frame (their shape is an exponential decay, ours a polynomial that reaches exactly 0 and
-//!    1), and the leading foot takes the rest of `W` ([`assign_step`]), so that each foot's
+//!    1), and the leading foot takes the rest of `W` ([`assign_step`]; where the rest's centre
+//!    of pressure would leave the leading foot, the trailing foot's moves the other way to make
+//!    up the moment, within its own support), so that each foot's
 //!    force keeps a direction of its own (the trailing one pushing off, the leading one
 //!    braking; a share of `W` would give both the direction of the sum, and the trailing knee
 //!    an extensor moment it does not have in pre-swing); double supports that are not a step
@@ -34,7 +36,14 @@
 //!    the root;
 //! 5. RNEA again with the foot wrenches as external forces; the root's six generalized forces
 //!    that remain are the **residual**, the part of the motion the feet cannot explain (capture
-//!    noise, mass model errors, a missed contact).
+//!    noise, mass model errors, a missed contact);
+//! 6. how far the feet's loads together reproduce `W`'s centre of pressure, per frame
+//!    ([`GroundReactions::cop_gap`]); the root's horizontal moment is that gap times the
+//!    vertical force. Over single support, where the needed force and centre of pressure are
+//!    the motion's alone, [`GroundReactions::quality`] summarises it for the user (`articula id
+//!    --contact feet`, the workbench's status line): a take whose needed centre of pressure
+//!    often leaves the foot asks for a ground force no foot can give, and its joint torques
+//!    there are those of the nearest one the foot can.
 //!
 //! The spread of the estimate. The accelerations at a frame are a weighted average of the true
 //! ones over ±[`ContactParams::spread_s`] (smoothing, then central differences:
@@ -86,6 +95,13 @@ pub struct GroundReactions {
     pub wrench: Vec<[f64; 6]>,
     /// `[frame]`: what the root still supplies with the ground reactions applied, same layout.
     pub residual: Vec<[f64; 6]>,
+    /// `[frame]`: how far (m, along the floor) the centre of pressure of the feet's loads
+    /// together lies from the one the whole-body wrench needs; 0 where they coincide, where no
+    /// foot is loaded, or where the motion needs no pressing force. It grows where the needed
+    /// centre of pressure leaves the feet (the loads keep theirs inside) or a force leaves the
+    /// friction cone: the motion asks for a ground force no foot can give, and the joint
+    /// torques there are those of the nearest one the feet can ([`GroundReactions::quality`]).
+    pub cop_gap: Vec<f64>,
     /// `[frame][nv]`: generalized forces with the ground reactions applied (N·m, N).
     pub tau: Vec<Vec<f64>>,
 }
@@ -112,6 +128,90 @@ impl GroundReactions {
             }
         }
         out.extend_from_slice(&self.residual[k]);
+    }
+
+    /// How far the feet can give the ground force the motion needs, over the frames of single
+    /// support (one foot loaded), where the needed force and centre of pressure are the
+    /// motion's alone (in double support they also depend on how the load is shared): the
+    /// share of them whose [`cop_gap`](Self::cop_gap) exceeds [`COP_GAP_TOLERANCE`], the
+    /// median gap and the largest.
+    pub fn quality(&self) -> GroundQuality {
+        let mut single: Vec<usize> = (0..self.loaded.len())
+            .filter(|&k| self.loaded[k].iter().filter(|l| **l).count() == 1)
+            .collect();
+        let outside = single
+            .iter()
+            .filter(|&&k| self.cop_gap[k] > COP_GAP_TOLERANCE)
+            .count();
+        single.sort_by(|&a, &b| self.cop_gap[a].total_cmp(&self.cop_gap[b]));
+        GroundQuality {
+            single_support_frames: single.len(),
+            outside_frames: outside,
+            median_gap: single
+                .get(single.len() / 2)
+                .map_or(0.0, |&k| self.cop_gap[k]),
+            largest_gap: single.last().map_or(0.0, |&k| self.cop_gap[k]),
+            largest_gap_frame: single.last().copied().unwrap_or(0),
+        }
+    }
+}
+
+/// A centre of pressure gap ([`GroundReactions::cop_gap`]) up to this is agreement (m): 2 cm,
+/// within the 5 cm the support is widened by ([`ContactParams::cop_margin`]).
+pub const COP_GAP_TOLERANCE: f64 = 0.02;
+
+/// [`GroundReactions::quality`]: how far the ground force the motion needs in single support
+/// is one the foot can give.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GroundQuality {
+    /// Frames where exactly one foot carries load.
+    pub single_support_frames: usize,
+    /// Of those, frames whose centre of pressure gap exceeds [`COP_GAP_TOLERANCE`].
+    pub outside_frames: usize,
+    /// The median gap over those frames (m).
+    pub median_gap: f64,
+    /// The largest gap (m) and its frame.
+    pub largest_gap: f64,
+    pub largest_gap_frame: usize,
+}
+
+impl GroundQuality {
+    /// The share of single-support frames where the foot cannot give the needed ground force.
+    pub fn outside_share(&self) -> f64 {
+        self.outside_frames as f64 / self.single_support_frames.max(1) as f64
+    }
+}
+
+impl std::fmt::Display for GroundQuality {
+    /// One line for a user, e.g. `ground reactions: in 68 % of the 146 single-support frames
+    /// the motion needs its centre of pressure more than 2 cm outside the foot (median 4.5 cm,
+    /// up to 12.6 cm at frame 72); there the joint torques are those of the nearest force the
+    /// foot can give, and the rest stays at the root (residual columns)`.
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        let tol = 100.0 * COP_GAP_TOLERANCE;
+        if self.single_support_frames == 0 {
+            return write!(f, "ground reactions: no frame of single support");
+        }
+        if self.outside_frames == 0 {
+            return write!(
+                f,
+                "ground reactions: in all {} single-support frames the foot gives the force the \
+                 motion needs (centre of pressure within {tol:.0} cm)",
+                self.single_support_frames
+            );
+        }
+        write!(
+            f,
+            "ground reactions: in {:.0} % of the {} single-support frames the motion needs its \
+             centre of pressure more than {tol:.0} cm outside the foot (median {:.1} cm, up to \
+             {:.1} cm at frame {}); there the joint torques are those of the nearest force the \
+             foot can give, and the rest stays at the root (residual columns)",
+            100.0 * self.outside_share(),
+            self.single_support_frames,
+            100.0 * self.median_gap,
+            100.0 * self.largest_gap,
+            self.largest_gap_frame
+        )
     }
 }
 
@@ -235,6 +335,7 @@ pub fn estimate_ground_reactions_progress(
         free_moment: vec![vec![0.0; nf]; n],
         wrench: vec![[0.0; 6]; n],
         residual: vec![[0.0; 6]; n],
+        cop_gap: vec![0.0; n],
         tau: vec![vec![0.0; model.nv]; n],
     };
     let mut f_ext = vec![ForceVec::ZERO; model.nbodies()];
@@ -280,12 +381,20 @@ pub fn estimate_ground_reactions_progress(
             });
         }
         f_ext.fill(ForceVec::ZERO);
+        let mut given = ForceVec::ZERO;
         for (j, (foot, load)) in feet.iter().zip(&loads).enumerate() {
             out.grf[k][j] = load.force;
             out.cop[k][j] = load.cop;
             out.free_moment[k][j] = load.free_moment;
             let w_j = load.wrench(&e_up);
+            given += w_j;
             f_ext[foot.ankle_body] += ws.o_x_i[foot.ankle_body].act_inv_force(&w_j);
+        }
+        if let (Some((p, _)), Some((p_feet, _))) = (
+            centre_of_pressure(&w, up, floor),
+            centre_of_pressure(&given, up, floor),
+        ) {
+            out.cop_gap[k] = (p - p_feet).norm();
         }
 
         // inverse dynamics with the ground reactions; what the root still supplies
@@ -737,11 +846,29 @@ fn assign_step(
     let Some((p, free)) = centre_of_pressure(&rest, up, floor) else {
         return;
     };
+    let cop = support[l].clamp(&p, params.cop_margin);
     loads[l] = FootLoad {
         force: rest.lin,
-        cop: support[l].clamp(&p, params.cop_margin),
+        cop,
         free_moment: free,
     };
+    // where the clamp moved the leading foot's centre of pressure, the trailing foot's moves
+    // the other way to make up the moment, in proportion to the two vertical forces (and is
+    // kept inside its own support): the feet together still give w where its centre of
+    // pressure lies between them
+    let (f_t, f_l) = (loads[t].force[up], rest.lin[up]);
+    if f_t > 1e-9 {
+        let mut moved = loads[t].cop + (p - cop) * (f_l / f_t);
+        moved[up] = floor;
+        let moved = support[t].clamp(&moved, params.cop_margin);
+        // the leading foot's moment and free moment follow from what the trailing foot gives
+        loads[t].cop = moved;
+        let rest = *w - loads[t].wrench(&e_up);
+        if let Some((p, free)) = centre_of_pressure(&rest, up, floor) {
+            loads[l].cop = support[l].clamp(&p, params.cop_margin);
+            loads[l].free_moment = free;
+        }
+    }
 }
 
 #[cfg(test)]
@@ -865,6 +992,24 @@ mod tests {
         assert!((loads[0].force + loads[1].force - w.lin).norm() < 1e-9);
         let h = loads[1].force.xy().norm();
         assert!((h - params.friction * 50.0).abs() < 1e-9, "{:?}", loads[1]);
+
+        // the rest's centre of pressure 10 cm behind the leading heel (outside its support,
+        // 5 cm margin): the leading foot keeps its own inside, the trailing foot's moves
+        // back to make up the moment, and the two together still give w exactly
+        let behind = FootLoad {
+            cop: Vector3::new(0.5, 0.1, 0.0),
+            ..leading
+        };
+        let w = wrench(&trailing) + wrench(&behind);
+        assign_step(&w, &support, step, &last, toe, up, 0.0, &params, &mut loads);
+        assert!(
+            (loads[1].cop - Vector3::new(0.55, 0.1, 0.0)).norm() < 1e-9,
+            "{loads:?}"
+        );
+        assert!(loads[0].cop.x < 0.18, "{:?}", loads[0]);
+        let given = wrench(&loads[0]) + wrench(&loads[1]);
+        assert!((given.lin - w.lin).norm() < 1e-9);
+        assert!((given.ang - w.ang).norm() < 1e-9, "{given:?} vs {w:?}");
     }
 
     #[test]

@@ -1017,8 +1017,13 @@ pub fn estimate_take_ground_reactions_with(
 
 /// `articula id`: `time`, one torque column per coordinate; with `--contact feet` the torques
 /// are those with the ground reactions applied and `grf:<foot>:x|y|z`, `cop:<foot>:x|y|z`,
-/// `residual:fx|fy|fz|tx|ty|tz` follow (N, m, N·m; world axes of the take).
-pub fn write_inverse_dynamics(job: &Job, path: &Path) -> Result<(), Error> {
+/// `residual:fx|fy|fz|tx|ty|tz` follow (N, m, N·m; world axes of the take), and the result is
+/// how far the feet could give the ground force the motion needs
+/// ([`GroundReactions::quality`](crate::dynamics::grf::GroundReactions::quality)).
+pub fn write_inverse_dynamics(
+    job: &Job,
+    path: &Path,
+) -> Result<Option<crate::dynamics::grf::GroundQuality>, Error> {
     let grf = match &job.take {
         Some(t) => ground_reactions(t)?,
         None => None,
@@ -1043,7 +1048,8 @@ pub fn write_inverse_dynamics(job: &Job, path: &Path) -> Result<(), Error> {
             r
         })
         .collect();
-    write_rows(path, header, &rows)
+    write_rows(path, header, &rows)?;
+    Ok(grf.map(|g| g.quality()))
 }
 
 fn check_finite(rows: &[Vec<f64>], names: &[String], what: &str) -> Result<(), Error> {

@@ -477,8 +477,16 @@ impl Engine for Builtin {
                 let scale = t.scale_to_m;
                 note = summarize_notes(&t.notes);
                 // with `contact feet`: the torques with the estimated ground reactions
-                let grf =
-                    pipeline::ground_reactions_with(&t, &mut ctl.stage(0.2, 1.0))?.map(|g| g.tau);
+                // (and how far the feet could give the ground force the motion needs)
+                let grf = pipeline::ground_reactions_with(&t, &mut ctl.stage(0.2, 1.0))?.map(|g| {
+                    let quality = g.quality().to_string();
+                    note = if note.is_empty() {
+                        quality
+                    } else {
+                        format!("{note}; {quality}")
+                    };
+                    g.tau
+                });
                 ctl.check()?;
                 (Arc::new(t.model), Arc::new(t.states), scale, grf)
             }
