@@ -316,38 +316,61 @@ fn walk_bandai_needs_a_ground_force_no_subject_of_its_speed_class_gives() {
     assert!(quality.median_gap > 0.03, "{quality:?}");
 }
 
-/// Per whole step of `foot`, the largest forward force (along the foot's heel-to-toe
-/// direction, body weights) over the frames where that foot alone is on the floor, of the
-/// whole-body wrench the motion needs; averaged over the steps.
-fn single_support_propulsion(take: &Take, gr: &GroundReactions, foot: usize) -> f64 {
-    let model = &take.model;
-    let s = &take.states;
-    let up = take.up.index();
-    let feet = feet_of_bvh(&take.bvh, &take.map, model);
-    let mut ws = Workspace::new(model);
-    let mut peaks = vec![];
-    let n = s.len();
+/// The whole steps of `foot`: its contact phases from touch-down to the last frame before
+/// lift-off, without a phase the take begins or ends in.
+fn whole_steps(gr: &GroundReactions, foot: usize) -> Vec<std::ops::Range<usize>> {
+    let n = gr.contact.len();
+    let mut steps = vec![];
     let mut k = 1;
     while k < n {
         if gr.contact[k][foot] && !gr.contact[k - 1][foot] {
-            let mut peak = f64::MIN;
+            let start = k;
             while k < n && gr.contact[k][foot] {
-                if gr.contact[k].iter().filter(|c| **c).count() == 1 {
-                    forward_kinematics(model, &mut ws, &s.q[k]);
-                    let mut ahead = feet[foot].toe(&ws.o_x_i) - feet[foot].heel(&ws.o_x_i);
-                    ahead[up] = 0.0;
-                    let w = &gr.wrench[k];
-                    let force = Vector3::new(w[0], w[1], w[2]);
-                    peak = peak.max(force.dot(&ahead.normalize()) / weight(take));
-                }
                 k += 1;
             }
-            if k < n && peak > f64::MIN {
-                peaks.push(peak);
+            if k < n {
+                steps.push(start..k);
             }
         }
         k += 1;
     }
+    steps
+}
+
+/// Per frame, the horizontal unit direction from `foot`'s heel point to its toe point.
+fn heel_to_toe(take: &Take, foot: usize) -> Vec<Vector3<f64>> {
+    let model = &take.model;
+    let up = take.up.index();
+    let feet = feet_of_bvh(&take.bvh, &take.map, model);
+    let mut ws = Workspace::new(model);
+    take.states
+        .q
+        .iter()
+        .map(|q| {
+            forward_kinematics(model, &mut ws, q);
+            let mut ahead = feet[foot].toe(&ws.o_x_i) - feet[foot].heel(&ws.o_x_i);
+            ahead[up] = 0.0;
+            ahead.normalize()
+        })
+        .collect()
+}
+
+/// Per whole step of `foot`, the largest forward force (along the foot's heel-to-toe
+/// direction, body weights) over the frames where that foot alone is on the floor, of the
+/// whole-body wrench the motion needs; averaged over the steps.
+fn single_support_propulsion(take: &Take, gr: &GroundReactions, foot: usize) -> f64 {
+    let ahead = heel_to_toe(take, foot);
+    let peaks: Vec<f64> = whole_steps(gr, foot)
+        .into_iter()
+        .filter_map(|step| {
+            step.filter(|&k| gr.contact[k].iter().filter(|c| **c).count() == 1)
+                .map(|k| {
+                    let w = &gr.wrench[k];
+                    Vector3::new(w[0], w[1], w[2]).dot(&ahead[k]) / weight(take)
+                })
+                .max_by(f64::total_cmp)
+        })
+        .collect();
     assert!(!peaks.is_empty(), "no whole step of foot {foot}");
     peaks.iter().sum::<f64>() / peaks.len() as f64
 }
@@ -553,47 +576,31 @@ fn stance_profile(take: &Take, gr: &GroundReactions, foot: usize, joint: &str) -
     let model = &take.model;
     let up = take.up.index();
     let w = weight(take);
-    let feet = feet_of_bvh(&take.bvh, &take.map, model);
-    let mut ws = Workspace::new(model);
+    let ahead = heel_to_toe(take, foot);
     // per frame: knee extensor moment (N·m/kg), vertical and fore-aft force (BW)
-    let n = s.len();
-    let frame: Vec<[f64; 3]> = (0..n)
+    let frame: Vec<[f64; 3]> = (0..s.len())
         .map(|k| {
-            forward_kinematics(model, &mut ws, &s.q[k]);
-            let mut ahead = feet[foot].toe(&ws.o_x_i) - feet[foot].heel(&ws.o_x_i);
-            ahead[up] = 0.0;
             let f = gr.grf[k][foot];
             [
                 -flexion * gr.tau[k][k_flex] / model.total_mass(),
                 f[up] / w,
-                f.dot(&ahead.normalize()) / w,
+                f.dot(&ahead[k]) / w,
             ]
         })
         .collect();
     let mut mean = [[0.0; M]; 3];
     let mut steps = 0;
-    let mut k = 1;
-    while k < n {
-        if gr.contact[k][foot] && !gr.contact[k - 1][foot] {
-            let start = k;
-            while k < n && gr.contact[k][foot] {
-                k += 1;
+    for step in whole_steps(gr, foot) {
+        let (start, last) = (step.start, step.end - 1);
+        for m in 0..M {
+            let t = start as f64 + (last - start) as f64 * m as f64 / (M - 1) as f64;
+            let (a, u) = (t.floor() as usize, t.fract());
+            let b = (a + 1).min(last);
+            for (v, curve) in mean.iter_mut().enumerate() {
+                curve[m] += frame[a][v] * (1.0 - u) + frame[b][v] * u;
             }
-            if k == n {
-                break; // the take ends in this stance: not a whole step
-            }
-            let last = (k - 1) as f64;
-            for m in 0..M {
-                let t = start as f64 + (last - start as f64) * m as f64 / (M - 1) as f64;
-                let (a, u) = (t.floor() as usize, t.fract());
-                let b = (a + 1).min(k - 1);
-                for (v, curve) in mean.iter_mut().enumerate() {
-                    curve[m] += frame[a][v] * (1.0 - u) + frame[b][v] * u;
-                }
-            }
-            steps += 1;
         }
-        k += 1;
+        steps += 1;
     }
     assert!(steps > 0, "no whole step of foot {foot}");
     for curve in &mut mean {
@@ -823,36 +830,25 @@ fn loading_response_peaks(
         .copied()
         .fold(0.0, |m: f64, x| if x.abs() > m.abs() { x } else { m });
     let flexion = extreme.signum();
-    let n = q.len();
     let mass = take.model.total_mass();
     let mut steps = vec![];
-    let mut k = 1;
-    while k < n {
-        if gr.contact[k][foot] && !gr.contact[k - 1][foot] {
-            let start = k;
-            while k < n && gr.contact[k][foot] {
-                k += 1;
-            }
-            if k == n {
-                break; // the take ends in this stance: not a whole step
-            }
-            let half = start..start + (k - start).div_ceil(2);
-            let peak = half
-                .clone()
-                .max_by(|&a, &b| {
-                    (-flexion * gr.tau[a][k_flex]).total_cmp(&(-flexion * gr.tau[b][k_flex]))
-                })
-                .unwrap();
-            let most_flexed = half.map(|i| flexion * q[i]).fold(f64::MIN, f64::max);
-            steps.push((
-                -flexion * gr.tau[peak][k_flex] / mass,
-                (flexion * q[peak]).to_degrees(),
-                most_flexed.to_degrees(),
-                (peak - start) as f64 / (k - start) as f64,
-                gr.contact[peak].iter().all(|c| *c),
-            ));
-        }
-        k += 1;
+    for step in whole_steps(gr, foot) {
+        let (start, k) = (step.start, step.end);
+        let half = start..start + (k - start).div_ceil(2);
+        let peak = half
+            .clone()
+            .max_by(|&a, &b| {
+                (-flexion * gr.tau[a][k_flex]).total_cmp(&(-flexion * gr.tau[b][k_flex]))
+            })
+            .unwrap();
+        let most_flexed = half.map(|i| flexion * q[i]).fold(f64::MIN, f64::max);
+        steps.push((
+            -flexion * gr.tau[peak][k_flex] / mass,
+            (flexion * q[peak]).to_degrees(),
+            most_flexed.to_degrees(),
+            (peak - start) as f64 / (k - start) as f64,
+            gr.contact[peak].iter().all(|c| *c),
+        ));
     }
     steps
 }
