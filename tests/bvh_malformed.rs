@@ -606,3 +606,14 @@ fn end_site_missing_its_brace() {
         &["expected '{' after End Site", "'OFFSET'"],
     );
 }
+
+#[test]
+fn a_skeleton_without_channels_never_allocates_for_its_declared_frames() {
+    // 'Frames: 1000000000' with no channel: no byte of the file bounds the count (this
+    // aborted allocating 16 GB in the rest-frame scan)
+    let t = "HIERARCHY\nROOT r\n{\nOFFSET 0 0 0\nCHANNELS 0\nEnd Site\n{\nOFFSET 0 1 0\n}\n}\n\
+             MOTION\nFrames: 1000000000\nFrame Time: 0.01\n";
+    let (l, _, m) = error_of(t);
+    assert_eq!(l, 12);
+    assert!(m.contains("no channels"), "{m}");
+}

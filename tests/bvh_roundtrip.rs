@@ -80,6 +80,11 @@ fn random_bvh() -> impl Strategy<Value = Bvh> {
             .prop_flat_map(|(parents, channels, offsets, sites, frames, frame_time)| {
                 let mut joints = Vec::new();
                 let mut first = 0;
+                // a file needs a channel somewhere (frames of nothing are refused)
+                let mut channels = channels;
+                if channels.iter().all(|c| c.is_empty()) {
+                    channels[0].push(ALL[0]);
+                }
                 for i in 0..parents.len() {
                     joints.push(BvhJoint {
                         name: format!("j{i}:a.b_{i}"),

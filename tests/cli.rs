@@ -61,13 +61,18 @@ fn info_json_has_exactly_the_documented_keys() {
             "gravity",
             "joints",
             "mass_kg",
+            "notes",
             "nq",
             "nv",
             "scale_to_m",
+            "smooth",
             "stature_m",
+            "unit",
             "up",
         ]
     );
+    assert_eq!(v["notes"], serde_json::json!([]));
+    assert_eq!(v["smooth"], "butterworth:6hz");
     assert_eq!(v["frames"], 60);
     assert_eq!(v["up"], "y");
     assert!(
@@ -472,19 +477,63 @@ fn bad_input_is_a_located_error_and_leaves_outputs_alone() {
 }
 
 #[test]
-fn implausible_stature_names_the_options_that_fix_it() {
+fn a_human_no_unit_fits_is_scaled_to_a_standard_stature_and_stature_always_wins() {
+    // a character three times human size (5.2 m in cm): no unit puts it at 1.0–2.3 m
     let dir = tempfile::tempdir().unwrap();
-    let take = walk(dir.path(), 0.2);
+    let take = dir.path().join("giant.bvh");
+    articula()
+        .args([
+            "generate",
+            "walk",
+            "--fps",
+            "60",
+            "--duration",
+            "0.5",
+            "--scale",
+            "3",
+        ])
+        .arg("-o")
+        .arg(&take)
+        .assert()
+        .success();
     let o = articula()
         .arg("info")
         .arg(&take)
-        .args(["--unit", "m"])
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(
+        (v["stature_m"].as_f64().unwrap() - 1.75).abs() < 1e-9,
+        "{v}"
+    );
+    assert_eq!(v["unit"], "stature");
+    let notes = v["notes"].to_string();
+    assert!(
+        notes.contains("standard adult stature") && notes.contains("--stature"),
+        "{notes}"
+    );
+    // an explicit unit is used as given, with a note
+    let o = articula()
+        .arg("info")
+        .arg(&take)
+        .args(["--unit", "m", "--json"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["notes"].to_string().contains("used as given"), "{v}");
+    // a stature that is no height is an error that says what to give
+    let o = articula()
+        .arg("info")
+        .arg(&take)
+        .args(["--stature", "0"])
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("--unit") && err.contains("--stature"), "{err}");
-    // and --stature fixes it
+    assert!(String::from_utf8_lossy(&o.stderr).contains("expected a height in metres"));
+    // and --stature wins
     let o = articula()
         .arg("info")
         .arg(&take)

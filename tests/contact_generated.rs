@@ -185,7 +185,7 @@ fn the_demo_walk_feet_do_not_slide_in_stance() {
     use articula::pipeline::{TakeOptions, load_take};
     let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/demo_walk.bvh");
     let opts = TakeOptions {
-        smooth: SmoothSpec::None,
+        smooth: Some(SmoothSpec::None),
         ..TakeOptions::default()
     };
     let take = load_take(&path, &opts).unwrap();

@@ -636,9 +636,7 @@ fn check_flight(name: &str, min_flight: f64, max_mid_flight_bw: f64) {
     let up = take.up.index();
     let n = gr.grf.len();
     let dt = take.states.time[1] - take.states.time[0];
-    let spread = ContactParams::for_take(&take.options.smooth, dt)
-        .unwrap()
-        .spread_s;
+    let spread = ContactParams::for_take(&take.smooth, dt).unwrap().spread_s;
     let flight: Vec<usize> = (0..n)
         .filter(|&k| gr.contact[k].iter().all(|c| !c))
         .collect();

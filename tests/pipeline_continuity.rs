@@ -34,7 +34,7 @@ fn euler_branch_flips_are_repicked_and_rotations_kept() {
     // the flip is on the Spine (the root stays upright)
     let bvh = parse_str(&text, Path::new("flip.bvh")).unwrap();
     let opts = TakeOptions {
-        smooth: SmoothSpec::None,
+        smooth: Some(SmoothSpec::None),
         stature_m: Some(1.75),
         ..TakeOptions::default()
     };

@@ -28,7 +28,7 @@
 //! scene into model options).
 
 use crate::error::Error;
-use crate::io::bvh::{LengthUnit, PositionMode, UpAxis, check_stature};
+use crate::io::bvh::{LengthUnit, PositionMode, UpAxis, check_given_stature};
 use serde::{Deserialize, Deserializer, de::Error as _};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -328,7 +328,7 @@ fn unit<'de, D: Deserializer<'de>>(d: D) -> Result<Option<LengthUnit>, D::Error>
 
 fn stature<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
     let x = f64::deserialize(d)?;
-    check_stature(x).map_err(|e| D::Error::custom(format!("stature = {x} m: {e}")))?;
+    check_given_stature(x).map_err(|e| D::Error::custom(format!("stature = {x} m: {e}")))?;
     Ok(Some(x))
 }
 
@@ -423,7 +423,7 @@ mod tests {
             ("takes = [\"a.bvh\"]\nmass = -3\n", 2),
             ("takes = [\"a.bvh\"]\n\nsex = \"other\"\n", 3),
             ("takes = [\"a.bvh\"]\nunit = \"furlong\"\n", 2),
-            ("takes = [\"a.bvh\"]\nstature = 3.1\n", 2),
+            ("takes = [\"a.bvh\"]\nstature = -3.1\n", 2),
             ("takes = [\"a.bvh\"]\nup = \"w\"\n", 2),
             ("takes = [\"a.bvh\"]\njoints = \"hinge\"\n", 2),
             ("takes = [\"a.bvh\"]\ncontact = \"hands\"\n", 2),

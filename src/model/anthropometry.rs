@@ -326,6 +326,23 @@ fn is_appendage(name: &str) -> bool {
         && classify(name).is_some_and(|c| c.0 == Segment::Trunk)
 }
 
+/// Whether joint names describe a human body as [`classify`] reads them: a trunk, and a thigh,
+/// shank or foot on each side. A skeleton without them (an animal, a crab, a robot, or a
+/// human whose joints are named `J1`, `J2`, …) gets its link masses by bone volume in
+/// [`distribute`] and its length unit from its size, not from a human's height.
+pub fn looks_human<'a>(names: impl IntoIterator<Item = &'a str>) -> bool {
+    let (mut trunk, mut left, mut right) = (false, false, false);
+    for c in names.into_iter().filter_map(classify) {
+        match c {
+            (Segment::Trunk, _) => trunk = true,
+            (Segment::Thigh | Segment::Shank | Segment::Foot, Side::Left) => left = true,
+            (Segment::Thigh | Segment::Shank | Segment::Foot, Side::Right) => right = true,
+            _ => {}
+        }
+    }
+    trunk && left && right
+}
+
 /// What [`distribute`] needs to know about one BVH joint.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bone {

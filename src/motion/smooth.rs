@@ -256,6 +256,7 @@ impl Smoother {
         let (method, pad) = match spec {
             SmoothSpec::None => (Method::None, 0),
             SmoothSpec::Gaussian { sigma_s } => {
+                check_span(spec, dt, (4.0 * sigma_s / dt).ceil())?;
                 let kernel = gaussian_kernel(sigma_s, dt);
                 let pad = kernel.len() - 1;
                 (Method::Fir { kernel }, pad)
@@ -276,7 +277,9 @@ impl Smoother {
                     * std::f64::consts::PI
                     * cutoff_hz
                     * (std::f64::consts::PI / (2.0 * order as f64)).sin();
-                let pad = (28.0 / (decay * dt)).ceil() as usize + 2;
+                let settle = (28.0 / (decay * dt)).ceil();
+                check_span(spec, dt, settle)?;
+                let pad = settle as usize + 2;
                 (
                     Method::Iir {
                         sections,
@@ -444,6 +447,23 @@ fn component(q: &UnitQuaternion<f64>, c: usize) -> f64 {
     }
 }
 
+/// The most samples a filter may reach on each side of a sample (the Gaussian's half-width, the
+/// Butterworth's settling length): 200,000 frames, 1,000 times what 6 Hz needs at 240 fps. A
+/// frame time so short that the filter would reach further (`Frame Time: 1e-7`) would cost
+/// memory and time out of all proportion to the take, so it is refused with what to change.
+pub const MAX_FILTER_SPAN: f64 = 200_000.0;
+
+fn check_span(spec: SmoothSpec, dt: f64, samples: f64) -> Result<(), Error> {
+    if samples <= MAX_FILTER_SPAN {
+        return Ok(());
+    }
+    Err(Error::Invalid(format!(
+        "smoothing `{spec}` on a take sampled every {dt} s would reach {samples:.0} frames to \
+         each side of every frame (at most {MAX_FILTER_SPAN:.0}): check the file's Frame Time, \
+         or choose a higher cutoff, a narrower kernel or none"
+    )))
+}
+
 /// The normalised Gaussian kernel `kernel[k] ∝ exp(−(k dt)²/2σ²)`, `0 ≤ k ≤ ⌈4σ/dt⌉`, with
 /// `kernel[0] + 2 Σ_{k≥1} kernel[k] = 1`.
 fn gaussian_kernel(sigma_s: f64, dt: f64) -> Vec<f64> {
@@ -495,43 +515,56 @@ fn butterworth_sections(cutoff_hz: f64, order: usize, dt: f64) -> (Vec<Section>,
 
 /// `x` extended beyond its ends by odd reflection about the end samples, repeated as needed
 /// for short signals: `x(−k) = 2x(0) − x(k)`, `x(n−1+k) = 2x(n−1) − x(n−1−k)`.
-fn odd_extension(x: &[f64], mut i: isize) -> f64 {
+///
+/// Two reflections make a period: `x(i + 2L) = x(i) + 2(x(L) − x(0))` with `L = n − 1`, so any
+/// `i` is one reflection at most from `[0, L]` plus whole periods (constant time, however far
+/// the padding reaches beyond a short take).
+fn odd_extension(x: &[f64], i: isize) -> f64 {
     let last = x.len() as isize - 1;
     if last == 0 {
         return x[0];
     }
-    // value = offset + sign · x[i] after the reflections
-    let (mut offset, mut sign) = (0.0, 1.0);
-    loop {
-        if i < 0 {
-            offset += sign * 2.0 * x[0];
-            sign = -sign;
-            i = -i;
-        } else if i > last {
-            offset += sign * 2.0 * x[last as usize];
-            sign = -sign;
-            i = 2 * last - i;
-        } else {
-            return offset + sign * x[i as usize];
-        }
-    }
+    let (m, r) = periods(i, last);
+    let base = if r < 0 {
+        2.0 * x[0] - x[(-r) as usize]
+    } else {
+        x[r as usize]
+    };
+    base + 2.0 * m as f64 * (x[last as usize] - x[0])
+}
+
+/// `i = r + 2L·m` with `−L ≤ r < L`: whole periods `m` of the doubly reflected extension and
+/// the remainder `r`.
+fn periods(i: isize, last: isize) -> (isize, isize) {
+    let m = (i + last).div_euclid(2 * last);
+    (m, i - 2 * last * m)
 }
 
 /// `q` extended beyond its ends by geodesic point reflection about the end rotations:
 /// `q(−k) = q(0) q(k)⁻¹ q(0)` (the rotation analogue of [`odd_extension`]).
+///
+/// As for scalars, two reflections make a period: `q(i + 2L) = A q(i) B` with `A = q(L) q(0)⁻¹`
+/// and `B = q(0)⁻¹ q(L)`, so `q(r + 2L·m) = Aᵐ q(r) Bᵐ` (constant time, no recursion).
 fn geodesic_extension(q: &[UnitQuaternion<f64>], i: isize) -> UnitQuaternion<f64> {
     let last = q.len() as isize - 1;
     if last == 0 {
-        q[0]
-    } else if i < 0 {
-        let e = q[0];
-        e * geodesic_extension(q, -i).inverse() * e
-    } else if i > last {
-        let e = q[last as usize];
-        e * geodesic_extension(q, 2 * last - i).inverse() * e
-    } else {
-        q[i as usize]
+        return q[0];
     }
+    let (m, r) = periods(i, last);
+    let (q0, ql) = (q[0], q[last as usize]);
+    let base = if r < 0 {
+        q0 * q[(-r) as usize].inverse() * q0
+    } else {
+        q[r as usize]
+    };
+    if m == 0 {
+        return base;
+    }
+    // the rotation by m times A's angle about A's axis (the sign of the quaternion is free:
+    // the padded trajectory is hemisphere-aligned afterwards)
+    let a = (ql * q0.inverse()).powf(m as f64);
+    let b = (q0.inverse() * ql).powf(m as f64);
+    a * base * b
 }
 
 /// Runs `method` on the padded signal `buf` (`out.len() + 2·pad` samples) and writes the
@@ -653,5 +686,68 @@ mod tests {
         for i in -7..9 {
             assert!((odd_extension(&line, i) - (2.0 + 0.5 * i as f64)).abs() < 1e-12);
         }
+    }
+
+    /// The extensions' closed forms equal the reflections applied one at a time, however far
+    /// beyond a short signal (the padding of a 6 Hz filter on a take sampled every 10 µs
+    /// reaches 10⁵ frames; reflecting one at a time made that quadratic and the quaternion
+    /// one recursive).
+    #[test]
+    fn extensions_far_beyond_the_ends_equal_the_reflections_one_at_a_time() {
+        fn odd_by_reflections(x: &[f64], i: isize) -> f64 {
+            let last = x.len() as isize - 1;
+            if i < 0 {
+                2.0 * x[0] - odd_by_reflections(x, -i)
+            } else if i > last {
+                2.0 * x[last as usize] - odd_by_reflections(x, 2 * last - i)
+            } else {
+                x[i as usize]
+            }
+        }
+        fn geo_by_reflections(q: &[UnitQuaternion<f64>], i: isize) -> UnitQuaternion<f64> {
+            let last = q.len() as isize - 1;
+            if i < 0 {
+                q[0] * geo_by_reflections(q, -i).inverse() * q[0]
+            } else if i > last {
+                let e = q[last as usize];
+                e * geo_by_reflections(q, 2 * last - i).inverse() * e
+            } else {
+                q[i as usize]
+            }
+        }
+        let x = [0.3, -1.2, 2.5, 0.7];
+        let q: Vec<UnitQuaternion<f64>> = [(0.1, 0.2, 0.3), (0.4, -0.1, 0.2), (0.2, 0.5, -0.3)]
+            .iter()
+            .map(|&(r, p, y)| UnitQuaternion::from_euler_angles(r, p, y))
+            .collect();
+        for i in -40..45 {
+            let (a, b) = (odd_extension(&x, i), odd_by_reflections(&x, i));
+            assert!(
+                (a - b).abs() < 1e-12 * (1.0 + b.abs()),
+                "x({i}): {a} vs {b}"
+            );
+            let (a, b) = (geodesic_extension(&q, i), geo_by_reflections(&q, i));
+            assert!(a.angle_to(&b) < 1e-9, "q({i}) off by {}", a.angle_to(&b));
+        }
+    }
+
+    #[test]
+    fn a_filter_reaching_past_its_limit_is_refused_with_what_to_change() {
+        let e = Smoother::new("butterworth:6hz".parse().unwrap(), 1e-7)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("Frame Time") && e.contains("10503691 frames"),
+            "{e}"
+        );
+        let e = Smoother::new("gaussian:0.02".parse().unwrap(), 1e-8)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("narrower kernel"), "{e}");
+        // a short frame time inside the limit is smoothed, and quickly
+        let mut s = Smoother::new("butterworth:6hz".parse().unwrap(), 1e-5).unwrap();
+        let mut x: Vec<f64> = (0..600).map(|k| (k as f64 * 0.01).sin()).collect();
+        s.smooth(&mut x);
+        assert!(x.iter().all(|v| v.is_finite()));
     }
 }

@@ -51,8 +51,9 @@ pub struct TakeOptions {
     pub joints: JointModel,
     /// Body mass, sex and link-mass overrides.
     pub body: BodyParams,
-    /// Low-pass applied to q before differentiation.
-    pub smooth: SmoothSpec,
+    /// Low-pass applied to q before differentiation; `None`: the default that fits the take
+    /// ([`default_smoothing`]: `butterworth:6hz`, or none on a keyframed or low-rate take).
+    pub smooth: Option<SmoothSpec>,
     /// Joints whose DOFs leave the model (held at the rest pose).
     pub lock: Vec<String>,
     /// Keep only the subtree below this joint.
@@ -98,10 +99,7 @@ impl Default for TakeOptions {
             positions: PositionMode::Auto,
             joints: JointModel::Euler,
             body: BodyParams::new(75.0, Sex::Male),
-            smooth: SmoothSpec::Butterworth {
-                cutoff_hz: 6.0,
-                order: 2,
-            },
+            smooth: None,
             lock: vec![],
             subtree: None,
             contact: Contact::None,
@@ -131,6 +129,52 @@ pub struct Flags<'a> {
     /// `B` (every joint coordinate) or `JOINT=B` (N·m·s/rad), in order.
     pub damping: &'a [String],
 }
+
+/// A smoothing as typed: `auto` (the default that fits the take) or a [`SmoothSpec`].
+pub fn parse_smooth(s: &str) -> Result<Option<SmoothSpec>, Error> {
+    if s.trim().eq_ignore_ascii_case("auto") {
+        return Ok(None);
+    }
+    parse_flag("smooth", s).map(Some)
+}
+
+/// The default smoothing's cutoff (Hz): the biomechanics standard for gait.
+pub const DEFAULT_CUTOFF_HZ: f64 = 6.0;
+
+/// The smoothing a take gets when the user chose none: `butterworth:6hz` when its cutoff is
+/// at most 60 % of the take's Nyquist frequency (20 fps and up) and the filter fits the frame
+/// time (`Smoother::new`); otherwise none, with a note saying why. A take keyframed every
+/// second or sampled at 12 fps holds no capture noise above 6 Hz to remove, and a 6 Hz filter
+/// cannot even be built below 12 fps.
+pub fn default_smoothing(frame_time: f64) -> (SmoothSpec, Option<String>) {
+    let spec = SmoothSpec::Butterworth {
+        cutoff_hz: DEFAULT_CUTOFF_HZ,
+        order: 2,
+    };
+    let fps = 1.0 / frame_time;
+    let min_fps = DEFAULT_CUTOFF_HZ / (0.5 * MAX_CUTOFF_OF_NYQUIST);
+    if fps < min_fps {
+        let note = format!(
+            "not smoothed: the take is sampled at {fps:.3} fps, too slowly for the default \
+             low-pass `{spec}` (it needs {min_fps} fps or more); a keyframed or low-rate take \
+             is used as it is (--smooth chooses a filter)"
+        );
+        return (SmoothSpec::None, Some(note));
+    }
+    match Smoother::new(spec, frame_time) {
+        Ok(_) => (spec, None),
+        Err(e) => (
+            SmoothSpec::None,
+            Some(format!(
+                "not smoothed: the default low-pass cannot apply: {e}"
+            )),
+        ),
+    }
+}
+
+/// The default low-pass applies when its cutoff is at most this fraction of the take's
+/// Nyquist frequency (6 Hz: 20 fps and up).
+const MAX_CUTOFF_OF_NYQUIST: f64 = 0.6;
 
 pub(crate) fn parse_flag<T: FromStr>(flag: &str, value: &str) -> Result<T, Error>
 where
@@ -165,7 +209,7 @@ impl TakeOptions {
             link_mass: scene.link_mass.clone(),
         };
         if let Some(sm) = &scene.smooth {
-            o.smooth = parse_flag("smooth", sm)?;
+            o.smooth = parse_smooth(sm)?;
         }
         o.contact = scene.contact.parse()?;
         o.keep_first_frame = scene.keep_first_frame;
@@ -217,7 +261,7 @@ impl TakeOptions {
             self.body.link_mass.insert(name.trim().to_string(), kg);
         }
         if let Some(s) = f.smooth {
-            self.smooth = parse_flag("smooth", s)?;
+            self.smooth = parse_smooth(s)?;
         }
         if !f.lock.is_empty() {
             self.lock = f.lock.iter().map(|s| s.trim().to_string()).collect();
@@ -375,6 +419,8 @@ pub struct Take {
     pub positions: Vec<ResolvedPosition>,
     pub model: Model,
     pub map: BvhMap,
+    /// The smoothing applied: the one given, or the default that fits the take.
+    pub smooth: SmoothSpec,
     /// q, v, a after unwrapping, smoothing and differentiation.
     pub states: States,
     /// What the loader changed on its own, for `info` (e.g. a folded helper root).
@@ -423,17 +469,27 @@ pub fn take_from_bvh_with(
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<Take, Error> {
     // axes and unit
+    let mut notes = vec![];
     let up = opts.up.unwrap_or_else(|| bvh::detect_up(&bvh));
-    let (unit, scale_to_m) = match (opts.stature_m, opts.unit) {
-        (Some(s), _) => ("stature".to_string(), bvh::scale_for_stature(&bvh, up, s)),
-        (None, Some(u)) => (u.to_string(), u.scale_to_m()),
-        (None, None) => {
-            let (u, _) = bvh::detect_unit(&bvh, up);
-            (u.to_string(), u.scale_to_m())
-        }
-    };
-    let stature_m = bvh::rest_stature(&bvh, up) * scale_to_m;
-    bvh::check_stature(stature_m).map_err(|e| at_file(path, e))?;
+    let human =
+        crate::model::anthropometry::looks_human(bvh.joints.iter().map(|j| j.name.as_str()));
+    let scale = bvh::choose_scale(&bvh, up, opts.unit, opts.stature_m, human)
+        .map_err(|e| at_file(path, e))?;
+    let (unit, scale_to_m, stature_m) = (scale.unit, scale.scale_to_m, scale.stature_m);
+    notes.extend(scale.note);
+    if bvh.frames < 3 {
+        notes.push(format!(
+            "the take has {} frame{}: velocities and accelerations need three frames or more \
+             (they are {} here), so the torques hold gravity and the pose alone",
+            bvh.frames,
+            if bvh.frames == 1 { "" } else { "s" },
+            if bvh.frames == 1 {
+                "zero"
+            } else {
+                "one difference, and zero"
+            }
+        ));
+    }
 
     // position semantics
     let positions = bvh::resolve_position_modes(&bvh, opts.positions);
@@ -458,7 +514,6 @@ pub fn take_from_bvh_with(
     // a massless helper root whose only child has six channels of its own (Bandai's
     // `joint_Root` above `Hips`) duplicates the child's coordinates and makes D(q) singular:
     // fold its motion into the child and weld it (`motion::fold`)
-    let mut notes = vec![];
     if let Some(c) = crate::motion::fold::redundant_root_child(&bvh) {
         let root_body = map.joints[0].body;
         let root = bvh.joints[0].name.clone();
@@ -481,7 +536,15 @@ pub fn take_from_bvh_with(
     if !keep_going(0.1) {
         return Err(Error::Cancelled);
     }
-    let (states, passages) = take_states_with(&bvh, &model, &map, &opts.smooth, &mut |f| {
+    let smooth = match opts.smooth {
+        Some(s) => s,
+        None => {
+            let (s, note) = default_smoothing(bvh.frame_time);
+            notes.extend(note);
+            s
+        }
+    };
+    let (states, passages) = take_states_with(&bvh, &model, &map, &smooth, &mut |f| {
         keep_going(0.1 + 0.9 * f)
     })?;
     notes.extend(passages);
@@ -496,6 +559,7 @@ pub fn take_from_bvh_with(
         positions,
         model,
         map,
+        smooth,
         states,
         notes,
     })
@@ -998,7 +1062,7 @@ pub fn estimate_take_ground_reactions_with(
 ) -> Result<crate::dynamics::grf::GroundReactions, Error> {
     use crate::motion::contact::{ContactParams, feet_of_bvh};
     let s = &take.states;
-    let params = ContactParams::for_take(&take.options.smooth, take.bvh.frame_time)
+    let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)
         .map_err(|e| at_file(&take.path, e))?;
     let feet = feet_of_bvh(&take.bvh, &take.map, &take.model);
     crate::dynamics::grf::estimate_ground_reactions_progress(
@@ -1154,8 +1218,9 @@ pub fn info(take: &Take) -> Info<'_> {
 }
 
 impl Info<'_> {
-    /// The `--json` summary: exactly the keys joints, frames, frame_time, nq, nv, scale_to_m,
-    /// stature_m, up, gravity, mass_kg.
+    /// The `--json` summary: the keys joints, frames, frame_time, nq, nv, scale_to_m,
+    /// stature_m, up, gravity, mass_kg, unit, smooth (the smoothing applied) and notes (a list
+    /// of strings: what the pipeline assumed, changed or found, as `info` prints them).
     pub fn json(&self) -> serde_json::Value {
         let t = self.take;
         serde_json::json!({
@@ -1169,6 +1234,9 @@ impl Info<'_> {
             "up": t.up.to_string(),
             "gravity": [t.model.gravity.x, t.model.gravity.y, t.model.gravity.z],
             "mass_kg": t.model.total_mass(),
+            "unit": t.unit,
+            "smooth": t.smooth.to_string(),
+            "notes": t.notes,
         })
     }
 
@@ -1210,7 +1278,7 @@ impl Info<'_> {
             t.model.nq,
             t.model.nv,
             t.model.total_mass(),
-            t.options.smooth
+            t.smooth
         );
         let _ = writeln!(
             s,

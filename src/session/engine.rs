@@ -712,7 +712,7 @@ mod tests {
         let bvh = take.bvh().unwrap();
         let ctl = Control::default();
         let mut raw = Params::default();
-        raw.take.smooth = SmoothSpec::None;
+        raw.take.smooth = Some(SmoothSpec::None);
         let r0 = Builtin.inverse_dynamics(&take, &raw, &ctl).unwrap();
         // unsmoothed: q is the channel value in radians
         let j = r0.q.col_index("LeftLeg.Xrotation").unwrap();
@@ -721,7 +721,7 @@ mod tests {
             assert!((r0.q.row(k)[j] - bvh.frame(k)[c].to_radians()).abs() < 1e-12);
         }
         let mut wide = Params::default();
-        wide.take.smooth = SmoothSpec::Gaussian { sigma_s: 0.05 };
+        wide.take.smooth = Some(SmoothSpec::Gaussian { sigma_s: 0.05 });
         let r1 = Builtin.inverse_dynamics(&take, &wide, &ctl).unwrap();
         assert_ne!(r0.tau, r1.tau);
     }

@@ -2,7 +2,7 @@
 
 use super::SessionError;
 use super::command::{Command, Expectation, ExportKind, Quantity, RunKind, Statistic};
-use super::engine::{Analysis, Builtin, Control, Engine, Params, SmoothSpec, Take, TakeData};
+use super::engine::{Analysis, Builtin, Control, Engine, Params, Take, TakeData};
 use crate::model::{JointKind, Model};
 use crate::pipeline::{PerJoint, TakeOptions};
 use crate::report::chart::{Panel, Series, stacked_svg};
@@ -1181,7 +1181,8 @@ impl Workbench {
                     None
                 } else {
                     let s = num("a stature in m")?;
-                    crate::io::bvh::check_stature(s).map_err(|e| err(format!("set {key}: {e}")))?;
+                    crate::io::bvh::check_given_stature(s)
+                        .map_err(|e| err(format!("set {key}: {e}")))?;
                     Some(s)
                 }
             }
@@ -1195,7 +1196,10 @@ impl Workbench {
             "positions" => p.take.positions = parsed(key, value)?,
             "subtree" => p.take.subtree = (!auto).then(|| value.to_string()),
             "joints" => p.take.joints = parsed(key, value)?,
-            "smooth" => p.take.smooth = parsed::<SmoothSpec>(key, value)?,
+            "smooth" => {
+                p.take.smooth = crate::pipeline::parse_smooth(value)
+                    .map_err(|e| err(format!("set {key}: {e}")))?
+            }
             "contact" => p.take.contact = parsed(key, value)?,
             "keep_first_frame" => p.take.keep_first_frame = parsed::<bool>(key, value)?,
             "kp" => p.kp.all = num("a gain in 1/s²")?,

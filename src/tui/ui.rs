@@ -589,7 +589,10 @@ impl Ui {
         }
         Some(match key {
             "body.mass" => (key.into(), format!("{}", p.take.body.mass_kg)),
-            "smooth" => (key.into(), p.take.smooth.to_string()),
+            "smooth" => (
+                key.into(),
+                p.take.smooth.map_or("auto".into(), |s| s.to_string()),
+            ),
             "blend.window" => (key.into(), format!("{}", p.blend_window)),
             "kp" => (key.into(), format!("{}", p.kp.all)),
             "kv" => (key.into(), format!("{}", p.kv.all)),
@@ -636,7 +639,11 @@ impl Ui {
         let num = value.parse::<f64>().ok();
         let new = match (key.as_str(), num) {
             ("body.mass", Some(m)) => format!("{}", (m + 5.0 * dir).max(5.0)),
-            ("smooth", _) => match wb.params.take.smooth {
+            // `auto` steps from the default it stands for
+            ("smooth", _) => match wb.params.take.smooth.unwrap_or(SmoothSpec::Butterworth {
+                cutoff_hz: crate::pipeline::DEFAULT_CUTOFF_HZ,
+                order: 2,
+            }) {
                 SmoothSpec::None if dir > 0.0 => "gaussian:0.005".into(),
                 SmoothSpec::None => return,
                 SmoothSpec::Gaussian { sigma_s } => {

@@ -589,6 +589,15 @@ fn motion_header(lx: &mut Lexer, channel_count: usize) -> Result<(usize, f64), E
         Ok(0) => {
             return Err(lx.error_at(&n_tok, "expected at least 1 frame, found 'Frames: 0'"));
         }
+        // a skeleton without channels has nothing in its frame lines, so no byte of the file
+        // bounds the declared count: what would every frame hold?
+        Ok(_) if channel_count == 0 => {
+            return Err(lx.error_at(
+                &n_tok,
+                "the skeleton has no channels (CHANNELS 0 on every joint): its frames hold no \
+                 motion; expected at least one joint with channels",
+            ));
+        }
         Ok(n) if n.checked_mul(channel_count).is_some() => n,
         Ok(_) => {
             return Err(lx.error_at(&n_tok, format!("'Frames: {}' is too large", n_tok.text)));

@@ -596,9 +596,125 @@ pub fn check_stature(stature_m: f64) -> Result<(), Error> {
     )))
 }
 
+/// Accepts a stature the user gave (m): any positive height, since a given stature always wins
+/// (a child, a dog, a giant); the error says what to give.
+pub fn check_given_stature(stature_m: f64) -> Result<(), Error> {
+    if stature_m.is_finite() && stature_m > 0.0 {
+        return Ok(());
+    }
+    Err(Error::Invalid(format!(
+        "stature {stature_m}: expected a height in metres, e.g. 1.75"
+    )))
+}
+
 /// Metres per file unit that give the skeleton a [`stature`] of `stature_m` along `up`.
 /// A skeleton with zero rest stature (all points at one height) gives infinity; callers
 /// validate the result with [`check_stature`] or reject non-finite scales.
 pub fn scale_for_stature(bvh: &Bvh, up: UpAxis, stature_m: f64) -> f64 {
     stature_m / stature(bvh, up)
+}
+
+/// A standard adult stature (m): a human skeleton that no length unit puts at a human's
+/// height (a game character twice human size) is scaled to it, and a note says so.
+pub const STANDARD_STATURE_M: f64 = 1.75;
+
+/// Units tried, in order, for a skeleton that is not a human's: the ones BVH exporters write.
+const NON_HUMAN_UNITS: [LengthUnit; 3] = [LengthUnit::Cm, LengthUnit::M, LengthUnit::Mm];
+
+/// Sizes (m) a non-human skeleton is taken to have in its unit: a mouse to a giraffe.
+const NON_HUMAN_SIZE_M: (f64, f64) = (0.1, 20.0);
+
+/// How a take's lengths become metres: the unit's name (or `stature` when scaled to one),
+/// metres per file unit, the stature (m) along up, and a note when the choice was not the
+/// plain detected human unit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scale {
+    pub unit: String,
+    pub scale_to_m: f64,
+    pub stature_m: f64,
+    pub note: Option<String>,
+}
+
+/// The scale of a take, from what the user gave or from the skeleton (see [`stature`] for
+/// the height it measures, which comes from the motion when the rest pose is not upright):
+///
+/// - `--stature S` always wins: the skeleton is scaled to stand `S` m tall;
+/// - `--unit U` is used as given (a note when the height it gives is not a human's);
+/// - otherwise, a `human` skeleton (the caller decides: `model::anthropometry::looks_human`
+///   reads the joint names) gets the unit of
+///   [`detect_unit`]; if no unit puts it at 1.0–2.3 m it is scaled to
+///   [`STANDARD_STATURE_M`] with a note; a skeleton that is not a human's gets the first of
+///   cm, m, mm that puts it at a human's height (a human with unreadable joint names), else at
+///   0.1–20 m, with a note.
+///
+/// Errors: a skeleton with no height along `up`, or a given stature or unit that is not a
+/// positive finite number.
+pub fn choose_scale(
+    bvh: &Bvh,
+    up: UpAxis,
+    unit: Option<LengthUnit>,
+    stature_m: Option<f64>,
+    human: bool,
+) -> Result<Scale, Error> {
+    let height = stature(bvh, up);
+    if !(height.is_finite() && height > 0.0) {
+        return Err(Error::Invalid(format!(
+            "the skeleton has no height along the up axis {up}: every point of it lies at one \
+             height, so neither its unit nor its stature can be found; give the up axis with \
+             --up x|y|z"
+        )));
+    }
+    let (lo, hi) = STATURE_RANGE_M;
+    let scale = |unit: String, scale_to_m: f64, note: Option<String>| Scale {
+        unit,
+        scale_to_m,
+        stature_m: height * scale_to_m,
+        note,
+    };
+    if let Some(s) = stature_m {
+        check_given_stature(s)?;
+        return Ok(scale("stature".into(), s / height, None));
+    }
+    if let Some(u) = unit {
+        let s = height * u.scale_to_m();
+        let note = (!(lo..=hi).contains(&s)).then(|| {
+            format!(
+                "in the unit given ({u}) the skeleton stands {s:.3} m tall, outside a human's \
+                 {lo}–{hi} m: used as given"
+            )
+        });
+        return Ok(scale(u.to_string(), u.scale_to_m(), note));
+    }
+    if human {
+        let (u, s) = detect_unit(bvh, up);
+        if (lo..=hi).contains(&s) {
+            return Ok(scale(u.to_string(), u.scale_to_m(), None));
+        }
+        let k = STANDARD_STATURE_M / height;
+        let note = format!(
+            "no length unit puts this human skeleton at a human's height ({height:.4} units \
+             tall: {s:.3} m in {u}, the nearest): it was scaled to a standard adult stature of \
+             {STANDARD_STATURE_M} m ({k:.6} m per unit; --stature sets another height, --unit \
+             a unit)"
+        );
+        return Ok(scale("stature".into(), k, Some(note)));
+    }
+    let size = |u: &LengthUnit| height * u.scale_to_m();
+    let u = NON_HUMAN_UNITS
+        .into_iter()
+        .find(|u| (lo..=hi).contains(&size(u)))
+        .or_else(|| {
+            let (a, b) = NON_HUMAN_SIZE_M;
+            NON_HUMAN_UNITS
+                .into_iter()
+                .find(|u| (a..=b).contains(&size(u)))
+        })
+        .unwrap_or(LengthUnit::Cm);
+    let note = format!(
+        "not a human skeleton (no trunk and two legs among its joint names): its length unit, \
+         {u}, was chosen from its size ({:.3} m tall; --unit or --stature override it), and \
+         its link masses follow bone volume",
+        size(&u)
+    );
+    Ok(scale(u.to_string(), u.scale_to_m(), Some(note)))
 }
