@@ -470,9 +470,14 @@ pub fn take_from_bvh_with(
 ) -> Result<Take, Error> {
     // axes and unit
     let mut notes = vec![];
-    let up = opts.up.unwrap_or_else(|| bvh::detect_up(&bvh));
     let human =
         crate::model::anthropometry::looks_human(bvh.joints.iter().map(|j| j.name.as_str()));
+    let up = match opts.up {
+        Some(u) => u,
+        None if human => bvh::detect_up(&bvh),
+        // a quadruped is longer than tall: its feet tell where the floor is
+        None => bvh::detect_up_by_feet(&bvh).unwrap_or_else(|| bvh::detect_up(&bvh)),
+    };
     let scale = bvh::choose_scale(&bvh, up, opts.unit, opts.stature_m, human)
         .map_err(|e| at_file(path, e))?;
     let (unit, scale_to_m, stature_m) = (scale.unit, scale.scale_to_m, scale.stature_m);

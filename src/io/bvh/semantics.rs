@@ -363,6 +363,55 @@ pub fn detect_up(bvh: &Bvh) -> UpAxis {
     }
 }
 
+/// The up axis of a skeleton that is not a human's, from its feet: the axis along which, in the
+/// take's frames, the most limb tips (End Sites, or joints without children) lie together at
+/// the lowest level, within 5 % of the body's extent of its lowest point. A quadruped's four
+/// feet, a crab's eight, a bird's two stand on the floor; along the other axes one tip (a
+/// nose, a tail, a claw) is the extreme, except along the lateral axis, where the left (or
+/// right) limbs share the extreme: that axis, the one about whose middle the body is most
+/// nearly its own mirror image, is left out. The count is the median over up to 64 frames;
+/// `None` when neither remaining axis has at least two tips on its floor, more than the other
+/// (the caller then uses [`detect_up`]). A body longer than tall, as most quadrupeds are, defeats the largest
+/// extent rule of [`detect_up`]: an elephant would fall along its trunk.
+pub fn detect_up_by_feet(bvh: &Bvh) -> Option<UpAxis> {
+    let modes = resolve_position_modes(bvh, PositionMode::Auto);
+    // limb ends: joints without child joints, each with its End Sites (a toe's End Site may
+    // point up from a toe joint on the floor)
+    let ends: Vec<usize> = (0..bvh.joints.len())
+        .filter(|&j| !bvh.joints.iter().any(|c| c.parent == Some(j)))
+        .collect();
+    let mut counts: [Vec<usize>; 3] = Default::default();
+    for k in sampled_frames(bvh) {
+        let (p, r) = world_poses(bvh, &modes, k);
+        let body = body_points(bvh, &pose_points(bvh, &modes, k));
+        let near = 0.05 * extents(&body).iter().copied().fold(0.0, f64::max);
+        for (axis, c) in counts.iter_mut().enumerate() {
+            let (lo, _) = min_max(&body, axis);
+            let lowest = |j: usize| {
+                let sites = bvh.joints[j]
+                    .end_sites
+                    .iter()
+                    .map(|s| (p[j] + r[j] * s)[axis]);
+                sites.fold(p[j][axis], f64::min)
+            };
+            c.push(ends.iter().filter(|&&j| lowest(j) - lo <= near).count());
+        }
+    }
+    let median = |c: &mut Vec<usize>| {
+        c.sort_unstable();
+        c.get(c.len() / 2).copied().unwrap_or(0)
+    };
+    let m: Vec<usize> = counts.iter_mut().map(median).collect();
+    // the left and right limbs share the lateral extremes: the lateral axis is the one about
+    // whose middle the body is its own mirror image, and it is never up
+    let first = body_points(bvh, &pose_points(bvh, &modes, 0));
+    let lateral = (0..3)
+        .min_by(|&a, &b| mirror_asymmetry(&first, a).total_cmp(&mirror_asymmetry(&first, b)))?;
+    let (a, b) = ((lateral + 1) % 3, (lateral + 2) % 3);
+    let best = if m[a] > m[b] { a } else { b };
+    (m[best] >= 2 && m[a] != m[b]).then(|| UpAxis::from_index(best))
+}
+
 /// Two extents closer than this ratio are a tie.
 const TIE: f64 = 0.8;
 

@@ -1,0 +1,278 @@
+//! Every class of take the world writes loads with default flags and says what it assumed
+//! (issue 12): generated from the bundled demo walk, each written another way.
+//!
+//! - the rest pose lying along +X, every bone along its joint's local +X, rotations
+//!   conjugated so the world motion is unchanged (LaFAN1, Bandai): the same up axis,
+//!   stature and ball-model loads as the upright original;
+//! - a character three times human size: scaled to a standard stature with a note, and the
+//!   same loads as the original scaled to that stature by `--stature`;
+//! - keyframed at 1 s: not smoothed by default, with a note; an explicit filter that cannot
+//!   apply is an error;
+//! - a frame time of 10 µs: smoothed, and in time (no hang);
+//! - a four-legged skeleton longer than tall: up from its feet, unit from its size, masses by
+//!   bone volume, with a note.
+
+mod common;
+
+use articula::io::bvh::{self, Bvh, UpAxis};
+use articula::pipeline::{self, TakeOptions};
+use articula::rotation::{euler_to_matrix, matrix_to_euler};
+use nalgebra::{Matrix3, Rotation3, Vector3};
+use std::path::Path;
+
+fn demo() -> Bvh {
+    bvh::read(&common::repo("data/demo_walk.bvh")).unwrap()
+}
+
+fn load(b: Bvh, opts: &TakeOptions) -> pipeline::Take {
+    pipeline::take_from_bvh(Path::new("variant.bvh"), b, opts).unwrap()
+}
+
+/// The rotation taking +X to `d` (any, if `d` is zero).
+fn x_to(d: &Vector3<f64>) -> Matrix3<f64> {
+    if d.norm() < 1e-12 {
+        return Matrix3::identity();
+    }
+    Rotation3::rotation_between(&Vector3::x(), d)
+        .unwrap_or_else(|| Rotation3::from_axis_angle(&Vector3::z_axis(), std::f64::consts::PI))
+        .into_inner()
+}
+
+/// `b` with every joint frame turned by a constant `C_j` so that the bone to its first child
+/// (or End Site) lies along local +X: offsets `C_parentᵀ o`, rotations `C_parentᵀ R C_j` in the
+/// joint's own Euler order. Every joint's world position is unchanged; the OFFSET-only pose
+/// becomes a chain lying along +X.
+fn lying_along_x(b: &Bvh) -> Bvh {
+    let n = b.joints.len();
+    let c: Vec<Matrix3<f64>> = (0..n)
+        .map(|j| {
+            let child = b
+                .joints
+                .iter()
+                .find(|k| k.parent == Some(j))
+                .map(|k| k.offset);
+            x_to(
+                &child
+                    .or(b.joints[j].end_sites.first().copied())
+                    .unwrap_or_default(),
+            )
+        })
+        .collect();
+    let mut out = b.clone();
+    for (j, joint) in out.joints.iter_mut().enumerate() {
+        let cp = joint.parent.map_or(Matrix3::identity(), |p| c[p]);
+        assert!(joint.parent.is_none() || !joint.has_position());
+        joint.offset = cp.transpose() * joint.offset;
+        for s in joint.end_sites.iter_mut() {
+            *s = c[j].transpose() * *s;
+        }
+    }
+    for k in 0..b.frames {
+        let row = b.frame(k).to_vec();
+        for (j, joint) in b.joints.iter().enumerate() {
+            let order = joint.euler_order().expect("three rotation channels");
+            let cols: Vec<usize> = (0..joint.channels.len())
+                .filter(|&i| joint.channels[i].is_rotation())
+                .map(|i| joint.first_channel + i)
+                .collect();
+            let r = euler_to_matrix(order, [0, 1, 2].map(|i| row[cols[i]].to_radians()));
+            let cp = joint.parent.map_or(Matrix3::identity(), |p| c[p]);
+            let a = matrix_to_euler(order, &(cp.transpose() * r * c[j]));
+            for i in 0..3 {
+                out.motion[k * b.channel_count + cols[i]] = a[i].to_degrees();
+            }
+        }
+    }
+    out
+}
+
+fn ball() -> TakeOptions {
+    TakeOptions {
+        joints: "ball".parse().unwrap(),
+        ..TakeOptions::default()
+    }
+}
+
+/// Per frame, |force| and |moment| the root needs (free joint: force then moment, in the
+/// root's frame about its origin, which both writings share).
+fn root_loads(t: &pipeline::Take) -> Vec<(f64, f64)> {
+    let tau = pipeline::inverse_dynamics(&t.model, &t.states);
+    tau.tau
+        .iter()
+        .map(|r| {
+            let f = Vector3::new(r[0], r[1], r[2]).norm();
+            let m = Vector3::new(r[3], r[4], r[5]).norm();
+            (f, m)
+        })
+        .collect()
+}
+
+fn same_loads(a: &[(f64, f64)], b: &[(f64, f64)], tol: f64) {
+    assert_eq!(a.len(), b.len());
+    for (k, (x, y)) in a.iter().zip(b).enumerate() {
+        assert!(
+            (x.0 - y.0).abs() <= tol * (1.0 + x.0) && (x.1 - y.1).abs() <= tol * (1.0 + x.1),
+            "frame {k}: {x:?} vs {y:?}"
+        );
+    }
+}
+
+#[test]
+fn a_rest_pose_lying_along_x_loads_as_the_upright_one() {
+    let up = demo();
+    let lying = lying_along_x(&up);
+    // the OFFSET-only pose lies along X: no longer upright
+    let rest = bvh::rest_points(&lying);
+    let ext = |a: usize| {
+        let (lo, hi) = rest
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(l, h), p| (l.min(p[a]), h.max(p[a])));
+        hi - lo
+    };
+    assert!(ext(0) > 2.0 * ext(1), "{} {}", ext(0), ext(1));
+    let (a, b) = (load(up, &ball()), load(lying, &ball()));
+    assert_eq!(b.up, UpAxis::Y);
+    assert_eq!((&a.unit, a.scale_to_m), (&b.unit, b.scale_to_m));
+    // the height comes from the frames, not the lying rest pose: within a walk's knee bend
+    assert!(
+        (a.stature_m - b.stature_m).abs() < 0.05 * a.stature_m,
+        "{} {}",
+        a.stature_m,
+        b.stature_m
+    );
+    same_loads(&root_loads(&a), &root_loads(&b), 1e-6);
+    // and --stature wins on it (it used to fail the check against the rest pose's height)
+    let o = TakeOptions {
+        stature_m: Some(1.7),
+        ..ball()
+    };
+    let c = load(lying_along_x(&demo()), &o);
+    assert!((c.stature_m - 1.7).abs() < 1e-12);
+}
+
+#[test]
+fn a_character_three_times_human_size_is_scaled_to_a_standard_stature() {
+    let mut big = demo();
+    for j in big.joints.iter_mut() {
+        j.offset *= 3.0;
+        j.end_sites.iter_mut().for_each(|s| *s *= 3.0);
+    }
+    for joint in big.joints.clone().iter() {
+        for (i, ch) in joint.channels.iter().enumerate() {
+            if !ch.is_rotation() {
+                for k in 0..big.frames {
+                    big.motion[k * big.channel_count + joint.first_channel + i] *= 3.0;
+                }
+            }
+        }
+    }
+    let t = load(big, &ball());
+    assert!((t.stature_m - bvh::STANDARD_STATURE_M).abs() < 1e-12);
+    assert!(
+        t.notes.iter().any(|n| n.contains("standard adult stature")),
+        "{:?}",
+        t.notes
+    );
+    // the same loads as the original given that stature
+    let o = TakeOptions {
+        stature_m: Some(bvh::STANDARD_STATURE_M),
+        ..ball()
+    };
+    same_loads(&root_loads(&t), &root_loads(&load(demo(), &o)), 1e-9);
+}
+
+#[test]
+fn a_keyframed_take_is_not_smoothed_by_default_and_an_explicit_filter_that_cannot_apply_is_an_error()
+ {
+    let mut keys = demo();
+    keys.frame_time = 1.0;
+    let t = load(keys.clone(), &TakeOptions::default());
+    assert_eq!(t.smooth.to_string(), "none");
+    assert!(
+        t.notes.iter().any(|n| n.contains("not smoothed")),
+        "{:?}",
+        t.notes
+    );
+    let o = TakeOptions {
+        smooth: Some("butterworth:6hz".parse().unwrap()),
+        ..TakeOptions::default()
+    };
+    let Err(e) = pipeline::take_from_bvh(Path::new("keys.bvh"), keys, &o) else {
+        panic!("an explicit 6 Hz filter at 1 fps is an error");
+    };
+    let e = e.to_string();
+    assert!(e.contains("Nyquist"), "{e}");
+}
+
+#[test]
+fn a_frame_time_of_ten_microseconds_is_smoothed_without_hanging() {
+    // the end padding reached 10⁵ frames beyond a 480-frame take and was quadratic in it
+    let mut fast = demo();
+    fast.frame_time = 1e-5;
+    let t = load(fast, &TakeOptions::default());
+    assert_eq!(t.smooth.to_string(), "butterworth:6hz");
+    assert!(t.states.q.iter().flatten().all(|x| x.is_finite()));
+}
+
+/// A quadruped in cm, 2 m long and 1.2 m tall, Y up, walking in place: names no human reading
+/// knows.
+fn quadruped() -> String {
+    let leg = |name: &str, x: f64, z: f64| {
+        format!(
+            "JOINT {name}_upper\n{{\nOFFSET {x} 0 {z}\nCHANNELS 3 Zrotation Xrotation Yrotation\n\
+             JOINT {name}_lower\n{{\nOFFSET 0 -45 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n\
+             End Site\n{{\nOFFSET 0 -45 0\n}}\n}}\n}}\n"
+        )
+    };
+    let mut s = String::from(
+        "HIERARCHY\nROOT body\n{\nOFFSET 0 0 0\n\
+         CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n",
+    );
+    s += &leg("fl", 80.0, -20.0);
+    s += &leg("fr", 80.0, 20.0);
+    s += &leg("bl", -80.0, -20.0);
+    s += &leg("br", -80.0, 20.0);
+    s += "JOINT neck\n{\nOFFSET 90 10 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n\
+          End Site\n{\nOFFSET 30 20 0\n}\n}\n\
+          JOINT tail\n{\nOFFSET -90 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n\
+          End Site\n{\nOFFSET -30 -10 0\n}\n}\n}\n";
+    let frames = 60;
+    s += &format!("MOTION\nFrames: {frames}\nFrame Time: 0.0333333\n");
+    for k in 0..frames {
+        let a = 15.0 * (k as f64 * 0.3).sin();
+        let mut row = vec![0.0, 90.0, 0.0, 0.0, 0.0, 0.0];
+        for leg in 0..4 {
+            let sign = if leg % 3 == 0 { 1.0 } else { -1.0 };
+            row.extend([sign * a, 0.0, 0.0, 0.5 * a.abs(), 0.0, 0.0]);
+        }
+        row.extend([0.0; 6]);
+        let line: Vec<String> = row.iter().map(|v| format!("{v}")).collect();
+        s += &line.join(" ");
+        s += "\n";
+    }
+    s
+}
+
+#[test]
+fn a_four_legged_skeleton_gets_up_from_its_feet_unit_from_its_size_and_masses_by_volume() {
+    let b = bvh::parse_str(&quadruped(), Path::new("dog.bvh")).unwrap();
+    // longer than tall: the largest extent rule alone takes X for up
+    assert_eq!(bvh::detect_up(&b), UpAxis::X);
+    let t = load(b, &TakeOptions::default());
+    assert_eq!(t.up, UpAxis::Y);
+    assert_eq!(t.unit, "cm");
+    assert!((t.stature_m - 1.2).abs() < 0.05, "{}", t.stature_m);
+    assert!(
+        t.notes.iter().any(|n| n.contains("not a human skeleton")),
+        "{:?}",
+        t.notes
+    );
+    assert!((t.model.total_mass() - 75.0).abs() < 1e-9);
+    // by bone volume: a 45 cm leg bone outweighs the 36 cm neck, and all leg bones are equal
+    let mass = |name: &str| {
+        let j = t.bvh.joint_index(name).unwrap();
+        t.model.inertia[t.map.joints[j].body].mass
+    };
+    assert!((mass("fl_upper") - mass("br_lower")).abs() < 1e-9);
+    assert!(mass("fl_upper") > mass("neck"));
+}
