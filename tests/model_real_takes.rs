@@ -14,10 +14,9 @@ use articula::model::bvh::{BvhModelOptions, JointModel, build_bvh_model};
 use articula::motion::take::Trajectory;
 
 #[test]
+#[ignore = "real takes: ARTICULA_REAL_TAKES=../shared/data/bvh cargo test -- --ignored"]
 fn every_real_take_builds_and_its_fk_matches_the_bvh_definition() {
-    let Some(takes) = common::real_takes() else {
-        return;
-    };
+    let takes = common::real_takes();
     for path in takes {
         let take = bvh::read(&path).unwrap();
         let up = detect_up(&take);
@@ -114,12 +113,11 @@ fn every_real_take_builds_and_its_fk_matches_the_bvh_definition() {
 /// `Spine1`, both at one point, whose rotation the two children could undo: D singular, no
 /// simulation possible).
 #[test]
+#[ignore = "real takes: ARTICULA_REAL_TAKES=../shared/data/bvh cargo test -- --ignored"]
 fn every_real_take_has_a_positive_definite_mass_matrix() {
     use articula::dynamics::crba;
     use articula::pipeline::{TakeOptions, load_take};
-    let Some(takes) = common::real_takes() else {
-        return;
-    };
+    let takes = common::real_takes();
     for path in takes {
         let opts = TakeOptions {
             joints: JointModel::Ball,

@@ -316,6 +316,28 @@ fn blank_lines_and_comments_are_skipped() {
 }
 
 #[test]
+fn a_trailing_comment_ends_the_line() {
+    // it failed as "usage: load PATH [as NAME]"
+    assert_eq!(
+        one("load walk#2.bvh as w   # the second walk"),
+        Command::Load {
+            path: "walk#2.bvh".into(),
+            name: Some("w".into())
+        }
+    );
+    assert_eq!(one("run id # inverse dynamics"), one("run id"));
+    // a quoted word keeps its #, and key lines are keystrokes
+    assert_eq!(
+        one("load \"#1.bvh\""),
+        Command::Load {
+            path: "#1.bvh".into(),
+            name: None
+        }
+    );
+    assert_eq!(one("key #"), Command::Key("#".into()));
+}
+
+#[test]
 fn malformed_lines_name_their_line_and_what_was_expected() {
     let cases = [
         ("lod walk.bvh", "unknown command 'lod'"),

@@ -236,6 +236,9 @@ fn words(line: &str, lineno: usize) -> Result<Vec<String>, SessionError> {
     while let Some(&c) = chars.peek() {
         if c.is_whitespace() {
             chars.next();
+        } else if c == '#' {
+            // a comment to the end of the line, as in a shell: `load a.bvh  # the walk`
+            break;
         } else if c == '"' {
             chars.next();
             let mut w = String::new();
@@ -301,7 +304,9 @@ pub fn parse_window(w: &str, line: usize) -> Result<(f64, f64), SessionError> {
     Ok((t0, t1))
 }
 
-/// Parses one line of a session. `Ok(None)` for blank lines and `#` comments. `lineno` is
+/// Parses one line of a session. `Ok(None)` for blank lines and `#` comments; a word that
+/// begins with `#` starts a comment to the end of the line (`load a.bvh  # the walk`; quote
+/// a word that begins with `#`; `key` lines are keystrokes, taken verbatim). `lineno` is
 /// 1-based and goes into the error.
 pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionError> {
     let trimmed = line.trim();

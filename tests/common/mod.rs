@@ -5,10 +5,15 @@ use std::path::PathBuf;
 
 /// The real takes of `ARTICULA_REAL_TAKES` (`../shared/data/bvh` in CI), sorted by name.
 ///
-/// Unset variable: `None` (the default suite runs on a fresh machine without the data).
-/// Set but naming a folder without `.bvh` files: panics, so CI cannot pass by accident.
-pub fn real_takes() -> Option<Vec<PathBuf>> {
-    let dir = std::env::var_os("ARTICULA_REAL_TAKES")?;
+/// The takes are not in this repository, so every test that reads them is marked
+/// `#[ignore = "real takes: ARTICULA_REAL_TAKES=../shared/data/bvh cargo test -- --ignored"]`:
+/// README's `cargo test` lists them as ignored, with that reason, and CI runs them with
+/// `-- --ignored` (`.ci/run`). When they run, an unset variable, or one naming a folder
+/// without `.bvh` files, panics: the suite can never pass without its data.
+pub fn real_takes() -> Vec<PathBuf> {
+    let dir = std::env::var_os("ARTICULA_REAL_TAKES").unwrap_or_else(|| {
+        panic!("the real-take suite needs ARTICULA_REAL_TAKES=../shared/data/bvh (the folder of real takes)")
+    });
     let dir = PathBuf::from(dir);
     let mut takes: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("ARTICULA_REAL_TAKES={}: {e}", dir.display()))
@@ -21,18 +26,15 @@ pub fn real_takes() -> Option<Vec<PathBuf>> {
         "ARTICULA_REAL_TAKES={} holds no .bvh files",
         dir.display()
     );
-    Some(takes)
+    takes
 }
 
-/// The real take called `name` (file name), if the real-take suite is on.
-pub fn real_take(name: &str) -> Option<PathBuf> {
-    let takes = real_takes()?;
-    Some(
-        takes
-            .into_iter()
-            .find(|p| p.file_name().is_some_and(|n| n == name))
-            .unwrap_or_else(|| panic!("real take {name} missing from ARTICULA_REAL_TAKES")),
-    )
+/// The real take called `name` (file name), from [`real_takes`].
+pub fn real_take(name: &str) -> PathBuf {
+    real_takes()
+        .into_iter()
+        .find(|p| p.file_name().is_some_and(|n| n == name))
+        .unwrap_or_else(|| panic!("real take {name} missing from ARTICULA_REAL_TAKES"))
 }
 
 /// A path inside the repository.
