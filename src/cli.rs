@@ -291,9 +291,101 @@ pub struct SimArgs {
     pub duration: Option<f64>,
 }
 
+/// The take flags each command leaves unused: giving one is an error that says so, never a
+/// flag accepted and ignored (`simulate --contact feet` wrote the same bytes as without it).
+/// A command not listed here uses every take flag.
+const UNUSED_TAKE_FLAGS: &[(&str, &[&str], &str)] = &[
+    (
+        "info",
+        &["--contact", "--damping"],
+        "info describes the take and its model; ground forces and friction are for `id`",
+    ),
+    (
+        "export positions",
+        &[
+            "--mass",
+            "--sex",
+            "--link-mass",
+            "--smooth",
+            "--joints",
+            "--contact",
+            "--damping",
+            "--lock",
+        ],
+        "positions come from the file's channels as read; no model, mass or smoothing enters",
+    ),
+    (
+        "export states",
+        &["--mass", "--sex", "--link-mass", "--contact", "--damping"],
+        "states are kinematics: no mass, contact or friction enters",
+    ),
+    (
+        "export urdf",
+        &["--smooth", "--contact", "--damping", "--keep-first-frame"],
+        "a URDF holds the model, not the motion",
+    ),
+    (
+        "simulate",
+        &["--contact"],
+        "the simulation has no ground contact model: the root residual carries the body \
+         (`id --contact feet` estimates ground forces)",
+    ),
+    (
+        "tradeoff",
+        &["--contact"],
+        "the trade-off simulations have no ground contact model",
+    ),
+    (
+        "bench",
+        &["--smooth", "--contact", "--keep-first-frame"],
+        "bench times the dynamics of the model at sample states, not the take's motion",
+    ),
+    (
+        "smooth",
+        &["--mass", "--sex", "--link-mass", "--contact", "--damping"],
+        "smoothing writes the motion; no mass, contact or friction enters",
+    ),
+];
+
 impl TakeArgs {
     fn options(&self) -> Result<TakeOptions> {
         Ok(self.options_and_gains()?.0)
+    }
+
+    /// The take flags given (by their names on the command line).
+    fn given(&self) -> Vec<&'static str> {
+        [
+            ("--mass", self.mass.is_some()),
+            ("--sex", self.sex.is_some()),
+            ("--link-mass", !self.link_mass.is_empty()),
+            ("--smooth", self.smooth.is_some()),
+            ("--joints", self.joints.is_some()),
+            ("--contact", self.contact.is_some()),
+            ("--damping", !self.damping.is_empty()),
+            ("--lock", !self.lock.is_empty()),
+            ("--keep-first-frame", self.keep_first_frame),
+        ]
+        .into_iter()
+        .filter_map(|(f, given)| given.then_some(f))
+        .collect()
+    }
+
+    /// [`Self::options`] for `command`, refusing a take flag it would ignore
+    /// ([`UNUSED_TAKE_FLAGS`]).
+    fn options_for(&self, command: &str) -> Result<TakeOptions> {
+        self.refuse_unused(command)?;
+        self.options()
+    }
+
+    fn refuse_unused(&self, command: &str) -> Result<()> {
+        let Some((_, unused, why)) = UNUSED_TAKE_FLAGS.iter().find(|(c, _, _)| *c == command)
+        else {
+            return Ok(());
+        };
+        if let Some(flag) = self.given().into_iter().find(|f| unused.contains(f)) {
+            bail!("{flag} has no effect on `articula {command}`: {why}; remove it");
+        }
+        Ok(())
     }
 
     /// The take options (the scene's, then the flags over them) and the scene's gains, reading
@@ -391,7 +483,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
     };
     match cmd {
         Cmd::Info { take, opts, json } => {
-            let take = pipeline::load_take(&take, &opts.options()?)?;
+            let take = pipeline::load_take(&take, &opts.options_for("info")?)?;
             let info = pipeline::info(&take);
             if json {
                 println!("{}", serde_json::to_string_pretty(&info.json())?);
@@ -405,7 +497,12 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             opts,
             output,
         } => {
-            let take = pipeline::load_take(&take, &opts.options()?)?;
+            let command = match what {
+                ExportWhat::Positions => "export positions",
+                ExportWhat::Urdf => "export urdf",
+                ExportWhat::States => "export states",
+            };
+            let take = pipeline::load_take(&take, &opts.options_for(command)?)?;
             match what {
                 ExportWhat::Positions => pipeline::export_positions(&take, &output)?,
                 ExportWhat::Urdf => pipeline::export_urdf(&take, &output)?,
@@ -457,6 +554,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             output,
             json,
         } => {
+            opts.refuse_unused("simulate")?;
             let (options, gains) = opts.options_and_gains()?;
             let take = pipeline::load_take(&take, &options)?;
             print_notes(Some(&take));
@@ -491,7 +589,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             json,
             batches,
         } => {
-            let model = pipeline::load_model(&src.source()?, &opts.options()?)?;
+            let model = pipeline::load_model(&src.source()?, &opts.options_for("bench")?)?;
             let r = pipeline::bench_batches(&model, batches)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&r.json())?);
@@ -505,7 +603,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             duration,
             output,
         } => {
-            let table = pipeline::tradeoff(&take, &opts.options()?, duration)?;
+            let table = pipeline::tradeoff(&take, &opts.options_for("tradeoff")?, duration)?;
             print!("{}", table.text());
             if let Some(out) = output {
                 table.write_csv(&out)?;
@@ -513,7 +611,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             }
         }
         Cmd::Smooth { take, opts, output } => {
-            let take = pipeline::load_take(&take, &opts.options()?)?;
+            let take = pipeline::load_take(&take, &opts.options_for("smooth")?)?;
             pipeline::export_smoothed_bvh(&take, &output)?;
             eprintln!("wrote {}", output.display());
         }

@@ -756,3 +756,32 @@ fn an_error_names_the_missing_file_once() {
     let err = String::from_utf8_lossy(&out.get_output().stderr).into_owned();
     assert_eq!(err.matches("no_such_take.bvh").count(), 1, "{err}");
 }
+
+#[test]
+fn a_take_flag_a_command_would_ignore_is_refused() {
+    // simulate --contact feet wrote the same bytes as without it; smooth --mass likewise
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.3);
+    for (args, flag) in [
+        (vec!["simulate", "--contact", "feet"], "--contact"),
+        (vec!["smooth", "--mass", "80", "-o", "s.bvh"], "--mass"),
+        (
+            vec!["export", "positions", "--smooth", "none", "-o", "p.csv"],
+            "--smooth",
+        ),
+        (vec!["info", "--damping", "2"], "--damping"),
+    ] {
+        let (cmd, rest) = args.split_at(if args[0] == "export" { 2 } else { 1 });
+        let o = articula()
+            .current_dir(dir.path())
+            .args(cmd)
+            .arg(&take)
+            .args(rest)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(flag) && err.contains("has no effect"), "{err}");
+    }
+    assert!(!dir.path().join("s.bvh").exists() && !dir.path().join("p.csv").exists());
+}
