@@ -54,13 +54,13 @@ pub enum Cmd {
         #[arg(short, long, default_value = "data/demo_walk.bvh")]
         output: PathBuf,
         /// Frames per second.
-        #[arg(long, default_value_t = 120.0)]
+        #[arg(long, default_value_t = 120.0, allow_negative_numbers = true)]
         fps: f64,
         /// Length (s).
-        #[arg(long, default_value_t = 4.0)]
+        #[arg(long, default_value_t = 4.0, allow_negative_numbers = true)]
         duration: f64,
         /// Skeleton scale relative to a 1.72 m adult.
-        #[arg(long, default_value_t = 1.0)]
+        #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
         scale: f64,
     },
     /// Inverse dynamics (RNEA): the torque of every coordinate, frame by frame.
@@ -124,7 +124,7 @@ pub enum Cmd {
         #[command(flatten)]
         opts: TakeArgs,
         /// Simulated time (s) from the start of the take.
-        #[arg(long, default_value_t = 1.0)]
+        #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
         duration: f64,
         #[arg(short, long)]
         output: Option<PathBuf>,
@@ -149,10 +149,10 @@ pub enum Cmd {
         #[arg(long, default_value = "root,heading")]
         align: String,
         /// Time offset (s) of take b.
-        #[arg(long, default_value_t = 0.0)]
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
         offset: f64,
         /// Time scale of take b.
-        #[arg(long, default_value_t = 1.0)]
+        #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
         time_scale: f64,
         /// Up axis of the takes (x, y, z); default: detected from the first take.
         #[arg(long)]
@@ -208,8 +208,9 @@ pub struct SourceArgs {
     /// The URDF's root link floats (a free joint to the world).
     #[arg(long)]
     pub floating: bool,
-    /// States CSV (`time`, `q:<coord>`, `v:<coord>`, `a:<coord>`), as `export states` writes.
-    /// Required with --urdf/--dh; with a take, replaces the take's own states.
+    /// States CSV (`time`, `q:<coord>`, `v:<coord>`, `a:<coord>`), as `export states` writes;
+    /// `fd` needs no `a:` columns. Required with --urdf/--dh; with a take, replaces the take's
+    /// own states.
     #[arg(long)]
     pub states: Option<PathBuf>,
 }
@@ -221,7 +222,7 @@ pub struct TakeArgs {
     #[arg(long)]
     pub unit: Option<String>,
     /// Scale the skeleton to this rest-pose stature (m) instead of using a unit.
-    #[arg(long, conflicts_with = "unit")]
+    #[arg(long, conflicts_with = "unit", allow_negative_numbers = true)]
     pub stature: Option<f64>,
     /// Up axis of the take: x, y or z. Default: detected.
     #[arg(long)]
@@ -234,7 +235,7 @@ pub struct TakeArgs {
     #[arg(long)]
     pub joints: Option<String>,
     /// Body mass (kg); default 75.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub mass: Option<f64>,
     /// Sex for the de Leva (1996) tables: male (default) or female.
     #[arg(long)]
@@ -260,7 +261,7 @@ pub struct TakeArgs {
     /// Viscous joint friction b (N·m·s/rad; N·s/m on translations), τ gains b·q̇: `B` for every
     /// joint coordinate, `JOINT=B` for one joint's (or one coordinate's) (repeatable). Never on
     /// the 6 root coordinates of a floating avatar.
-    #[arg(long, value_name = "B|JOINT=B")]
+    #[arg(long, value_name = "B|JOINT=B", allow_negative_numbers = true)]
     pub damping: Vec<String>,
     /// Scene file (TOML, see data/scene_example.toml); flags given here override it.
     #[arg(long)]
@@ -274,20 +275,20 @@ pub struct SimArgs {
     #[arg(long, default_value = "rk4")]
     pub integrator: String,
     /// Step (s).
-    #[arg(long, default_value_t = 0.001)]
+    #[arg(long, default_value_t = 0.001, allow_negative_numbers = true)]
     pub dt: f64,
     /// Position gain Kp (1/s²): a number for every coordinate (default 400), or JOINT=X for one
     /// joint's coordinates or one coordinate (repeatable: --kp 400 --kp LeftLeg=900).
-    #[arg(long, value_name = "X|JOINT=X")]
+    #[arg(long, value_name = "X|JOINT=X", allow_negative_numbers = true)]
     pub kp: Vec<String>,
     /// Velocity gain Kv (1/s): a number (default 40) or JOINT=X, as --kp.
-    #[arg(long, value_name = "X|JOINT=X")]
+    #[arg(long, value_name = "X|JOINT=X", allow_negative_numbers = true)]
     pub kv: Vec<String>,
     /// Relative error of the controller's link masses (0.1 = 10 % heavy).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub mass_error: f64,
     /// Simulated time (s); default: the whole take.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
 }
 
@@ -508,7 +509,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 ExportWhat::Urdf => pipeline::export_urdf(&take, &output)?,
                 ExportWhat::States => pipeline::export_states(&take, &output)?,
             }
-            eprintln!("wrote {}", output.display());
+            wrote(&output);
         }
         Cmd::Generate {
             what: GenerateWhat::Walk,
@@ -518,7 +519,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             scale,
         } => {
             pipeline::generate_walk(&output, fps, duration, scale)?;
-            eprintln!("wrote {}", output.display());
+            wrote(&output);
         }
         Cmd::Id { src, opts, output } => {
             let job =
@@ -528,7 +529,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             if let Some(q) = quality {
                 eprintln!("{q}");
             }
-            eprintln!("wrote {}", output.display());
+            wrote(&output);
         }
         Cmd::Fd {
             src,
@@ -536,16 +537,21 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             torques,
             output,
         } => {
-            let job =
-                pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
+            // forward dynamics computes the accelerations: the states need only q and v
+            let job = pipeline::load_source_with(
+                &src.source()?,
+                src.states.as_deref(),
+                &opts.options()?,
+                pipeline::StateColumns::QV,
+            )?;
             pipeline::write_forward_dynamics(&job, &torques, &output)?;
-            eprintln!("wrote {}", output.display());
+            wrote(&output);
         }
         Cmd::MassMatrix { src, opts, output } => {
             let job =
                 pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
             pipeline::write_mass_matrix(&job, &output)?;
-            eprintln!("wrote {}", output.display());
+            wrote(&output);
         }
         Cmd::Simulate {
             take,
@@ -577,11 +583,12 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 sim.duration,
             )?;
             let summary = pipeline::simulate(&take, &settings, output.as_deref())?;
-            if json {
-                println!("{}", serde_json::to_string_pretty(&summary.json())?);
+            let text = if json {
+                format!("{}\n", serde_json::to_string_pretty(&summary.json())?)
             } else {
-                print!("{}", summary.text());
-            }
+                summary.text()
+            };
+            report(&text, output.as_deref());
         }
         Cmd::Bench {
             src,
@@ -604,16 +611,16 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             output,
         } => {
             let table = pipeline::tradeoff(&take, &opts.options_for("tradeoff")?, duration)?;
-            print!("{}", table.text());
+            report(&table.text(), output.as_deref());
             if let Some(out) = output {
                 table.write_csv(&out)?;
-                eprintln!("wrote {}", out.display());
+                wrote(&out);
             }
         }
         Cmd::Smooth { take, opts, output } => {
             let take = pipeline::load_take(&take, &opts.options_for("smooth")?)?;
             pipeline::export_smoothed_bvh(&take, &output)?;
-            eprintln!("wrote {}", output.display());
+            wrote(&output);
         }
         Cmd::Blend {
             takes,
@@ -639,7 +646,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             for n in notes {
                 eprintln!("{n}");
             }
-            eprintln!("wrote {}", output.display());
+            wrote(&output);
         }
         Cmd::Run { session, out } => {
             need(&session)?;
@@ -657,6 +664,30 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// `-o -` is standard output: the data, nothing else.
+fn is_stdout(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// A command's summary: on standard output, unless the data goes there (`-o -`), so that a
+/// pipe gets only the data.
+fn report(text: &str, output: Option<&Path>) {
+    if output.is_some_and(is_stdout) {
+        eprint!("{text}");
+    } else {
+        print!("{text}");
+    }
+}
+
+/// The line that says where an output went, on standard error.
+fn wrote(path: &Path) {
+    if is_stdout(path) {
+        eprintln!("wrote standard output");
+    } else {
+        eprintln!("wrote {}", path.display());
+    }
 }
 
 /// A take's notes (what the pipeline changed or found: a dropped rest frame, a folded root, a

@@ -785,3 +785,190 @@ fn a_take_flag_a_command_would_ignore_is_refused() {
     }
     assert!(!dir.path().join("s.bvh").exists() && !dir.path().join("p.csv").exists());
 }
+
+/// `articula id TAKE -o OUT`, run in `dir`, and its standard output.
+fn id_to(dir: &Path, take: &Path, out: &Path) -> Vec<u8> {
+    let o = articula()
+        .current_dir(dir)
+        .arg("id")
+        .arg(take)
+        .arg("-o")
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    o.stdout
+}
+
+#[test]
+fn dash_writes_only_the_csv_to_stdout_and_no_file_named_dash() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.5);
+    let file = dir.path().join("t.csv");
+    assert!(id_to(dir.path(), &take, &file).is_empty());
+    let stdout = id_to(dir.path(), &take, Path::new("-"));
+    assert_eq!(stdout, std::fs::read(&file).unwrap());
+    assert!(!dir.path().join("-").exists(), "a file named `-`");
+    // simulate's summary moves to stderr when its CSV goes to stdout
+    let o = articula()
+        .current_dir(dir.path())
+        .arg("simulate")
+        .arg(&take)
+        .args(["--duration", "0.05", "--json", "-o", "-"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let (h, _) = articula::report::csv::parse_columns(&text, Path::new("-")).unwrap();
+    assert_eq!(h[0], "time");
+    assert!(String::from_utf8_lossy(&o.stderr).contains("rms_error_rad"));
+    assert!(!dir.path().join("-").exists(), "a file named `-`");
+}
+
+#[cfg(unix)]
+#[test]
+fn a_fifo_reader_gets_the_whole_csv_and_the_fifo_stays_a_fifo() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.5);
+    let file = dir.path().join("t.csv");
+    id_to(dir.path(), &take, &file);
+    let fifo = dir.path().join("pipe");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read(fifo).unwrap())
+    };
+    id_to(dir.path(), &take, &fifo);
+    assert_eq!(reader.join().unwrap(), std::fs::read(&file).unwrap());
+    let kind = std::fs::symlink_metadata(&fifo).unwrap().file_type();
+    assert!(kind.is_fifo(), "the FIFO is now {kind:?}");
+}
+
+#[cfg(unix)]
+#[test]
+fn dev_null_takes_the_output_and_stays_a_device() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.5);
+    id_to(dir.path(), &take, Path::new("/dev/null"));
+    let kind = std::fs::symlink_metadata("/dev/null").unwrap().file_type();
+    assert!(kind.is_char_device(), "/dev/null is now {kind:?}");
+}
+
+#[cfg(unix)]
+#[test]
+fn a_symlink_output_stays_a_link_and_its_target_gets_the_content() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.5);
+    let file = dir.path().join("t.csv");
+    id_to(dir.path(), &take, &file);
+    let target = dir.path().join("target.csv");
+    std::fs::write(&target, "old").unwrap();
+    let link = dir.path().join("link.csv");
+    std::os::unix::fs::symlink("target.csv", &link).unwrap();
+    id_to(dir.path(), &take, &link);
+    assert!(std::fs::symlink_metadata(&link).unwrap().is_symlink());
+    assert_eq!(
+        std::fs::read(&target).unwrap(),
+        std::fs::read(&file).unwrap()
+    );
+}
+
+#[test]
+fn fd_needs_no_acceleration_columns_and_id_names_the_first_missing_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.5);
+    let (states, tau) = (dir.path().join("s.csv"), dir.path().join("t.csv"));
+    articula()
+        .args(["export", "states"])
+        .arg(&take)
+        .arg("-o")
+        .arg(&states)
+        .assert()
+        .success();
+    id_to(dir.path(), &take, &tau);
+    let (h, c) = read_columns(&states).unwrap();
+    let keep: Vec<usize> = (0..h.len()).filter(|&i| !h[i].starts_with("a:")).collect();
+    let qv = dir.path().join("qv.csv");
+    let names: Vec<String> = keep.iter().map(|&i| h[i].clone()).collect();
+    let cols: Vec<&[f64]> = keep.iter().map(|&i| c[i].as_slice()).collect();
+    articula::report::csv::write_columns(&qv, &names, &cols).unwrap();
+    let acc = dir.path().join("a.csv");
+    articula()
+        .arg("fd")
+        .arg(&take)
+        .arg("--states")
+        .arg(&qv)
+        .arg("--torques")
+        .arg(&tau)
+        .arg("-o")
+        .arg(&acc)
+        .assert()
+        .success();
+    let (ha, ca) = read_columns(&acc).unwrap();
+    let mut n = 0;
+    for name in ha.iter().filter(|x| x.starts_with("a:")) {
+        for (w, g) in column(&h, &c, name).iter().zip(column(&ha, &ca, name)) {
+            assert!(
+                (w - g).abs() <= 1e-6 * (1.0 + w.abs()),
+                "{name}: {w} vs {g}"
+            );
+        }
+        n += 1;
+    }
+    assert!(n > 50, "{n} acceleration columns");
+    // inverse dynamics does need them, and says which one is missing
+    let first_a = h.iter().find(|x| x.starts_with("a:")).unwrap();
+    articula()
+        .arg("id")
+        .arg(&take)
+        .arg("--states")
+        .arg(&qv)
+        .arg("-o")
+        .arg(dir.path().join("t2.csv"))
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(format!("no column `{first_a}`")));
+}
+
+#[test]
+fn a_negative_number_reaches_the_flag_check_not_clap() {
+    let take = common::repo("data/demo_walk.bvh");
+    for (flag, says) in [
+        ("--mass", "--mass -5: expected a body mass in kg"),
+        ("--stature", "--stature -5: expected a height in metres"),
+    ] {
+        articula()
+            .arg("info")
+            .arg(&take)
+            .args([flag, "-5"])
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(says))
+            .stderr(predicate::str::contains("unexpected argument").not());
+    }
+    for (flag, says) in [
+        ("--dt", "--dt -5: expected a positive step"),
+        ("--kp", "--kp -5: expected X or JOINT=X with X ≥ 0"),
+    ] {
+        articula()
+            .arg("simulate")
+            .arg(&take)
+            .args([flag, "-5"])
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(says));
+    }
+    let dir = tempfile::tempdir().unwrap();
+    articula()
+        .args(["generate", "walk", "--fps", "-60", "-o"])
+        .arg(dir.path().join("w.bvh"))
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("must be positive"));
+}

@@ -841,11 +841,22 @@ fn robot_model(src: &ModelSource, opts: &TakeOptions) -> Result<Model, Error> {
     Ok(model)
 }
 
-/// Loads a model and its states: a take's own states, or a states CSV (required for robots).
+/// Loads a model and its states: a take's own states, or a states CSV (required for robots)
+/// with every column, accelerations included.
 pub fn load_source(
     src: &ModelSource,
     states: Option<&Path>,
     opts: &TakeOptions,
+) -> Result<Job, Error> {
+    load_source_with(src, states, opts, StateColumns::QVA)
+}
+
+/// [`load_source`] for a job that needs only the `columns` of a states CSV.
+pub fn load_source_with(
+    src: &ModelSource,
+    states: Option<&Path>,
+    opts: &TakeOptions,
+    columns: StateColumns,
 ) -> Result<Job, Error> {
     let (model, own, take) = match src {
         ModelSource::Take(p) => {
@@ -855,13 +866,13 @@ pub fn load_source(
         ModelSource::Urdf(..) | ModelSource::Dh(_) => (robot_model(src, opts)?, None, None),
     };
     let states = match (states, own) {
-        (Some(s), _) => read_states(&model, s)?,
+        (Some(s), _) => read_states_with(&model, s, columns)?,
         (None, Some(own)) => own,
         (None, None) => {
-            return Err(Error::Invalid(
-                "a robot model needs --states S.csv (time, q:<coord>…, v:<coord>…, a:<coord>…)"
-                    .into(),
-            ));
+            return Err(Error::Invalid(format!(
+                "a robot model needs --states S.csv ({})",
+                columns.expected()
+            )));
         }
     };
     Ok(Job {
@@ -880,22 +891,51 @@ pub fn states_header(model: &Model) -> Vec<String> {
     h
 }
 
+/// The columns a job needs from a states CSV. Forward dynamics computes the accelerations
+/// from q, v and τ, so a states file without `a:` columns must do for it; inverse dynamics
+/// needs them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StateColumns {
+    /// `q:`, `v:` and `a:` for every coordinate.
+    QVA,
+    /// `q:` and `v:`; `a:` columns are optional (read when present, else zero).
+    QV,
+}
+
+impl StateColumns {
+    /// What a states file must hold, for error messages.
+    fn expected(self) -> &'static str {
+        match self {
+            StateColumns::QVA => "`time`, then q:, v:, a: columns",
+            StateColumns::QV => "`time`, then q: and v: columns; a: columns optional",
+        }
+    }
+}
+
 /// Reads a states CSV written by `export states` (columns matched by name, any order; extra
-/// columns ignored; `time` optional).
+/// columns ignored; `time` optional), every column required.
 pub fn read_states(model: &Model, path: &Path) -> Result<States, Error> {
+    read_states_with(model, path, StateColumns::QVA)
+}
+
+/// [`read_states`] needing only `columns`; a missing one is an error naming the first
+/// missing column, in the file's order (q:, v:, then a:).
+pub fn read_states_with(
+    model: &Model,
+    path: &Path,
+    columns: StateColumns,
+) -> Result<States, Error> {
     let (header, cols) = read_columns(path)?;
+    let column = |name: &str| header.iter().position(|h| h == name).map(|i| &cols[i]);
     let find = |name: &str| -> Result<&Vec<f64>, Error> {
-        header
-            .iter()
-            .position(|h| h == name)
-            .map(|i| &cols[i])
-            .ok_or_else(|| {
-                Error::Invalid(format!(
-                    "{}: no column `{name}` (expected `time`, then q:, v:, a: columns for {})",
-                    path.display(),
-                    model.name
-                ))
-            })
+        column(name).ok_or_else(|| {
+            Error::Invalid(format!(
+                "{}: no column `{name}` (expected {} for {})",
+                path.display(),
+                columns.expected(),
+                model.name
+            ))
+        })
     };
     // without a `time` column (e.g. the Pinocchio fixtures) samples are numbered 0, 1, 2 …
     let n = cols.first().map_or(0, |c| c.len());
@@ -917,10 +957,21 @@ pub fn read_states(model: &Model, path: &Path) -> Result<States, Error> {
     }
     for (j, name) in model.v_names.iter().enumerate() {
         let cv = find(&format!("v:{name}"))?;
-        let ca = find(&format!("a:{name}"))?;
-        for k in 0..n {
-            s.v[k][j] = cv[k];
-            s.a[k][j] = ca[k];
+        for (row, x) in s.v.iter_mut().zip(cv) {
+            row[j] = *x;
+        }
+    }
+    for (j, name) in model.v_names.iter().enumerate() {
+        let a = format!("a:{name}");
+        let ca = match columns {
+            StateColumns::QVA => find(&a)?,
+            StateColumns::QV => match column(&a) {
+                Some(c) => c,
+                None => continue,
+            },
+        };
+        for (row, x) in s.a.iter_mut().zip(ca) {
+            row[j] = *x;
         }
     }
     Ok(s)
