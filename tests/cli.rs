@@ -972,3 +972,22 @@ fn a_negative_number_reaches_the_flag_check_not_clap() {
         .code(2)
         .stderr(predicate::str::contains("must be positive"));
 }
+
+#[test]
+fn a_diverged_simulation_is_an_error_that_says_so() {
+    // explicit Euler at 0.1 s ended 46 rad off the walk and exited 0
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 1.0);
+    let out = dir.path().join("sim.csv");
+    let o = articula()
+        .arg("simulate")
+        .arg(&take)
+        .args(["--dt", "0.1", "--integrator", "euler", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("diverged") && err.contains("--dt"), "{err}");
+    assert!(!out.exists(), "no file from a diverged run");
+}

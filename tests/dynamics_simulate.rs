@@ -48,6 +48,7 @@ fn opts(integrator: Integrator, dt: f64, kp: f64, mass_error: f64) -> SimOptions
         gains: Gains::scalar(kp, 2.0 * kp.sqrt()),
         mass_error,
         max_speed: 1e3,
+        max_error: std::f64::consts::PI,
     }
 }
 

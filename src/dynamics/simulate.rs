@@ -27,11 +27,15 @@ pub struct SimOptions {
     pub mass_error: f64,
     /// A coordinate faster than this (rad/s or m/s) stops the simulation as diverged.
     pub max_speed: f64,
+    /// A joint angle (outside the root) further than this from its reference (rad) stops the
+    /// simulation as diverged: past half a turn the controller no longer tracks the motion
+    /// (explicit Euler at 0.1 s on a walk ends 46 rad off, below any speed limit).
+    pub max_error: f64,
 }
 
 impl Default for SimOptions {
     /// RK4 at 1 ms, `Kp = 400`, `Kv = 40` (critically damped at 20 rad/s), exact model,
-    /// divergence beyond 1000 rad/s.
+    /// divergence beyond 1000 rad/s or half a turn of tracking error.
     fn default() -> Self {
         Self {
             integrator: Integrator::Rk4,
@@ -39,6 +43,7 @@ impl Default for SimOptions {
             gains: Gains::scalar(400.0, 40.0),
             mass_error: 0.0,
             max_speed: 1e3,
+            max_error: std::f64::consts::PI,
         }
     }
 }
@@ -152,7 +157,8 @@ fn is_angular(model: &Model, k: usize) -> bool {
 ///
 /// # Errors
 /// [`Error::Invalid`] for inconsistent inputs (sizes, gains, `dt`); [`Error::Numerical`] when
-/// the simulation diverges (a non-finite number, or a speed beyond `opts.max_speed`) or the
+/// the simulation diverges (a non-finite number, a speed beyond `opts.max_speed`, or a joint
+/// angle further than `opts.max_error` from its reference) or the
 /// model becomes singular, naming the step, the time and the coordinate. Nothing non-finite is
 /// ever returned.
 pub fn simulate(
@@ -270,6 +276,18 @@ pub fn simulate_with(
         }
         // statistics and the recorded row, at (t, q_n, v_n)
         accumulate(&err_now, &mut out.rms_error, &mut out.max_error);
+        let lost = |k: &usize| is_angular(model, *k) && err_now[*k].abs() > opts.max_error;
+        if let Some(k) = (root_nv..model.nv).find(lost) {
+            return Err(context(Error::Numerical(format!(
+                "diverged: `{}` is {:.3e} rad off its reference at t = {t:.3} s (more than \
+                 {:.2} rad: the controller has lost the motion); the step is past the \
+                 integrator's stability limit for these gains: use a smaller --dt, lower \
+                 gains, or rk4 / dopri5",
+                model.v_names[k],
+                err_now[k].abs(),
+                opts.max_error
+            ))));
+        }
         accumulate(
             &tau_now[..root_nv],
             &mut out.root_residual_rms,
