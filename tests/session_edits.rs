@@ -333,3 +333,28 @@ fn an_absurd_body_mass_writes_no_nan() {
     assert!(!dir.path().join("huge.csv").exists());
     assert!(!dir.path().join("huge_cmp.csv").exists());
 }
+
+#[test]
+fn a_take_that_cannot_load_under_the_settings_leaves_the_workbench_as_it_was() {
+    // a keyframed take under an explicit 6 Hz filter: the file parses, the pipeline refuses
+    // it; it used to become the active take, and every later command repeated the error
+    let dir = tempfile::tempdir().unwrap();
+    let mut b = articula::io::generate::walk(&articula::io::generate::WalkParams::default());
+    b.frame_time = 1.0;
+    articula::io::bvh::write(&b, &dir.path().join("keys.bvh")).unwrap();
+    let mut wb = wb_in(dir.path());
+    ok(&mut wb, "load demo:walk as walk");
+    ok(&mut wb, "set smooth butterworth:6hz");
+    ok(&mut wb, "run id");
+    let before = q_of(&wb, "LeftLeg.Xrotation");
+    let cmd = parse_line("load keys.bvh", 1).unwrap().unwrap();
+    let e = wb.apply(&cmd).unwrap_err().to_string();
+    assert!(e.contains("Nyquist"), "{e}");
+    assert_eq!(wb.take().unwrap().name, "walk");
+    assert_eq!(q_of(&wb, "LeftLeg.Xrotation"), before);
+    ok(&mut wb, "run id");
+    // with the default smoothing it loads (not smoothed, with a note)
+    ok(&mut wb, "set smooth auto");
+    ok(&mut wb, "load keys.bvh");
+    assert_eq!(wb.take().unwrap().name, "keys");
+}

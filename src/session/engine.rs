@@ -436,6 +436,10 @@ impl Engine for Builtin {
         } else {
             // as `pipeline::load_take`: a rest pose stored as frame 0 is dropped unless kept
             let (bvh, _) = pipeline::read_take(path, params.take.keep_first_frame)?;
+            // a take the pipeline cannot turn into a model and states under these settings
+            // fails here, and the workbench keeps the take it had (it became the active take
+            // and every later command repeated its error)
+            pipeline::take_from_bvh(path, bvh.clone(), &params.take)?;
             TakeData::Bvh(Arc::new(bvh))
         };
         Ok(Take { name, source, data })
