@@ -140,3 +140,47 @@ fn rk4_settings(duration: f64) -> sim::SimSettings {
     )
     .unwrap()
 }
+
+/// What the file had is what comes out: positions of the folded take are the file's (the
+/// helper's frame-0 position was written on every frame), and a BVH written from it keeps the
+/// root motion on the helper, where the file had it.
+#[test]
+fn outputs_of_a_folded_take_give_the_root_its_motion_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, wrapped) = write_takes(dir.path());
+    let opts = TakeOptions {
+        smooth: Some(articula::motion::smooth::SmoothSpec::None),
+        ..TakeOptions::default()
+    };
+    let take = load_take(&wrapped, &opts).unwrap();
+    assert!(take.fold.is_some());
+    let file = bvh::read(&wrapped).unwrap();
+    let modes = &take.positions;
+    // positions, m: every joint where the file's own channels put it
+    let out = dir.path().join("p.csv");
+    sim::export_positions(&take, &out).unwrap();
+    let (_, cols) = articula::report::csv::read_columns(&out).unwrap();
+    assert_eq!(cols[0].len(), file.frames);
+    for (k, row) in (0..file.frames).map(|k| (k, cols.iter().map(move |c| c[k]))) {
+        let row: Vec<f64> = row.collect();
+        let p = bvh::bvh_world_positions(&file, modes, k);
+        for (j, pj) in p.iter().enumerate() {
+            for a in 0..3 {
+                let x = row[1 + 3 * j + a];
+                let want = pj[a] * take.scale_to_m;
+                assert!(
+                    (x - want).abs() < 1e-9,
+                    "frame {k} joint {j}: {x} vs {want}"
+                );
+            }
+        }
+    }
+    // a BVH written from it (no smoothing): the file's values
+    let written = dir.path().join("w.bvh");
+    sim::export_smoothed_bvh(&take, &written).unwrap();
+    let w = bvh::read(&written).unwrap();
+    assert_eq!(w.frames, file.frames);
+    for (a, b) in w.motion.iter().zip(&file.motion) {
+        assert!((a - b).abs() < 1e-6, "{a} vs {b}");
+    }
+}

@@ -107,6 +107,87 @@ pub fn fold_root_into_child(bvh: &mut Bvh, modes: &[ResolvedPosition], c: usize)
     }
 }
 
+/// What folding changed, to undo it on output: the child it went into and the root's channel
+/// values as the file had them (`frames × root channels`, row-major).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fold {
+    pub child: usize,
+    pub root_values: Vec<f64>,
+}
+
+impl Fold {
+    /// Records the root's channels of `bvh` (before [`fold_root_into_child`]).
+    pub fn record(bvh: &Bvh, child: usize) -> Fold {
+        let root = &bvh.joints[0];
+        let n = root.channels.len();
+        let root_values = (0..bvh.frames)
+            .flat_map(|k| bvh.frame(k)[root.first_channel..root.first_channel + n].to_vec())
+            .collect();
+        Fold { child, root_values }
+    }
+}
+
+/// The inverse of [`fold_root_into_child`] on a folded take `bvh` (its frames possibly
+/// rewritten since, e.g. smoothed): the root gets the file's channel values back, and the child
+/// the local transform that keeps its world pose (`T_child = T_root⁻¹ · T_root,rest ·
+/// T_child,folded`), so the root motion is on the top joint where the file had it (game
+/// engines take root motion from there) and every joint's world pose is unchanged.
+pub fn unfold_root(bvh: &mut Bvh, modes: &[ResolvedPosition], fold: &Fold) {
+    let root = bvh.joints[0].clone();
+    let c = fold.child;
+    let child = bvh.joints[c].clone();
+    let Some(order) = child.euler_order() else {
+        return;
+    };
+    let rot_cols: Vec<usize> = child
+        .channels
+        .iter()
+        .enumerate()
+        .filter(|(_, ch)| ch.is_rotation())
+        .map(|(n, _)| child.first_channel + n)
+        .collect();
+    let nr = root.channels.len();
+    let mut previous = [0.0; 3];
+    for k in 0..bvh.frames {
+        let original = &fold.root_values[k * nr..(k + 1) * nr];
+        let row = &mut bvh.motion[k * bvh.channel_count..(k + 1) * bvh.channel_count];
+        // the folded child's world pose: the root rests at its OFFSET, unrotated
+        let world = root.offset + joint_translation(&child, modes[c], row);
+        let angles = [row[rot_cols[0]], row[rot_cols[1]], row[rot_cols[2]]];
+        let r_child = euler_to_matrix(order, angles.map(f64::to_radians));
+        row[root.first_channel..root.first_channel + nr].copy_from_slice(original);
+        let (t_root, r_root) = (
+            joint_translation(&root, modes[0], row),
+            joint_rotation(&root, row),
+        );
+        let t = r_root.transpose() * (world - t_root);
+        let new_angles = if original
+            .iter()
+            .zip(&root.channels)
+            .any(|(v, ch)| ch.is_rotation() && *v != 0.0)
+        {
+            let r = r_root.transpose() * r_child;
+            matrix_to_euler_near(order, &r, previous.map(f64::to_radians)).map(f64::to_degrees)
+        } else {
+            angles
+        };
+        previous = new_angles;
+        for (n, ch) in child.channels.iter().enumerate() {
+            let col = child.first_channel + n;
+            if ch.is_rotation() {
+                let m = rot_cols.iter().position(|&x| x == col).unwrap_or(0);
+                row[col] = new_angles[m];
+            } else {
+                let a = ch.axis();
+                row[col] = match modes[c] {
+                    ResolvedPosition::Add => t[a] - child.offset[a],
+                    _ => t[a],
+                };
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -154,6 +235,25 @@ mod tests {
                 for k in 0..after.frames {
                     assert_eq!(&after.frame(k)[9..12], &before.frame(k)[9..12]);
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn unfolding_gives_the_file_back() {
+        for (root_rot, mode) in [
+            ("0 0 0", PositionMode::Replace),
+            ("30 -20 45", PositionMode::Replace),
+            ("10 0 0", PositionMode::Add),
+        ] {
+            let before = take(root_rot, "1 92 -2 5 -10 15");
+            let modes = resolve_position_modes(&before, mode);
+            let fold = Fold::record(&before, 1);
+            let mut after = before.clone();
+            fold_root_into_child(&mut after, &modes, 1);
+            unfold_root(&mut after, &modes, &fold);
+            for (a, b) in after.motion.iter().zip(&before.motion) {
+                assert!((a - b).abs() < 1e-9, "{root_rot}: {a} vs {b}");
             }
         }
     }

@@ -18,7 +18,7 @@ pub fn export_smoothed_bvh(take: &Take, path: &Path) -> Result<(), Error> {
             &mut out.motion[k * cc..(k + 1) * cc],
         )?;
     }
-    bvh::write(&out, path)
+    bvh::write(&super::as_in_file(take, out), path)
 }
 
 /// `articula blend`: takes[0] into takes[1] (into takes[2] …) through one window per

@@ -421,6 +421,9 @@ pub struct Take {
     pub map: BvhMap,
     /// The smoothing applied: the one given, or the default that fits the take.
     pub smooth: SmoothSpec,
+    /// A massless helper root folded into its child (`motion::fold`): `bvh` holds the folded
+    /// motion, this the file's root channels, so outputs can give the root motion back.
+    pub fold: Option<crate::motion::fold::Fold>,
     /// q, v, a after unwrapping, smoothing and differentiation.
     pub states: States,
     /// What the loader changed on its own, for `info` (e.g. a folded helper root).
@@ -519,11 +522,13 @@ pub fn take_from_bvh_with(
     // a massless helper root whose only child has six channels of its own (Bandai's
     // `joint_Root` above `Hips`) duplicates the child's coordinates and makes D(q) singular:
     // fold its motion into the child and weld it (`motion::fold`)
+    let mut fold = None;
     if let Some(c) = crate::motion::fold::redundant_root_child(&bvh) {
         let root_body = map.joints[0].body;
         let root = bvh.joints[0].name.clone();
         let overridden = opts.body.link_mass.contains_key(&root);
         if root_body != 0 && model.inertia[root_body].mass == 0.0 && !overridden {
+            fold = Some(crate::motion::fold::Fold::record(&bvh, c));
             crate::motion::fold::fold_root_into_child(&mut bvh, &positions, c);
             let mut welded = mopts.clone();
             welded.lock.push(root.clone());
@@ -565,6 +570,7 @@ pub fn take_from_bvh_with(
         model,
         map,
         smooth,
+        fold,
         states,
         notes,
     })
@@ -1007,7 +1013,7 @@ pub fn export_states(take: &Take, path: &Path) -> Result<(), Error> {
 /// `articula export positions`: world position of every BVH joint (m, the take's own axes),
 /// straight from the BVH definition (independent of the model).
 pub fn export_positions(take: &Take, path: &Path) -> Result<(), Error> {
-    let b = &take.bvh;
+    let b = &as_in_file(take, take.bvh.clone());
     let mut header = vec!["time".to_string()];
     for j in &b.joints {
         for c in ["x", "y", "z"] {
@@ -1025,6 +1031,15 @@ pub fn export_positions(take: &Take, path: &Path) -> Result<(), Error> {
         })
         .collect();
     write_rows(path, header, &rows)
+}
+
+/// `b` (the take's skeleton, its frames possibly rewritten) with a folded helper root's motion
+/// given back to the root, as the file had it ([`Take::fold`]).
+pub(crate) fn as_in_file(take: &Take, mut b: Bvh) -> Bvh {
+    if let Some(f) = &take.fold {
+        crate::motion::fold::unfold_root(&mut b, &take.positions, f);
+    }
+    b
 }
 
 /// `articula export urdf`.
