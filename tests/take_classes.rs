@@ -276,3 +276,29 @@ fn a_four_legged_skeleton_gets_up_from_its_feet_unit_from_its_size_and_masses_by
     assert!((mass("fl_upper") - mass("br_lower")).abs() < 1e-9);
     assert!(mass("fl_upper") > mass("neck"));
 }
+
+#[test]
+fn a_four_legged_skeleton_stands_on_its_four_feet() {
+    // `--contact feet` said "no feet found": the feet are the limb ends that reach the floor
+    let b = bvh::parse_str(&quadruped(), Path::new("dog.bvh")).unwrap();
+    let t = load(b, &TakeOptions::default());
+    let gr = pipeline::estimate_take_ground_reactions(&t).unwrap();
+    let mut feet = gr.feet.clone();
+    feet.sort();
+    assert_eq!(feet, ["bl_lower", "br_lower", "fl_lower", "fr_lower"]);
+    // walking in place: the feet carry the body's weight, the root next to nothing
+    let weight = t.model.total_mass() * 9.81;
+    let n = gr.grf.len() as f64;
+    let vertical: f64 = gr
+        .grf
+        .iter()
+        .map(|f| f.iter().map(|x| x.y).sum::<f64>())
+        .sum();
+    assert!(
+        (vertical / n - weight).abs() < 0.05 * weight,
+        "{}",
+        vertical / n
+    );
+    let residual: f64 = gr.residual.iter().map(|r| r[1].abs()).sum::<f64>() / n;
+    assert!(residual < 0.05 * weight, "{residual}");
+}

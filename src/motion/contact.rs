@@ -271,6 +271,8 @@ fn absorb_short_phases(c: &mut [bool], min_frames: usize) {
 pub enum Side {
     Left,
     Right,
+    /// A limb end of a skeleton that is not a human's (a quadruped's foot, a crab's claw tip).
+    Limb,
 }
 
 impl Side {
@@ -279,6 +281,7 @@ impl Side {
         match self {
             Side::Left => "left",
             Side::Right => "right",
+            Side::Limb => "limb",
         }
     }
 }
@@ -503,6 +506,36 @@ pub fn feet_of_bvh(bvh: &Bvh, map: &BvhMap, model: &Model) -> Vec<Foot> {
             toe_point,
         });
     }
+    set_heel_points(model, &mut feet);
+    feet
+}
+
+/// Every limb end of a skeleton, as a foot candidate for a skeleton that is not a human's (a
+/// quadruped, a crab): each joint without child joints, named by its joint, its ankle the
+/// joint's origin and its toe the first End Site (else the joint itself). Which of them reach
+/// the floor is for the caller to say from the motion (`pipeline` keeps those that come down
+/// to the lowest level). Each foot's heel point is placed as [`feet_of_bvh`] places it.
+pub fn limb_ends(bvh: &Bvh, map: &BvhMap, model: &Model) -> Vec<Foot> {
+    let mut feet: Vec<Foot> = (0..bvh.joints.len())
+        .filter(|&j| !bvh.joints.iter().any(|c| c.parent == Some(j)))
+        .map(|j| {
+            let (joint, m) = (&bvh.joints[j], &map.joints[j]);
+            let toe = joint
+                .end_sites
+                .first()
+                .map_or(Vector3::zeros(), |e| e * map.scale_to_m);
+            Foot {
+                name: joint.name.clone(),
+                side: Side::Limb,
+                joint: joint.name.clone(),
+                ankle_body: m.body,
+                ankle_point: m.frame.trans,
+                heel_point: m.frame.trans,
+                toe_body: m.body,
+                toe_point: m.frame.transform_point(&toe),
+            }
+        })
+        .collect();
     set_heel_points(model, &mut feet);
     feet
 }

@@ -1135,7 +1135,10 @@ pub fn estimate_take_ground_reactions_with(
     let s = &take.states;
     let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)
         .map_err(|e| at_file(&take.path, e))?;
-    let feet = feet_of_bvh(&take.bvh, &take.map, &take.model);
+    let mut feet = feet_of_bvh(&take.bvh, &take.map, &take.model);
+    if feet.is_empty() && !looks_human(&take.bvh) {
+        feet = limb_ends_on_floor(take);
+    }
     crate::dynamics::grf::estimate_ground_reactions_progress(
         &take.model,
         &feet,
@@ -1148,6 +1151,36 @@ pub fn estimate_take_ground_reactions_with(
         keep_going,
     )
     .map_err(|e| at_file(&take.path, e))
+}
+
+fn looks_human(bvh: &Bvh) -> bool {
+    crate::model::anthropometry::looks_human(bvh.joints.iter().map(|j| j.name.as_str()))
+}
+
+/// The feet of a skeleton that is not a human's: the limb ends
+/// ([`limb_ends`](crate::motion::contact::limb_ends)) that come down to the floor, their
+/// lowest point over the take (ankle or toe, at up to 64 evenly spaced frames) within 15 % of
+/// the stature of the lowest of all: a quadruped's four feet, a crab's eight legs, not its
+/// nose, tail or raised claws.
+fn limb_ends_on_floor(take: &Take) -> Vec<crate::motion::contact::Foot> {
+    let (model, up) = (&take.model, take.up.index());
+    let mut ends = crate::motion::contact::limb_ends(&take.bvh, &take.map, model);
+    let mut ws = Workspace::new(model);
+    let mut lowest = vec![f64::INFINITY; ends.len()];
+    let n = take.states.len();
+    for k in (0..n).step_by(n.div_ceil(64).max(1)) {
+        dynamics::forward_kinematics(model, &mut ws, &take.states.q[k]);
+        for (low, f) in lowest.iter_mut().zip(&ends) {
+            let a = ws.o_x_i[f.ankle_body].transform_point(&f.ankle_point)[up];
+            let t = ws.o_x_i[f.toe_body].transform_point(&f.toe_point)[up];
+            *low = low.min(a).min(t);
+        }
+    }
+    let floor = lowest.iter().copied().fold(f64::INFINITY, f64::min);
+    let reach = 0.15 * take.stature_m;
+    let mut keep = lowest.iter().map(|l| *l <= floor + reach);
+    ends.retain(|_| keep.next().unwrap_or(false));
+    ends
 }
 
 /// `articula id`: `time`, one torque column per coordinate; with `--contact feet` the torques
