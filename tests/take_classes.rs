@@ -120,7 +120,20 @@ fn same_loads(a: &[(f64, f64)], b: &[(f64, f64)], tol: f64) {
 #[test]
 fn a_rest_pose_lying_along_x_loads_as_the_upright_one() {
     let up = demo();
-    let lying = lying_along_x(&up);
+    let mut lying = lying_along_x(&up);
+    // LaFAN1 writes the root's OFFSET far from the origin, at its first position: the
+    // channels replace it
+    let root = &up.joints[0];
+    let first: Vec<f64> = (0..3)
+        .map(|a| {
+            let i = root
+                .channels
+                .iter()
+                .position(|c| !c.is_rotation() && c.axis() == a);
+            up.frame(0)[root.first_channel + i.unwrap()]
+        })
+        .collect();
+    lying.joints[0].offset = Vector3::new(first[0], first[1], first[2]);
     // the OFFSET-only pose lies along X: no longer upright
     let rest = bvh::rest_points(&lying);
     let ext = |a: usize| {
@@ -132,6 +145,14 @@ fn a_rest_pose_lying_along_x_loads_as_the_upright_one() {
     assert!(ext(0) > 2.0 * ext(1), "{} {}", ext(0), ext(1));
     let (a, b) = (load(up, &ball()), load(lying, &ball()));
     assert_eq!(b.up, UpAxis::Y);
+    // every joint where the upright file puts it
+    for k in [0, a.bvh.frames / 2, a.bvh.frames - 1] {
+        let pa = bvh::bvh_world_positions(&a.bvh, &a.positions, k);
+        let pb = bvh::bvh_world_positions(&b.bvh, &b.positions, k);
+        for (x, y) in pa.iter().zip(&pb) {
+            assert!((x - y).norm() < 1e-6, "frame {k}: {x} vs {y}");
+        }
+    }
     assert_eq!((&a.unit, a.scale_to_m), (&b.unit, b.scale_to_m));
     // the height comes from the frames, not the lying rest pose: within a walk's knee bend
     assert!(

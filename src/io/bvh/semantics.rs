@@ -77,7 +77,8 @@ impl std::fmt::Display for ResolvedPosition {
 /// both restricted to the axes that have a channel:
 ///
 /// 1. **clear evidence:** `|m − o| ≤ 5 % |o|` (the values repeat the OFFSET, as in the
-///    Bandai files) → replace; `|m| ≤ 5 % |o|` (the values are deltas around zero, as in the
+///    Bandai files), or a non-zero OFFSET that the first frame's values repeat (a travelling
+///    root whose OFFSET is its start, as LaFAN1 writes it) → replace; `|m| ≤ 5 % |o|` (the values are deltas around zero, as in the
 ///    MakeHuman files) → add;
 /// 2. **otherwise** (a travelling root, a zero OFFSET where both modes agree): the file's
 ///    majority among the joints with clear evidence, since one exporter wrote them all (the
@@ -146,17 +147,23 @@ fn evidence(bvh: &Bvh, joint: &BvhJoint) -> Evidence {
     }
     let cols = joint.position_columns();
     let mut mean: Vector3<f64> = Vector3::zeros();
+    let mut first: Vector3<f64> = Vector3::zeros();
     let mut offset: Vector3<f64> = Vector3::zeros();
     for axis in 0..3 {
         if let Some(c) = cols[axis] {
             let col = joint.first_channel + c;
             let sum: f64 = (0..bvh.frames).map(|k| bvh.frame(k)[col]).sum();
             mean[axis] = sum / bvh.frames.max(1) as f64;
+            first[axis] = bvh.frames.checked_sub(1).map_or(0.0, |_| bvh.frame(0)[col]);
             offset[axis] = joint.offset[axis];
         }
     }
     let (to_offset, to_zero, tol) = ((mean - offset).norm(), mean.norm(), CLEAR * offset.norm());
-    if tol > 0.0 && to_offset <= tol {
+    // a travelling root whose OFFSET is its first position, as LaFAN1 writes it: the values
+    // are positions, not steps from the OFFSET (adding would float the body at twice its
+    // height)
+    let first_is_offset = (first - offset).norm() <= 1e-6 * offset.norm();
+    if tol > 0.0 && (to_offset <= tol || first_is_offset) {
         Evidence::Replace
     } else if tol > 0.0 && to_zero <= tol {
         Evidence::Add
