@@ -332,6 +332,16 @@ const UNUSED_TAKE_FLAGS: &[(&str, &[&str], &str)] = &[
          (`id --contact feet` estimates ground forces)",
     ),
     (
+        "fd",
+        &["--contact"],
+        "forward dynamics applies the torques given; ground forces are estimated by `id`",
+    ),
+    (
+        "mass-matrix",
+        &["--contact"],
+        "D(q) depends on the configuration alone",
+    ),
+    (
         "tradeoff",
         &["--contact"],
         "the trade-off simulations have no ground contact model",
@@ -356,6 +366,11 @@ impl TakeArgs {
     /// The take flags given (by their names on the command line).
     fn given(&self) -> Vec<&'static str> {
         [
+            ("--unit", self.unit.is_some()),
+            ("--stature", self.stature.is_some()),
+            ("--up", self.up.is_some()),
+            ("--positions", self.positions.is_some()),
+            ("--subtree", self.subtree.is_some()),
             ("--mass", self.mass.is_some()),
             ("--sex", self.sex.is_some()),
             ("--link-mass", !self.link_mass.is_empty()),
@@ -375,6 +390,27 @@ impl TakeArgs {
     /// ([`UNUSED_TAKE_FLAGS`]).
     fn options_for(&self, command: &str) -> Result<TakeOptions> {
         self.refuse_unused(command)?;
+        self.options()
+    }
+
+    /// [`Self::options`] for a job on `src`: a robot (`--urdf`, `--dh`) takes only `--damping`
+    /// of the take flags, and a take whose states come from `--states` no smoothing.
+    fn options_for_source(&self, src: &SourceArgs) -> Result<TakeOptions> {
+        let robot = src.urdf.is_some() || src.dh.is_some();
+        for flag in self.given() {
+            if robot && flag != "--damping" {
+                bail!(
+                    "{flag} has no effect on a robot (--urdf, --dh): it describes how a BVH take \
+                     becomes a model; remove it"
+                );
+            }
+            if src.states.is_some() && flag == "--smooth" {
+                bail!(
+                    "--smooth has no effect with --states: the states file gives q, v and a as \
+                     they are; smooth the take before `export states`, or drop --states"
+                );
+            }
+        }
         self.options()
     }
 
@@ -423,6 +459,21 @@ impl TakeArgs {
 
 impl SourceArgs {
     fn source(&self) -> Result<ModelSource> {
+        // the URDF's own settings mean nothing for a take or a DH table
+        if self.urdf.is_none() {
+            for (flag, given) in [
+                ("--gravity", self.gravity.is_some()),
+                ("--floating", self.floating),
+            ] {
+                if given {
+                    bail!(
+                        "{flag} has no effect without --urdf: a take's gravity is along its \
+                         detected or given up axis (--up), a DH table's along -z, and both \
+                         have their own base; remove it"
+                    );
+                }
+            }
+        }
         Ok(match (&self.take, &self.urdf, &self.dh) {
             (Some(t), None, None) => ModelSource::Take(t.clone()),
             (None, Some(u), None) => {
@@ -522,8 +573,11 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             wrote(&output);
         }
         Cmd::Id { src, opts, output } => {
-            let job =
-                pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
+            let job = pipeline::load_source(
+                &src.source()?,
+                src.states.as_deref(),
+                &opts.options_for_source(&src)?,
+            )?;
             let quality = pipeline::write_inverse_dynamics(&job, &output)?;
             print_notes(job.take.as_ref());
             if let Some(q) = quality {
@@ -538,18 +592,23 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             output,
         } => {
             // forward dynamics computes the accelerations: the states need only q and v
+            opts.refuse_unused("fd")?;
             let job = pipeline::load_source_with(
                 &src.source()?,
                 src.states.as_deref(),
-                &opts.options()?,
+                &opts.options_for_source(&src)?,
                 pipeline::StateColumns::QV,
             )?;
             pipeline::write_forward_dynamics(&job, &torques, &output)?;
             wrote(&output);
         }
         Cmd::MassMatrix { src, opts, output } => {
-            let job =
-                pipeline::load_source(&src.source()?, src.states.as_deref(), &opts.options()?)?;
+            opts.refuse_unused("mass-matrix")?;
+            let job = pipeline::load_source(
+                &src.source()?,
+                src.states.as_deref(),
+                &opts.options_for_source(&src)?,
+            )?;
             pipeline::write_mass_matrix(&job, &output)?;
             wrote(&output);
         }
@@ -596,7 +655,8 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             json,
             batches,
         } => {
-            let model = pipeline::load_model(&src.source()?, &opts.options_for("bench")?)?;
+            opts.refuse_unused("bench")?;
+            let model = pipeline::load_model(&src.source()?, &opts.options_for_source(&src)?)?;
             let r = pipeline::bench_batches(&model, batches)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&r.json())?);

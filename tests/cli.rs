@@ -991,3 +991,63 @@ fn a_diverged_simulation_is_an_error_that_says_so() {
     assert!(err.contains("diverged") && err.contains("--dt"), "{err}");
     assert!(!out.exists(), "no file from a diverged run");
 }
+
+#[test]
+fn a_flag_that_means_nothing_for_the_source_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.3);
+    let arm = common::repo("data/arm7.urdf");
+    let cases: [(Vec<std::ffi::OsString>, &str); 4] = [
+        (
+            vec![
+                "id".into(),
+                "--urdf".into(),
+                arm.clone().into(),
+                "--mass".into(),
+                "80".into(),
+            ],
+            "--mass has no effect on a robot",
+        ),
+        (
+            vec![
+                "id".into(),
+                take.clone().into(),
+                "--gravity".into(),
+                "0,0,-9.81".into(),
+            ],
+            "--gravity has no effect without --urdf",
+        ),
+        (
+            vec![
+                "mass-matrix".into(),
+                take.clone().into(),
+                "--contact".into(),
+                "feet".into(),
+            ],
+            "--contact has no effect",
+        ),
+        (
+            vec![
+                "id".into(),
+                take.clone().into(),
+                "--states".into(),
+                "s.csv".into(),
+                "--smooth".into(),
+                "none".into(),
+            ],
+            "--smooth has no effect with --states",
+        ),
+    ];
+    for (args, message) in cases {
+        let o = articula()
+            .current_dir(dir.path())
+            .args(&args)
+            .args(["-o", "out.csv"])
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(message), "{args:?}: {err}");
+    }
+    assert!(!dir.path().join("out.csv").exists());
+}
