@@ -91,18 +91,31 @@ pub fn fold_root_into_child(bvh: &mut Bvh, modes: &[ResolvedPosition], c: usize)
                 (false, _) => root.offset[ch.axis()],
             };
         }
-        for (n, ch) in child.channels.iter().enumerate() {
-            let col = child.first_channel + n;
-            if ch.is_rotation() {
-                let m = rot_cols.iter().position(|&x| x == col).unwrap_or(0);
-                row[col] = new_angles[m];
-            } else {
-                let a = ch.axis();
-                row[col] = match modes[c] {
-                    ResolvedPosition::Add => t[a] - child.offset[a],
-                    _ => t[a],
-                };
-            }
+        set_channels(row, &child, modes[c], &t, new_angles);
+    }
+}
+
+/// Writes `joint`'s channels in `row` for the local translation `t` (file units, its position
+/// channels under `mode`) and the Euler angles `angles` (degrees, in its rotation order).
+fn set_channels(
+    row: &mut [f64],
+    joint: &crate::io::bvh::BvhJoint,
+    mode: ResolvedPosition,
+    t: &nalgebra::Vector3<f64>,
+    angles: [f64; 3],
+) {
+    let mut r = 0;
+    for (n, ch) in joint.channels.iter().enumerate() {
+        let col = joint.first_channel + n;
+        if ch.is_rotation() {
+            row[col] = angles[r.min(2)];
+            r += 1;
+        } else {
+            let a = ch.axis();
+            row[col] = match mode {
+                ResolvedPosition::Add => t[a] - joint.offset[a],
+                _ => t[a],
+            };
         }
     }
 }
@@ -172,19 +185,7 @@ pub fn unfold_root(bvh: &mut Bvh, modes: &[ResolvedPosition], fold: &Fold) {
             angles
         };
         previous = new_angles;
-        for (n, ch) in child.channels.iter().enumerate() {
-            let col = child.first_channel + n;
-            if ch.is_rotation() {
-                let m = rot_cols.iter().position(|&x| x == col).unwrap_or(0);
-                row[col] = new_angles[m];
-            } else {
-                let a = ch.axis();
-                row[col] = match modes[c] {
-                    ResolvedPosition::Add => t[a] - child.offset[a],
-                    _ => t[a],
-                };
-            }
-        }
+        set_channels(row, &child, modes[c], &t, new_angles);
     }
 }
 
