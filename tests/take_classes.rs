@@ -323,3 +323,38 @@ fn a_four_legged_skeleton_stands_on_its_four_feet() {
     let residual: f64 = gr.residual.iter().map(|r| r[1].abs()).sum::<f64>() / n;
     assert!(residual < 0.05 * weight, "{residual}");
 }
+
+#[test]
+fn a_take_bent_over_most_of_the_time_keeps_its_up_axis_from_the_legs() {
+    // an inertial-suit box lift, bent over most of the take, fell forward: its largest extent
+    // lies along the floor. Here the walk crouches with its trunk and arms forward.
+    let mut b = demo();
+    let rot_of = |b: &Bvh, name: &str, axis: usize| {
+        let j = &b.joints[b.joint_index(name).unwrap()];
+        let i = j
+            .channels
+            .iter()
+            .position(|c| c.is_rotation() && c.axis() == axis);
+        j.first_channel + i.unwrap()
+    };
+    let pose = [
+        ("Spine", 90.0),
+        ("LeftArm", 180.0),
+        ("RightArm", 180.0),
+        ("LeftUpLeg", -80.0),
+        ("RightUpLeg", -80.0),
+        ("LeftLeg", 160.0),
+        ("RightLeg", 160.0),
+    ];
+    for (name, angle) in pose {
+        for (axis, value) in [(0, angle), (1, 0.0), (2, 0.0)] {
+            let col = rot_of(&b, name, axis);
+            for k in 0..b.frames {
+                b.motion[k * b.channel_count + col] = value;
+            }
+        }
+    }
+    // the largest extent rule alone falls forward
+    assert_eq!(bvh::detect_up(&b), UpAxis::Z);
+    assert_eq!(load(b, &TakeOptions::default()).up, UpAxis::Y);
+}

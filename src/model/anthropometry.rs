@@ -343,6 +343,31 @@ pub fn looks_human<'a>(names: impl IntoIterator<Item = &'a str>) -> bool {
     trunk && left && right
 }
 
+/// The ankles (the first foot joint of each side, by [`classify`]) of a skeleton given as
+/// `(name, parent)` per joint, and the hip joints above them: each ankle's parent's parent
+/// (ankle → knee → hip, whatever the exporter named them: `LeftFoot` under `LeftLeg` under
+/// `LeftUpLeg`, or `RightAnkle` under `RightKnee` under `RightHip`). Both empty unless both
+/// sides have an ankle two joints below another.
+pub fn hips_and_feet(joints: &[(&str, Option<usize>)]) -> (Vec<usize>, Vec<usize>) {
+    let mut feet = [None; 2];
+    for (j, (name, _)) in joints.iter().enumerate() {
+        let side = match classify(name) {
+            Some((Segment::Foot, Side::Left)) => 0,
+            Some((Segment::Foot, Side::Right)) => 1,
+            _ => continue,
+        };
+        feet[side].get_or_insert(j);
+    }
+    let hip = |f: usize| joints[f].1.and_then(|knee| joints[knee].1);
+    match feet {
+        [Some(l), Some(r)] => match (hip(l), hip(r)) {
+            (Some(a), Some(b)) => (vec![a, b], vec![l, r]),
+            _ => (vec![], vec![]),
+        },
+        _ => (vec![], vec![]),
+    }
+}
+
 /// What [`distribute`] needs to know about one BVH joint.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bone {

@@ -477,7 +477,16 @@ pub fn take_from_bvh_with(
         crate::model::anthropometry::looks_human(bvh.joints.iter().map(|j| j.name.as_str()));
     let up = match opts.up {
         Some(u) => u,
-        None if human => bvh::detect_up(&bvh),
+        // hips stand over the feet, however the body bends
+        None if human => {
+            let joints: Vec<(&str, Option<usize>)> = bvh
+                .joints
+                .iter()
+                .map(|j| (j.name.as_str(), j.parent))
+                .collect();
+            let (hips, feet) = crate::model::anthropometry::hips_and_feet(&joints);
+            bvh::detect_up_by_legs(&bvh, &hips, &feet).unwrap_or_else(|| bvh::detect_up(&bvh))
+        }
         // a quadruped is longer than tall: its feet tell where the floor is
         None => bvh::detect_up_by_feet(&bvh).unwrap_or_else(|| bvh::detect_up(&bvh)),
     };

@@ -370,6 +370,40 @@ pub fn detect_up(bvh: &Bvh) -> UpAxis {
     }
 }
 
+/// The up axis of a human skeleton from its legs: the axis along which, over the take's frames
+/// (the median of up to 64), the hip joints (`hips`) stand furthest from the feet (`feet`),
+/// when that distance is at least twice the one along either other axis. Hips stand over the
+/// feet whether the body is upright, bent over a box or crouching, where the body's largest
+/// extent (what [`detect_up`] measures) can lie along the floor: an inertial-suit box lift,
+/// bent over most of the take, fell forward. `None` (the caller then uses [`detect_up`]) when
+/// the legs lie along no clear axis (lying down, a split).
+pub fn detect_up_by_legs(bvh: &Bvh, hips: &[usize], feet: &[usize]) -> Option<UpAxis> {
+    if hips.is_empty() || feet.is_empty() {
+        return None;
+    }
+    let modes = resolve_position_modes(bvh, PositionMode::Auto);
+    let mean = |p: &[Vector3<f64>], of: &[usize]| {
+        of.iter().map(|&j| p[j]).sum::<Vector3<f64>>() / of.len() as f64
+    };
+    let mut legs: [Vec<f64>; 3] = Default::default();
+    for k in sampled_frames(bvh) {
+        let p = bvh_world_positions(bvh, &modes, k);
+        let d = mean(&p, hips) - mean(&p, feet);
+        for (axis, l) in legs.iter_mut().enumerate() {
+            l.push(d[axis].abs());
+        }
+    }
+    let m: Vec<f64> = legs
+        .iter_mut()
+        .map(|l| {
+            l.sort_by(f64::total_cmp);
+            l[l.len() / 2]
+        })
+        .collect();
+    let [first, second, _] = by_extent([m[0], m[1], m[2]]);
+    (m[first] > 0.0 && m[first] >= 2.0 * m[second]).then(|| UpAxis::from_index(first))
+}
+
 /// The up axis of a skeleton that is not a human's, from its feet: the axis along which, in the
 /// take's frames, the most limb tips (End Sites, or joints without children) lie together at
 /// the lowest level, within 5 % of the body's extent of its lowest point. A quadruped's four
