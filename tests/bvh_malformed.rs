@@ -617,3 +617,17 @@ fn a_skeleton_without_channels_never_allocates_for_its_declared_frames() {
     assert_eq!(l, 12);
     assert!(m.contains("no channels"), "{m}");
 }
+
+#[test]
+fn control_characters_are_refused_by_code_point_never_echoed() {
+    // an ESC in a joint name reached the terminal as an escape sequence in the error
+    let t = GOOD.replace("JOINT Spine", "JOINT Sp\u{1b}]0;pwned\u{7}ine");
+    let (l, c, m) = error_of(&t);
+    assert_eq!((l, c), (6, 10));
+    assert!(m.contains("U+001B") && !m.contains('\u{1b}'), "{m}");
+    // a NUL in the motion
+    let t = GOOD.replace("10 11 12", "10 \0 12");
+    let (l, _, m) = error_of(&t);
+    assert_eq!(l, 20);
+    assert!(m.contains("U+0000"), "{m}");
+}

@@ -233,6 +233,18 @@ fn a_frame_time_of_ten_microseconds_is_smoothed_without_hanging() {
     let t = load(fast, &TakeOptions::default());
     assert_eq!(t.smooth.to_string(), "butterworth:6hz");
     assert!(t.states.q.iter().flatten().all(|x| x.is_finite()));
+    // at 1 ns a frame the default filter cannot apply, and the contact estimate's spread
+    // asked for 2 s of frames (32 GB) and aborted
+    let mut faster = demo();
+    faster.frame_time = 1e-9;
+    let t = load(faster, &TakeOptions::default());
+    assert_eq!(t.smooth.to_string(), "none");
+    assert!(
+        t.notes.iter().any(|n| n.contains("Frame Time")),
+        "{:?}",
+        t.notes
+    );
+    pipeline::estimate_take_ground_reactions(&t).unwrap();
 }
 
 /// A quadruped in cm, 2 m long and 1.2 m tall, Y up, walking in place: names no human reading
@@ -357,4 +369,55 @@ fn a_take_bent_over_most_of_the_time_keeps_its_up_axis_from_the_legs() {
     // the largest extent rule alone falls forward
     assert_eq!(bvh::detect_up(&b), UpAxis::Z);
     assert_eq!(load(b, &TakeOptions::default()).up, UpAxis::Y);
+}
+
+#[test]
+fn a_turn_between_keys_is_a_glitch_only_when_no_joint_turns_that_fast() {
+    // the left arm swings 100° from one frame to the next
+    let mut b = demo();
+    let arm = &b.joints[b.joint_index("LeftArm").unwrap()];
+    let col = arm.first_channel + arm.channels.iter().position(|c| c.axis() == 0).unwrap();
+    for k in 0..b.frames {
+        b.motion[k * b.channel_count + col] = if k % 2 == 0 { 0.0 } else { 100.0 };
+    }
+    let glitches = |frame_time: f64| {
+        let mut b = b.clone();
+        b.frame_time = frame_time;
+        let t = load(b, &TakeOptions::default());
+        t.notes
+            .iter()
+            .filter(|n| n.contains("capture glitch"))
+            .count()
+    };
+    // keyframes a second apart: 100°/s is an ordinary speed (a Mixamo take was told otherwise)
+    assert_eq!(glitches(1.0), 0);
+    // at 30 fps it is 3,000°/s
+    assert_eq!(glitches(1.0 / 30.0), 1);
+}
+
+#[test]
+fn a_joint_that_sits_near_gimbal_lock_is_noted() {
+    // the Xia takes' hips sit near 86° in ZYX: simulate failed with no word before
+    let mut b = demo();
+    let spine = &b.joints[b.joint_index("Spine").unwrap()];
+    // ZXY: the middle angle is X
+    let col = spine.first_channel + spine.channels.iter().position(|c| c.axis() == 0).unwrap();
+    for k in 0..b.frames {
+        b.motion[k * b.channel_count + col] = 88.0;
+    }
+    let t = load(b, &TakeOptions::default());
+    assert!(
+        t.notes
+            .iter()
+            .any(|n| n.contains("`Spine` sits within 5° of gimbal lock")
+                && n.contains("--joints ball")),
+        "{:?}",
+        t.notes
+    );
+    assert!(
+        !load(demo(), &TakeOptions::default())
+            .notes
+            .iter()
+            .any(|n| n.contains("sits within"))
+    );
 }

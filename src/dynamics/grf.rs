@@ -414,7 +414,14 @@ fn check_inputs(
     up: usize,
 ) -> Result<(), Error> {
     let n = time.len();
-    if n < 2 || q.len() != n || v.len() != n || a.len() != n {
+    if n < 2 {
+        return Err(Error::Invalid(format!(
+            "ground reactions need a motion: the take has {n} frame{}, and contact is found \
+             from how the feet move (use --contact none, `set contact none` in the workbench)",
+            if n == 1 { "" } else { "s" }
+        )));
+    }
+    if q.len() != n || v.len() != n || a.len() != n {
         return Err(Error::Invalid(format!(
             "ground reactions need at least two samples of time, q, v, a of equal length (got \
              {n}, {}, {}, {})",

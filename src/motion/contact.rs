@@ -229,7 +229,9 @@ fn planted(
 /// [`differentiate`]: crate::motion::derive::differentiate
 pub fn acceleration_spread_s(smooth: &SmoothSpec, dt: f64) -> Result<f64, Error> {
     let mut smoother = Smoother::new(*smooth, dt)?;
-    let half = (2.0 / dt).ceil() as usize;
+    // the impulse response lies within the filter's reach and the differences' two frames;
+    // 2 s of frames at most (`Frame Time: 1e-9` asked for 4·10⁹ samples)
+    let half = (smoother.reach() + 4).min((2.0 / dt).ceil() as usize);
     let n = 2 * half + 1;
     let mut x: Vec<f64> = (0..n)
         .map(|k| (k as f64 - half as f64).max(0.0) * dt)
@@ -358,7 +360,8 @@ pub fn skeleton_joint(body_name: &str) -> &str {
 /// Side and role of a skeleton joint name, across the naming schemes of common skeletons:
 /// CMU/Mixamo/Motionbuilder `LeftFoot` `LeftToeBase` (with or without a `mixamorig:`
 /// namespace), Daz/Poser `lFoot` `lToe`, Bandai-Namco `Foot_L` `Toes_L`, MakeHuman `foot.L`
-/// `toe1-1.L`, SMPL `L_Ankle` `L_Foot`, and `LFoot`/`RFoot` styles.
+/// `toe1-1.L`, SMPL `L_Ankle` `L_Foot`, 3ds Max Biped `Bip01_L_Foot` `Bip01 L Toe0`, MakeHuman's
+/// CMU rig `lfoot`, and `LFoot`/`RFoot` styles.
 fn classify(name: &str) -> Option<(Side, Role)> {
     let name = name.rsplit(':').next().unwrap_or(name);
     let lower = name.to_lowercase();
@@ -375,6 +378,19 @@ fn classify(name: &str) -> Option<(Side, Role)> {
         (Side::Left, lower[..lower.len() - 2].to_string())
     } else if ["_r", ".r", "-r", " r"].iter().any(|s| lower.ends_with(s)) {
         (Side::Right, lower[..lower.len() - 2].to_string())
+    } else if let Some(i) = lower.find("_l_").or_else(|| lower.find(" l ")) {
+        (Side::Left, lower[i + 3..].to_string())
+    } else if let Some(i) = lower.find("_r_").or_else(|| lower.find(" r ")) {
+        (Side::Right, lower[i + 3..].to_string())
+    } else if matches!(chars.first(), Some('l' | 'r'))
+        && (["foot", "ankle"].contains(&&lower[1..]) || lower[1..].starts_with("toe"))
+    {
+        let side = if chars[0] == 'l' {
+            Side::Left
+        } else {
+            Side::Right
+        };
+        (side, lower[1..].to_string())
     } else if chars.len() > 1
         && (chars[1].is_uppercase() || chars[1] == '_')
         && matches!(chars[0], 'l' | 'L' | 'r' | 'R')
@@ -634,6 +650,12 @@ mod tests {
             ("L_Ankle", Some((Left, Ankle))),
             ("R_Foot", Some((Right, Foot))),
             ("LFoot", Some((Left, Foot))),
+            ("lfoot", Some((Left, Foot))),
+            ("rfoot", Some((Right, Foot))),
+            ("Bip01_L_Foot", Some((Left, Foot))),
+            ("Bip01 R Toe0", Some((Right, Toe))),
+            ("Bip01_R_Calf", None),
+            ("lhip", None),
             ("LeftLeg", None),
             ("LHipJoint", None),
             ("Hips", None),

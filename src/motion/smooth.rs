@@ -311,6 +311,12 @@ impl Smoother {
         self.dt
     }
 
+    /// How many frames to each side of a frame the filter reaches (the Gaussian's half-width,
+    /// the Butterworth's settling length; 0 without smoothing).
+    pub fn reach(&self) -> usize {
+        self.pad
+    }
+
     /// Allocates the work buffers for trajectories of up to `frames` samples.
     pub fn reserve(&mut self, frames: usize) {
         let len = frames + 2 * self.pad;

@@ -138,6 +138,17 @@ pub fn parse_smooth(s: &str) -> Result<Option<SmoothSpec>, Error> {
     parse_flag("smooth", s).map(Some)
 }
 
+/// A turn of more than 90° in one frame is a capture glitch only this fast (rad/s): 90° a
+/// frame at 20 fps. Slower, it is a keyframed or low-rate take's ordinary step.
+const GLITCH_SPEED: f64 = 1800.0 * std::f64::consts::PI / 180.0;
+
+/// An Euler triple whose middle angle is within this of ±90° is near gimbal lock (rad).
+const NEAR_LOCK: f64 = 5.0 * std::f64::consts::PI / 180.0;
+
+/// Frame times below this (10 kHz) are noted as likely wrong: motion capture runs at 1 kHz at
+/// most.
+const MIN_PLAUSIBLE_FRAME_TIME_S: f64 = 1e-4;
+
 /// The default smoothing's cutoff (Hz): the biomechanics standard for gait.
 pub const DEFAULT_CUTOFF_HZ: f64 = 6.0;
 
@@ -494,6 +505,14 @@ pub fn take_from_bvh_with(
         .map_err(|e| at_file(path, e))?;
     let (unit, scale_to_m, stature_m) = (scale.unit, scale.scale_to_m, scale.stature_m);
     notes.extend(scale.note);
+    if bvh.frame_time < MIN_PLAUSIBLE_FRAME_TIME_S {
+        notes.push(format!(
+            "the frame time, {} s ({:.0} fps), is shorter than any capture system's: check the \
+             file's Frame Time (velocities scale with it, accelerations with its square)",
+            bvh.frame_time,
+            1.0 / bvh.frame_time
+        ));
+    }
     if bvh.frames < 3 {
         notes.push(format!(
             "the take has {} frame{}: velocities and accelerations need three frames or more \
@@ -663,6 +682,22 @@ pub fn make_euler_triples_continuous(bvh: &Bvh, map: &BvhMap, q: &mut [Vec<f64>]
             (r[i0], r[i1], r[i2]) = (f[0], f[1], f[2]);
         }
         let scan = crate::motion::unwrap::scan_triples(order, &frames);
+        // sitting near the lock (not passing through it) makes D(q) nearly singular all along
+        let near = frames
+            .iter()
+            .filter(|f| f[1].cos().abs() < NEAR_LOCK.sin())
+            .count();
+        if scan.passage.is_none() && near * 100 >= frames.len() {
+            notes.push(format!(
+                "`{}` sits within {:.0}° of gimbal lock in {:.0} % of the frames (its middle \
+                 {order} angle near ±90°): the euler model's mass matrix is nearly singular \
+                 there and `simulate` may fail; use the ball joint model (`--joints ball`, `set \
+                 joints ball`)",
+                joint.name,
+                NEAR_LOCK.to_degrees(),
+                100.0 * near as f64 / frames.len() as f64
+            ));
+        }
         if let Some(p) = scan.passage {
             notes.push(format!(
                 "`{}` passes near gimbal lock between frames {} and {}: its {order} angles turn \
@@ -675,7 +710,10 @@ pub fn make_euler_triples_continuous(bvh: &Bvh, map: &BvhMap, q: &mut [Vec<f64>]
                 p.rotation_step.to_degrees()
             ));
         }
-        if let Some((frame, angle)) = scan.jump {
+        // a keyframed take at 1 fps turns 96° between keys at an ordinary 96°/s
+        if let Some((frame, angle)) = scan.jump
+            && angle / bvh.frame_time > GLITCH_SPEED
+        {
             notes.push(format!(
                 "`{}` turns {:.0}° between frames {frame} and {} ({:.0}°/s): no joint does \
                  that, a capture glitch (a marker or solver swap) does; torques near it are not \
@@ -1145,7 +1183,9 @@ pub fn estimate_take_ground_reactions_with(
     let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)
         .map_err(|e| at_file(&take.path, e))?;
     let mut feet = feet_of_bvh(&take.bvh, &take.map, &take.model);
-    if feet.is_empty() && !looks_human(&take.bvh) {
+    if feet.is_empty() {
+        // no feet by name (an animal; a rig whose names no scheme knows): the limb ends that
+        // come down to the floor
         feet = limb_ends_on_floor(take);
     }
     crate::dynamics::grf::estimate_ground_reactions_progress(
@@ -1160,10 +1200,6 @@ pub fn estimate_take_ground_reactions_with(
         keep_going,
     )
     .map_err(|e| at_file(&take.path, e))
-}
-
-fn looks_human(bvh: &Bvh) -> bool {
-    crate::model::anthropometry::looks_human(bvh.joints.iter().map(|j| j.name.as_str()))
 }
 
 /// The feet of a skeleton that is not a human's: the limb ends

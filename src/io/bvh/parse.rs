@@ -36,6 +36,7 @@ pub fn parse_bytes(bytes: &[u8], file: &Path) -> Result<Bvh, Error> {
 /// Parses BVH text. `file` is used in error messages only.
 pub fn parse_str(text: &str, file: &Path) -> Result<Bvh, Error> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    control_characters(text, file)?;
     let mut lx = Lexer {
         src: text,
         pos: 0,
@@ -54,6 +55,31 @@ pub fn parse_str(text: &str, file: &Path) -> Result<Bvh, Error> {
         channel_count,
         motion,
     })
+}
+
+/// Refuses a control character (other than tab, CR and LF) anywhere in the text: no BVH holds
+/// one, and echoed in a message or a joint name it would reach the user's terminal as an
+/// escape sequence (a colour change, a window title). The message names it by code point.
+fn control_characters(text: &str, file: &Path) -> Result<(), Error> {
+    let bad = |c: char| c.is_control() && !matches!(c, '\t' | '\r' | '\n');
+    let Some(at) = text.find(bad) else {
+        return Ok(());
+    };
+    let before = &text[..at];
+    let line = 1 + before.matches('\n').count() + before.matches('\r').count()
+        - before.matches("\r\n").count();
+    let line_start = before.rfind(['\n', '\r']).map_or(0, |i| i + 1);
+    let column = text[line_start..at].chars().count() + 1;
+    let c = text[at..].chars().next().unwrap_or('\0');
+    Err(Error::parse(
+        file,
+        line,
+        column,
+        format!(
+            "a control character (U+{:04X}) where BVH has text: is this a BVH file?",
+            c as u32
+        ),
+    ))
 }
 
 /// A token: a run of non-blank characters, with where it starts.
