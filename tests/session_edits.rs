@@ -355,6 +355,8 @@ fn a_take_that_cannot_load_under_the_settings_leaves_the_workbench_as_it_was() {
     ok(&mut wb, "run id");
     // with the default smoothing it loads (not smoothed, with a note)
     ok(&mut wb, "set smooth auto");
-    ok(&mut wb, "load keys.bvh");
+    let m = ok(&mut wb, "load keys.bvh");
     assert_eq!(wb.take().unwrap().name, "keys");
+    // and the load says what it assumed (the notes reached only `articula info`)
+    assert!(m.contains("note: not smoothed"), "{m}");
 }

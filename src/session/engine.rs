@@ -217,6 +217,9 @@ pub struct Take {
     /// Where it came from (a path, or `demo:walk`).
     pub source: String,
     pub data: TakeData,
+    /// What the pipeline assumed or changed when the take was loaded (`pipeline::Take::notes`:
+    /// a scale, a smoothing, a dropped rest frame, …), for the load message.
+    pub notes: Vec<String>,
 }
 
 impl Take {
@@ -423,6 +426,7 @@ impl Engine for Builtin {
                 motion_source: String::new(),
             })
         };
+        let mut notes = vec![];
         let data = if source == DEMO_WALK {
             TakeData::Bvh(Arc::new(crate::io::generate::walk(
                 &crate::io::generate::WalkParams::default(),
@@ -435,14 +439,21 @@ impl Engine for Builtin {
             robot(crate::model::urdf::read_urdf(path, &opts)?, "URDF")
         } else {
             // as `pipeline::load_take`: a rest pose stored as frame 0 is dropped unless kept
-            let (bvh, _) = pipeline::read_take(path, params.take.keep_first_frame)?;
+            let (bvh, trimmed) = pipeline::read_take(path, params.take.keep_first_frame)?;
             // a take the pipeline cannot turn into a model and states under these settings
             // fails here, and the workbench keeps the take it had (it became the active take
             // and every later command repeated its error)
-            pipeline::take_from_bvh(path, bvh.clone(), &params.take)?;
+            let t = pipeline::take_from_bvh(path, bvh.clone(), &params.take)?;
+            notes.extend(trimmed);
+            notes.extend(t.notes);
             TakeData::Bvh(Arc::new(bvh))
         };
-        Ok(Take { name, source, data })
+        Ok(Take {
+            name,
+            source,
+            data,
+            notes,
+        })
     }
 
     fn load_motion(&self, model: &Model, path: &Path) -> Result<States, Error> {
@@ -618,6 +629,7 @@ impl Engine for Builtin {
             name: format!("{}+{}", a.name, b.name),
             source: format!("blend {} {} {}:{}", a.name, b.name, window.0, window.1),
             data: TakeData::Bvh(Arc::new(bvh)),
+            notes: vec![],
         })
     }
 

@@ -512,13 +512,26 @@ impl Job {
 /// The message of a `load`.
 fn loaded_message(take: &Take) -> String {
     match &take.data {
-        TakeData::Bvh(b) => format!(
-            "loaded {} ({} joints, {} frames at {:.0} fps)",
-            take.name,
-            b.joints.len(),
-            b.frames,
-            1.0 / b.frame_time
-        ),
+        TakeData::Bvh(b) => {
+            let mut m = format!(
+                "loaded {} ({} joints, {} frames at {:.0} fps)",
+                take.name,
+                b.joints.len(),
+                b.frames,
+                1.0 / b.frame_time
+            );
+            // what the loader assumed (a scale, a smoothing, a dropped frame): the first,
+            // and how many more
+            match take.notes.as_slice() {
+                [] => {}
+                [one] => m.push_str(&format!("; note: {one}")),
+                [first, rest @ ..] => m.push_str(&format!(
+                    "; note: {first} (+{} more; `articula info` lists them)",
+                    rest.len()
+                )),
+            }
+            m
+        }
         TakeData::Robot(r) => format!(
             "loaded {} ({}: {} joints, nv {}, {:.2} kg); give it a motion: load \
              STATES.csv or trajectory POSE POSE … over T",
