@@ -359,4 +359,11 @@ fn a_take_that_cannot_load_under_the_settings_leaves_the_workbench_as_it_was() {
     assert_eq!(wb.take().unwrap().name, "keys");
     // and the load says what it assumed (the notes reached only `articula info`)
     assert!(m.contains("note: not smoothed"), "{m}");
+    // a filter this take cannot take is refused by the set itself, and nothing changes
+    let cmd = parse_line("set smooth butterworth:6hz", 1)
+        .unwrap()
+        .unwrap();
+    let e = wb.apply(&cmd).unwrap_err().to_string();
+    assert!(e.contains("Nyquist"), "{e}");
+    assert_eq!(wb.params.take.smooth, None);
 }

@@ -1210,8 +1210,19 @@ impl Workbench {
             "subtree" => p.take.subtree = (!auto).then(|| value.to_string()),
             "joints" => p.take.joints = parsed(key, value)?,
             "smooth" => {
-                p.take.smooth = crate::pipeline::parse_smooth(value)
-                    .map_err(|e| err(format!("set {key}: {e}")))?
+                let spec = crate::pipeline::parse_smooth(value)
+                    .map_err(|e| err(format!("set {key}: {e}")))?;
+                // a filter the active take cannot take is refused now, with nothing changed
+                // (it stayed in the panel, marked stale, after the recompute failed)
+                let dt = self
+                    .active
+                    .and_then(|i| self.takes[i].bvh())
+                    .map(|b| b.frame_time);
+                if let (Some(s), Some(dt)) = (spec, dt) {
+                    crate::motion::smooth::Smoother::new(s, dt)
+                        .map_err(|e| err(format!("set {key}: {e}")))?;
+                }
+                self.params.take.smooth = spec;
             }
             "contact" => p.take.contact = parsed(key, value)?,
             "keep_first_frame" => p.take.keep_first_frame = parsed::<bool>(key, value)?,
