@@ -22,7 +22,7 @@ use crate::io::bvh::Bvh;
 use crate::model::Model;
 use crate::model::bvh::BvhMap;
 use crate::motion::derive::differentiate;
-use crate::motion::smooth::{SmoothSpec, Smoother};
+use crate::motion::smooth::{MAX_FILTER_SPAN, SmoothSpec, Smoother};
 use nalgebra::Vector3;
 
 /// Thresholds of contact detection and of the ground reaction estimate
@@ -225,11 +225,17 @@ fn planted(
 /// wrench over `[t₀ − h, t₁ + h]`: a landing appears before the foot touches down
 /// ([`crate::dynamics::grf`] lets the landing foot carry it).
 ///
+/// The ramp is 4 s long, or `2·MAX_FILTER_SPAN + 5` samples when that is shorter (a frame time
+/// under 10 µs): no accepted filter reaches further, and a hostile `Frame Time: 1e-300` would
+/// otherwise ask for more memory than exists (found by `examples/fuzz_takes.rs`).
+///
 /// [`Smoother`]: crate::motion::smooth::Smoother
 /// [`differentiate`]: crate::motion::derive::differentiate
 pub fn acceleration_spread_s(smooth: &SmoothSpec, dt: f64) -> Result<f64, Error> {
     let mut smoother = Smoother::new(*smooth, dt)?;
-    let half = (2.0 / dt).ceil() as usize;
+    // ±2 s, but never more samples than any filter reaches (the smoother was accepted, so it
+    // reaches at most MAX_FILTER_SPAN): `Frame Time: 1e-12` would ask for 4·10¹² samples
+    let half = (2.0 / dt).ceil().min(MAX_FILTER_SPAN + 2.0) as usize;
     let n = 2 * half + 1;
     let mut x: Vec<f64> = (0..n)
         .map(|k| (k as f64 - half as f64).max(0.0) * dt)

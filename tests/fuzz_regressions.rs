@@ -1,0 +1,52 @@
+//! Inputs found by `examples/fuzz_takes.rs` (the mutation fuzzer of the take pipeline, see
+//! README "Fuzzing"), each cut down to the damage that mattered: they load or fail with an
+//! error, never panic, abort or hang.
+
+use articula::io::bvh;
+use articula::motion::contact::acceleration_spread_s;
+use articula::motion::smooth::SmoothSpec;
+use articula::pipeline::{self, TakeOptions};
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+/// A two-joint take with 4 frames and the given `Frame Time:` token.
+fn take_with_frame_time(ft: &str) -> String {
+    format!(
+        "HIERARCHY\nROOT Hips\n{{\n\tOFFSET 0 90 0\n\tCHANNELS 6 Xposition Yposition Zposition \
+         Zrotation Xrotation Yrotation\n\tJOINT LeftUpLeg\n\t{{\n\t\tOFFSET 10 0 0\n\t\t\
+         CHANNELS 3 Zrotation Xrotation Yrotation\n\t\tEnd Site\n\t\t{{\n\t\t\tOFFSET 0 -80 0\n\
+         \t\t}}\n\t}}\n}}\nMOTION\nFrames: 4\nFrame Time: {ft}\n\
+         0 90 0 0 0 0 0 0 0\n1 90 0 1 2 3 4 5 6\n2 91 0 2 4 6 8 10 12\n3 90 0 3 6 9 12 15 18\n"
+    )
+}
+
+/// Fuzz finding 1: a frame time so short (`1e-300`, `1e-12`, `1e-7`) that no filter applies
+/// left the take unsmoothed, and the acceleration spread of the ground reactions then built a
+/// ramp of 4 s / frame time samples: a capacity-overflow panic, or an abort allocating 32 TB.
+#[test]
+fn tiny_frame_time_ground_reactions_neither_panic_nor_allocate_the_world() {
+    for ft in ["1e-300", "4.9e-324", "1e-12", "1e-7"] {
+        let b = bvh::parse_str(&take_with_frame_time(ft), Path::new("tiny.bvh")).unwrap();
+        let t0 = Instant::now();
+        let take =
+            pipeline::take_from_bvh(Path::new("tiny.bvh"), b, &TakeOptions::default()).unwrap();
+        let _ = pipeline::estimate_take_ground_reactions(&take);
+        assert!(
+            t0.elapsed() < Duration::from_secs(2),
+            "{ft}: {:?}",
+            t0.elapsed()
+        );
+    }
+    // without smoothing the estimate's kernel is [¼, ½, ¼]: one frame each side, whatever dt
+    for dt in [1e-300, 1e-12, 1e-7, 1e-5, 1.0 / 120.0] {
+        let h = acceleration_spread_s(&SmoothSpec::None, dt).unwrap();
+        assert_eq!(h, dt, "dt {dt}");
+    }
+    // and a filter that applies keeps its spread (about a tenth of a second for 6 Hz)
+    let bw = SmoothSpec::Butterworth {
+        cutoff_hz: 6.0,
+        order: 2,
+    };
+    let h = acceleration_spread_s(&bw, 1.0 / 120.0).unwrap();
+    assert!((0.05..0.15).contains(&h), "{h}");
+}
