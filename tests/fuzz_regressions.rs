@@ -50,3 +50,29 @@ fn tiny_frame_time_ground_reactions_neither_panic_nor_allocate_the_world() {
     let h = acceleration_spread_s(&bw, 1.0 / 120.0).unwrap();
     assert!((0.05..0.15).contains(&h), "{h}");
 }
+
+/// Fuzz finding 2: a short take at `Frame Time: 5.4e-6` (185 kHz) is smoothed by the default
+/// 6 Hz Butterworth, whose settling pad is ~2·10⁵ samples each side (just under
+/// `MAX_FILTER_SPAN`), and the ball model's quaternion padding spent a second in two `powf`
+/// per padded sample: now one pair per period of the extension (the same numbers). The load
+/// stays bounded by `MAX_FILTER_SPAN` (a generous limit here, for loaded CI machines).
+#[test]
+fn a_short_take_sampled_at_185_khz_loads_in_bounded_time() {
+    let b = bvh::parse_str(&take_with_frame_time("5.4e-6"), Path::new("fast.bvh")).unwrap();
+    for joints in ["ball", "euler"] {
+        let opts = TakeOptions {
+            joints: joints.parse().unwrap(),
+            ..TakeOptions::default()
+        };
+        let t0 = Instant::now();
+        let take = pipeline::take_from_bvh(Path::new("fast.bvh"), b.clone(), &opts).unwrap();
+        assert_eq!(take.smooth.to_string(), "butterworth:6hz");
+        assert!(take.states.q.iter().flatten().all(|x| x.is_finite()));
+        let _ = pipeline::estimate_take_ground_reactions(&take);
+        assert!(
+            t0.elapsed() < Duration::from_secs(10),
+            "{joints}: {:?}",
+            t0.elapsed()
+        );
+    }
+}
