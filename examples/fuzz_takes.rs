@@ -9,7 +9,11 @@
 //! cargo run --release --example fuzz_takes -- [--execs N] [--seed S] [--threads T]
 //!     [--corpus DIR] [--findings DIR] [--mem-mb M]
 //! cargo run --release --example fuzz_takes -- --replay FILE   # one input, panics uncaught
+//! cargo run --release --example fuzz_takes -- --explain-parse-errors [--execs N] [--corpus DIR]
 //! ```
+//!
+//! (`--explain-parse-errors`: the commonest reader errors of the first N inputs, to tune the
+//! mutations so enough of them reach the pipeline.)
 //!
 //! - Seeds: `data/demo_walk.bvh` cut to 4, 8 and 12 frames, small synthetic skeletons built
 //!   here (a human with feet, a helper root above it, 6 channels on every joint, a lone root,
