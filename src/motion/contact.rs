@@ -225,6 +225,11 @@ fn planted(
 /// wrench over `[t₀ − h, t₁ + h]`: a landing appears before the foot touches down
 /// ([`crate::dynamics::grf`] lets the landing foot carry it).
 ///
+/// The ramp reaches ±2 s, or the filter's reach and the differences' frames when that is
+/// shorter (the impulse response lies within them): a `Frame Time: 1e-9` asked for 4·10⁹
+/// samples and aborted, a hostile `1e-300` for more memory than exists (found by hand and by
+/// `examples/fuzz_takes.rs`).
+///
 /// [`Smoother`]: crate::motion::smooth::Smoother
 /// [`differentiate`]: crate::motion::derive::differentiate
 pub fn acceleration_spread_s(smooth: &SmoothSpec, dt: f64) -> Result<f64, Error> {
