@@ -359,6 +359,9 @@ fn a_take_that_cannot_load_under_the_settings_leaves_the_workbench_as_it_was() {
     assert_eq!(wb.take().unwrap().name, "keys");
     // and the load says what it assumed (the notes reached only `articula info`)
     assert!(m.contains("note: not smoothed"), "{m}");
+    // and so does the recompute that replaces the load message at once in the TUI
+    let m = ok(&mut wb, "run id");
+    assert!(m.contains("note: not smoothed"), "{m}");
     // a filter this take cannot take is refused by the set itself, and nothing changes
     let cmd = parse_line("set smooth butterworth:6hz", 1)
         .unwrap()

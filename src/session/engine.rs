@@ -682,14 +682,12 @@ fn no_motion(take: &Take) -> Error {
     ))
 }
 
-/// The notes worth a user's eye after inverse dynamics (a passage near gimbal lock, a capture
-/// glitch: torques there are not to be trusted), as one status-line message: the first and how
-/// many more.
+/// The take's notes after inverse dynamics (what the loader assumed — a scale, a smoothing —
+/// and where torques are not to be trusted — gimbal lock, a capture glitch), as one
+/// status-line message: the first and how many more. The load message said them too, but the
+/// recompute that follows a load replaced it at once.
 fn summarize_notes(notes: &[String]) -> String {
-    let warn: Vec<&String> = notes
-        .iter()
-        .filter(|n| n.contains("gimbal lock") || n.contains("capture glitch"))
-        .collect();
+    let warn: Vec<&String> = notes.iter().collect();
     match warn.as_slice() {
         [] => String::new(),
         [one] => format!("note: {one}"),
