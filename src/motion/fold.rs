@@ -52,13 +52,7 @@ pub fn fold_root_into_child(bvh: &mut Bvh, modes: &[ResolvedPosition], c: usize)
     let order = child
         .euler_order()
         .expect("redundant_root_child checked the child's rotation order");
-    let rot_cols: Vec<usize> = child
-        .channels
-        .iter()
-        .enumerate()
-        .filter(|(_, ch)| ch.is_rotation())
-        .map(|(n, _)| child.first_channel + n)
-        .collect();
+    let rot_cols = rotation_columns(&child);
     let mut previous = [0.0; 3];
     for k in 0..bvh.frames {
         let row = bvh.frame(k);
@@ -93,6 +87,14 @@ pub fn fold_root_into_child(bvh: &mut Bvh, modes: &[ResolvedPosition], c: usize)
         }
         set_channels(row, &child, modes[c], &t, new_angles);
     }
+}
+
+/// The frame columns of `joint`'s rotation channels, in file order.
+fn rotation_columns(joint: &crate::io::bvh::BvhJoint) -> Vec<usize> {
+    (joint.channels.iter().enumerate())
+        .filter(|(_, ch)| ch.is_rotation())
+        .map(|(n, _)| joint.first_channel + n)
+        .collect()
 }
 
 /// Writes `joint`'s channels in `row` for the local translation `t` (file units, its position
@@ -152,13 +154,7 @@ pub fn unfold_root(bvh: &mut Bvh, modes: &[ResolvedPosition], fold: &Fold) {
     let Some(order) = child.euler_order() else {
         return;
     };
-    let rot_cols: Vec<usize> = child
-        .channels
-        .iter()
-        .enumerate()
-        .filter(|(_, ch)| ch.is_rotation())
-        .map(|(n, _)| child.first_channel + n)
-        .collect();
+    let rot_cols = rotation_columns(&child);
     let nr = root.channels.len();
     let mut previous = [0.0; 3];
     for k in 0..bvh.frames {
