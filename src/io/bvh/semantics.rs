@@ -424,7 +424,7 @@ pub fn detect_up_by_feet(bvh: &Bvh) -> Option<UpAxis> {
     let mut counts: [Vec<usize>; 3] = Default::default();
     for k in sampled_frames(bvh) {
         let (p, r) = world_poses(bvh, &modes, k);
-        let body = body_points(bvh, &pose_points(bvh, &modes, k));
+        let body = body_points(bvh, &points_of(bvh, &p, &r));
         let near = 0.05 * extents(&body).iter().copied().fold(0.0, f64::max);
         for (axis, c) in counts.iter_mut().enumerate() {
             let (lo, _) = min_max(&body, axis);
@@ -465,9 +465,19 @@ fn by_extent(ext: [f64; 3]) -> [usize; 3] {
 
 /// Joints then End Sites (the order of [`rest_points`]) at frame `frame`.
 fn pose_points(bvh: &Bvh, modes: &[ResolvedPosition], frame: usize) -> Vec<Vector3<f64>> {
-    let mut p = bvh_world_positions(bvh, modes, frame);
-    p.extend(bvh_end_site_positions(bvh, modes, frame));
-    p
+    let (p, r) = world_poses(bvh, modes, frame);
+    points_of(bvh, &p, &r)
+}
+
+/// Joints then End Sites from world joint positions `p` and orientations `r` (one forward
+/// kinematics pass serves both).
+fn points_of(bvh: &Bvh, p: &[Vector3<f64>], r: &[Matrix3<f64>]) -> Vec<Vector3<f64>> {
+    let sites = bvh
+        .joints
+        .iter()
+        .enumerate()
+        .flat_map(|(j, joint)| joint.end_sites.iter().map(move |s| p[j] + r[j] * s));
+    p.iter().copied().chain(sites).collect()
 }
 
 /// `points` (joints then End Sites) without a placement root: a root joint with exactly one
