@@ -24,6 +24,19 @@ fn demo() -> Bvh {
     bvh::read(&common::repo("data/demo_walk.bvh")).unwrap()
 }
 
+/// Sets `joint`'s rotation channel about `axis` to `value(frame)` (degrees) at every frame.
+fn set_rotation(b: &mut Bvh, joint: &str, axis: usize, value: impl Fn(usize) -> f64) {
+    let j = &b.joints[b.joint_index(joint).unwrap()];
+    let i = j
+        .channels
+        .iter()
+        .position(|c| c.is_rotation() && c.axis() == axis);
+    let col = j.first_channel + i.unwrap();
+    for k in 0..b.frames {
+        b.motion[k * b.channel_count + col] = value(k);
+    }
+}
+
 fn load(b: Bvh, opts: &TakeOptions) -> pipeline::Take {
     pipeline::take_from_bvh(Path::new("variant.bvh"), b, opts).unwrap()
 }
@@ -345,14 +358,6 @@ fn a_take_bent_over_most_of_the_time_keeps_its_up_axis_from_the_legs() {
     // an inertial-suit box lift, bent over most of the take, fell forward: its largest extent
     // lies along the floor. Here the walk crouches with its trunk and arms forward.
     let mut b = demo();
-    let rot_of = |b: &Bvh, name: &str, axis: usize| {
-        let j = &b.joints[b.joint_index(name).unwrap()];
-        let i = j
-            .channels
-            .iter()
-            .position(|c| c.is_rotation() && c.axis() == axis);
-        j.first_channel + i.unwrap()
-    };
     let pose = [
         ("Spine", 90.0),
         ("LeftArm", 180.0),
@@ -364,10 +369,7 @@ fn a_take_bent_over_most_of_the_time_keeps_its_up_axis_from_the_legs() {
     ];
     for (name, angle) in pose {
         for (axis, value) in [(0, angle), (1, 0.0), (2, 0.0)] {
-            let col = rot_of(&b, name, axis);
-            for k in 0..b.frames {
-                b.motion[k * b.channel_count + col] = value;
-            }
+            set_rotation(&mut b, name, axis, |_| value);
         }
     }
     // the largest extent rule alone falls forward
@@ -379,11 +381,12 @@ fn a_take_bent_over_most_of_the_time_keeps_its_up_axis_from_the_legs() {
 fn a_turn_between_keys_is_a_glitch_only_when_no_joint_turns_that_fast() {
     // the left arm swings 100° from one frame to the next
     let mut b = demo();
-    let arm = &b.joints[b.joint_index("LeftArm").unwrap()];
-    let col = arm.first_channel + arm.channels.iter().position(|c| c.axis() == 0).unwrap();
-    for k in 0..b.frames {
-        b.motion[k * b.channel_count + col] = if k % 2 == 0 { 0.0 } else { 100.0 };
-    }
+    set_rotation(
+        &mut b,
+        "LeftArm",
+        0,
+        |k| if k % 2 == 0 { 0.0 } else { 100.0 },
+    );
     let glitches = |frame_time: f64| {
         let mut b = b.clone();
         b.frame_time = frame_time;
@@ -403,12 +406,8 @@ fn a_turn_between_keys_is_a_glitch_only_when_no_joint_turns_that_fast() {
 fn a_joint_that_sits_near_gimbal_lock_is_noted() {
     // the Xia takes' hips sit near 86° in ZYX: simulate failed with no word before
     let mut b = demo();
-    let spine = &b.joints[b.joint_index("Spine").unwrap()];
     // ZXY: the middle angle is X
-    let col = spine.first_channel + spine.channels.iter().position(|c| c.axis() == 0).unwrap();
-    for k in 0..b.frames {
-        b.motion[k * b.channel_count + col] = 88.0;
-    }
+    set_rotation(&mut b, "Spine", 0, |_| 88.0);
     let t = load(b, &TakeOptions::default());
     assert!(
         t.notes
