@@ -393,9 +393,10 @@ impl TakeArgs {
         self.options()
     }
 
-    /// [`Self::options`] for a job on `src`: a robot (`--urdf`, `--dh`) takes only `--damping`
+    /// [`Self::options_for`] `command` on `src`: a robot (`--urdf`, `--dh`) takes only `--damping`
     /// of the take flags, and a take whose states come from `--states` no smoothing.
-    fn options_for_source(&self, src: &SourceArgs) -> Result<TakeOptions> {
+    fn options_for_source(&self, command: &str, src: &SourceArgs) -> Result<TakeOptions> {
+        self.refuse_unused(command)?;
         let robot = src.urdf.is_some() || src.dh.is_some();
         for flag in self.given() {
             if robot && flag != "--damping" {
@@ -576,7 +577,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             let job = pipeline::load_source(
                 &src.source()?,
                 src.states.as_deref(),
-                &opts.options_for_source(&src)?,
+                &opts.options_for_source("id", &src)?,
             )?;
             let quality = pipeline::write_inverse_dynamics(&job, &output)?;
             print_notes(job.take.as_ref());
@@ -592,22 +593,20 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             output,
         } => {
             // forward dynamics computes the accelerations: the states need only q and v
-            opts.refuse_unused("fd")?;
             let job = pipeline::load_source_with(
                 &src.source()?,
                 src.states.as_deref(),
-                &opts.options_for_source(&src)?,
+                &opts.options_for_source("fd", &src)?,
                 pipeline::StateColumns::QV,
             )?;
             pipeline::write_forward_dynamics(&job, &torques, &output)?;
             wrote(&output);
         }
         Cmd::MassMatrix { src, opts, output } => {
-            opts.refuse_unused("mass-matrix")?;
             let job = pipeline::load_source(
                 &src.source()?,
                 src.states.as_deref(),
-                &opts.options_for_source(&src)?,
+                &opts.options_for_source("mass-matrix", &src)?,
             )?;
             pipeline::write_mass_matrix(&job, &output)?;
             wrote(&output);
@@ -655,8 +654,8 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             json,
             batches,
         } => {
-            opts.refuse_unused("bench")?;
-            let model = pipeline::load_model(&src.source()?, &opts.options_for_source(&src)?)?;
+            let model =
+                pipeline::load_model(&src.source()?, &opts.options_for_source("bench", &src)?)?;
             let r = pipeline::bench_batches(&model, batches)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&r.json())?);
