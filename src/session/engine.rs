@@ -686,9 +686,8 @@ fn no_motion(take: &Take) -> Error {
 /// and where torques are not to be trusted — gimbal lock, a capture glitch), as one
 /// status-line message: the first and how many more. The load message said them too, but the
 /// recompute that follows a load replaced it at once.
-fn summarize_notes(notes: &[String]) -> String {
-    let warn: Vec<&String> = notes.iter().collect();
-    match warn.as_slice() {
+pub(crate) fn summarize_notes(notes: &[String]) -> String {
+    match notes {
         [] => String::new(),
         [one] => format!("note: {one}"),
         [first, rest @ ..] => format!(

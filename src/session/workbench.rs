@@ -522,13 +522,9 @@ fn loaded_message(take: &Take) -> String {
             );
             // what the loader assumed (a scale, a smoothing, a dropped frame): the first,
             // and how many more
-            match take.notes.as_slice() {
-                [] => {}
-                [one] => m.push_str(&format!("; note: {one}")),
-                [first, rest @ ..] => m.push_str(&format!(
-                    "; note: {first} (+{} more; `articula info` lists them)",
-                    rest.len()
-                )),
+            if !take.notes.is_empty() {
+                m.push_str("; ");
+                m.push_str(&super::engine::summarize_notes(&take.notes));
             }
             m
         }
