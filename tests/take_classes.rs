@@ -317,6 +317,11 @@ fn a_four_legged_skeleton_gets_up_from_its_feet_unit_from_its_size_and_masses_by
         "{:?}",
         t.notes
     );
+    assert!(
+        t.notes.iter().any(|n| n.contains("bone volume")),
+        "{:?}",
+        t.notes
+    );
     assert!((t.model.total_mass() - 75.0).abs() < 1e-9);
     // by bone volume: a 45 cm leg bone outweighs the 36 cm neck, and all leg bones are equal
     let mass = |name: &str| {

@@ -368,6 +368,16 @@ pub fn hips_and_feet(joints: &[(&str, Option<usize>)]) -> (Vec<usize>, Vec<usize
     }
 }
 
+/// Whether a joint name reads as the trunk ([`classify`]): then [`distribute`] uses de Leva's
+/// segment table, otherwise (an animal, a robot, names no scheme knows) bone volume. A class
+/// inherited from a parent is never the trunk unless the parent's name is, so this is the
+/// same test as on [`distribute`]'s classes.
+pub fn has_trunk<'a>(names: impl IntoIterator<Item = &'a str>) -> bool {
+    names
+        .into_iter()
+        .any(|n| matches!(classify(n), Some((Segment::Trunk, _))))
+}
+
 /// What [`distribute`] needs to know about one BVH joint.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bone {
@@ -525,7 +535,7 @@ pub fn distribute(bones: &[Bone], body: &BodyParams) -> Result<Vec<LinkMass>, Er
     // `Hips` and `Spine1`, both at one point) is the body's hub, the pelvis: trunk. Left
     // massless, its rotation would be undone by its children's and D(q) would be singular; a
     // root with one child is a helper, which the pipeline folds into that child.
-    let humanoid = class.iter().any(|c| matches!(c, Some((Segment::Trunk, _))));
+    let humanoid = has_trunk(bones.iter().map(|b| b.name.as_str()));
     let branching = |j: usize| bones.iter().filter(|c| c.parent == Some(j)).count() > 1;
     if let Some(r) = (0..n).find(|&j| bones[j].parent.is_none())
         && humanoid

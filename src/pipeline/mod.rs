@@ -503,6 +503,13 @@ pub fn take_from_bvh_with(
     };
     let scale = bvh::choose_scale(&bvh, up, opts.unit, opts.stature_m, human)
         .map_err(|e| at_file(path, e))?;
+    if !crate::model::anthropometry::has_trunk(bvh.joints.iter().map(|j| j.name.as_str())) {
+        notes.push(
+            "no joint name reads as a human trunk: link masses follow bone volume (de Leva's \
+             segment table needs a trunk)"
+                .into(),
+        );
+    }
     let (unit, scale_to_m, stature_m) = (scale.unit, scale.scale_to_m, scale.stature_m);
     notes.extend(scale.note);
     if bvh.frame_time < MIN_PLAUSIBLE_FRAME_TIME_S {

@@ -812,8 +812,7 @@ pub fn choose_scale(
         .unwrap_or(LengthUnit::Cm);
     let note = format!(
         "not a human skeleton (no trunk and two legs among its joint names): its length unit, \
-         {u}, was chosen from its size ({:.3} m tall; --unit or --stature override it), and \
-         its link masses follow bone volume",
+         {u}, was chosen from its size ({:.3} m tall; --unit or --stature override it)",
         size(&u)
     );
     Ok(scale(u.to_string(), u.scale_to_m(), Some(note)))
