@@ -429,3 +429,19 @@ fn a_joint_that_sits_near_gimbal_lock_is_noted() {
             .any(|n| n.contains("sits within"))
     );
 }
+
+#[test]
+fn a_biped_rigs_names_on_an_animal_say_which_masses_it_gets() {
+    // an elephant rigged with 3ds Max biped names: `Bip01_Pelvis` reads as a trunk
+    let text = quadruped().replace("ROOT body", "ROOT Bip01_Pelvis");
+    let t = load(
+        bvh::parse_str(&text, Path::new("elephant.bvh")).unwrap(),
+        &TakeOptions::default(),
+    );
+    assert!(
+        t.notes.iter().any(|n| n.contains("de Leva's human segment table")),
+        "{:?}",
+        t.notes
+    );
+    assert!(!t.notes.iter().any(|n| n.contains("bone volume")));
+}

@@ -503,10 +503,18 @@ pub fn take_from_bvh_with(
     };
     let scale = bvh::choose_scale(&bvh, up, opts.unit, opts.stature_m, human)
         .map_err(|e| at_file(path, e))?;
-    if !crate::model::anthropometry::has_trunk(bvh.joints.iter().map(|j| j.name.as_str())) {
+    let trunk = crate::model::anthropometry::has_trunk(bvh.joints.iter().map(|j| j.name.as_str()));
+    if !trunk {
         notes.push(
             "no joint name reads as a human trunk: link masses follow bone volume (de Leva's \
              segment table needs a trunk)"
+                .into(),
+        );
+    } else if !human {
+        // a biped rig's names on an animal (3ds Max `Bip01_Pelvis` on an elephant)
+        notes.push(
+            "not a human skeleton, but a joint name reads as a trunk: link masses follow de \
+             Leva's human segment table, the missing segments' mass given to the trunk"
                 .into(),
         );
     }
