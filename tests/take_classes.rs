@@ -439,7 +439,9 @@ fn a_biped_rigs_names_on_an_animal_say_which_masses_it_gets() {
         &TakeOptions::default(),
     );
     assert!(
-        t.notes.iter().any(|n| n.contains("de Leva's human segment table")),
+        t.notes
+            .iter()
+            .any(|n| n.contains("de Leva's human segment table")),
         "{:?}",
         t.notes
     );

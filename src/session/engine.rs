@@ -687,11 +687,18 @@ fn no_motion(take: &Take) -> Error {
 /// status-line message: the first and how many more. The load message said them too, but the
 /// recompute that follows a load replaced it at once.
 pub(crate) fn summarize_notes(notes: &[String]) -> String {
-    match notes {
+    // where torques are not to be trusted comes first, then what the loader assumed
+    let warns = |n: &&String| n.contains("gimbal lock") || n.contains("capture glitch");
+    let ordered: Vec<&String> = notes
+        .iter()
+        .filter(warns)
+        .chain(notes.iter().filter(|n| !warns(n)))
+        .collect();
+    match ordered.as_slice() {
         [] => String::new(),
         [one] => format!("note: {one}"),
         [first, rest @ ..] => format!(
-            "note: {first} (+{} more of these; `articula info` lists every note)",
+            "note: {first} (+{} more; `articula info` lists every note)",
             rest.len()
         ),
     }
