@@ -72,6 +72,19 @@ pub enum Cmd {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Anatomical joint angles (deg) and net internal moments (N·m, N·m/kg) of a human take:
+    /// pelvis, lumbar, hips, knees, ankles, shoulders, elbows, in the joint coordinate system
+    /// (Grood & Suntay 1983; ISB, Wu et al. 2002). Flexion, adduction and internal rotation
+    /// positive; extensor (ankle: plantarflexor), abductor and external-rotator moments
+    /// positive. Here ground contact defaults to feet (none on a take of fewer than 3 frames)
+    /// and the joint model to ball (no gimbal lock; rotations smoothed as rotations).
+    Anatomy {
+        take: PathBuf,
+        #[command(flatten)]
+        opts: TakeArgs,
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// Direct dynamics (ABA): accelerations `a:<coord>` from states and torques.
     Fd {
         #[command(flatten)]
@@ -584,6 +597,34 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             if let Some(q) = quality {
                 eprintln!("{q}");
             }
+            wrote(&output);
+        }
+        Cmd::Anatomy { take, opts, output } => {
+            let mut o = opts.options_for("anatomy")?;
+            if opts.scene.is_none() {
+                // joint moments without the ground's forces are not a standing body's
+                if opts.contact.is_none() {
+                    o.contact = pipeline::Contact::Feet;
+                }
+                // no gimbal lock, and smoothing on rotations, not on one Euler order's angles
+                if opts.joints.is_none() {
+                    o.joints = articula::model::bvh::JointModel::Ball;
+                }
+            }
+            let mut take = pipeline::load_take(&take, &o)?;
+            if opts.contact.is_none() && opts.scene.is_none() && take.states.len() < 3 {
+                take.options.contact = pipeline::Contact::None;
+                take.notes.push(
+                    "contact none: a take of fewer than 3 frames has no contact phases".into(),
+                );
+            }
+            let a = pipeline::anatomy::anatomy(&take)?;
+            pipeline::anatomy::write_anatomy(&a, &output)?;
+            print_notes(Some(&take));
+            for n in &a.notes {
+                eprintln!("note: {n}");
+            }
+            eprint!("{}", pipeline::anatomy::summary(&a));
             wrote(&output);
         }
         Cmd::Fd {

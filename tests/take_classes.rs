@@ -16,8 +16,7 @@ mod common;
 
 use articula::io::bvh::{self, Bvh, UpAxis};
 use articula::pipeline::{self, TakeOptions};
-use articula::rotation::{euler_to_matrix, matrix_to_euler};
-use nalgebra::{Matrix3, Rotation3, Vector3};
+use nalgebra::Vector3;
 use std::path::Path;
 
 fn demo() -> Bvh {
@@ -41,63 +40,7 @@ fn load(b: Bvh, opts: &TakeOptions) -> pipeline::Take {
     pipeline::take_from_bvh(Path::new("variant.bvh"), b, opts).unwrap()
 }
 
-/// The rotation taking +X to `d` (any, if `d` is zero).
-fn x_to(d: &Vector3<f64>) -> Matrix3<f64> {
-    if d.norm() < 1e-12 {
-        return Matrix3::identity();
-    }
-    Rotation3::rotation_between(&Vector3::x(), d)
-        .unwrap_or_else(|| Rotation3::from_axis_angle(&Vector3::z_axis(), std::f64::consts::PI))
-        .into_inner()
-}
-
-/// `b` with every joint frame turned by a constant `C_j` so that the bone to its first child
-/// (or End Site) lies along local +X: offsets `C_parentᵀ o`, rotations `C_parentᵀ R C_j` in the
-/// joint's own Euler order. Every joint's world position is unchanged; the OFFSET-only pose
-/// becomes a chain lying along +X.
-fn lying_along_x(b: &Bvh) -> Bvh {
-    let n = b.joints.len();
-    let c: Vec<Matrix3<f64>> = (0..n)
-        .map(|j| {
-            let child = b
-                .joints
-                .iter()
-                .find(|k| k.parent == Some(j))
-                .map(|k| k.offset);
-            x_to(
-                &child
-                    .or(b.joints[j].end_sites.first().copied())
-                    .unwrap_or_default(),
-            )
-        })
-        .collect();
-    let mut out = b.clone();
-    for (j, joint) in out.joints.iter_mut().enumerate() {
-        let cp = joint.parent.map_or(Matrix3::identity(), |p| c[p]);
-        assert!(joint.parent.is_none() || !joint.has_position());
-        joint.offset = cp.transpose() * joint.offset;
-        for s in joint.end_sites.iter_mut() {
-            *s = c[j].transpose() * *s;
-        }
-    }
-    for k in 0..b.frames {
-        let row = b.frame(k).to_vec();
-        for (j, joint) in b.joints.iter().enumerate() {
-            let order = joint.euler_order().expect("three rotation channels");
-            let cols: Vec<usize> = (0..joint.channels.len())
-                .filter(|&i| joint.channels[i].is_rotation())
-                .map(|i| joint.first_channel + i)
-                .collect();
-            let r = euler_to_matrix(order, [0, 1, 2].map(|i| row[cols[i]].to_radians()));
-            let cp = joint.parent.map_or(Matrix3::identity(), |p| c[p]);
-            let a = matrix_to_euler(order, &(cp.transpose() * r * c[j]));
-            for i in 0..3 {
-                out.motion[k * b.channel_count + cols[i]] = a[i].to_degrees();
-            }
-        }
-    }
-    out
-}
+use common::variants::lying_along_x;
 
 fn ball() -> TakeOptions {
     TakeOptions {

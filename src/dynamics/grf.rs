@@ -75,6 +75,10 @@ use nalgebra::Vector3;
 pub struct GroundReactions {
     /// Foot names (`left`, `right`): the order of every per-foot vector below.
     pub feet: Vec<String>,
+    /// The body each foot's load acts on (the foot's `ankle_body`).
+    pub bodies: Vec<usize>,
+    /// The up axis (0, 1, 2) of the world.
+    pub up: usize,
     /// Floor height along the up axis (m).
     pub floor: f64,
     /// `[frame][foot]`: the foot is in contact.
@@ -128,6 +132,23 @@ impl GroundReactions {
             }
         }
         out.extend_from_slice(&self.residual[k]);
+    }
+
+    /// The ground's loads at frame `k` as external forces per body for
+    /// [`rnea`](super::rnea) (`out` has `nbodies` entries, zeroed first): each foot's force at
+    /// its centre of pressure with its free moment, in the frame of the body it acts on, from
+    /// the world poses `o_x_i` of that frame (`forward_kinematics`).
+    pub fn external_forces(&self, k: usize, o_x_i: &[SpatialTransform], out: &mut [ForceVec]) {
+        out.fill(ForceVec::ZERO);
+        let e_up = Vector3::ith(self.up, 1.0);
+        for (j, &b) in self.bodies.iter().enumerate() {
+            let load = FootLoad {
+                force: self.grf[k][j],
+                cop: self.cop[k][j],
+                free_moment: self.free_moment[k][j],
+            };
+            out[b] += o_x_i[b].act_inv_force(&load.wrench(&e_up));
+        }
     }
 
     /// How far the feet can give the ground force the motion needs, over the frames of single
@@ -327,6 +348,8 @@ pub fn estimate_ground_reactions_progress(
     let nf = feet.len();
     let mut out = GroundReactions {
         feet: feet.iter().map(|f| f.name.clone()).collect(),
+        bodies: feet.iter().map(|f| f.ankle_body).collect(),
+        up,
         floor,
         contact,
         loaded,
@@ -380,16 +403,14 @@ pub fn estimate_ground_reactions_progress(
                 ..loads[j]
             });
         }
-        f_ext.fill(ForceVec::ZERO);
         let mut given = ForceVec::ZERO;
-        for (j, (foot, load)) in feet.iter().zip(&loads).enumerate() {
+        for (j, load) in loads.iter().enumerate() {
             out.grf[k][j] = load.force;
             out.cop[k][j] = load.cop;
             out.free_moment[k][j] = load.free_moment;
-            let w_j = load.wrench(&e_up);
-            given += w_j;
-            f_ext[foot.ankle_body] += ws.o_x_i[foot.ankle_body].act_inv_force(&w_j);
+            given += load.wrench(&e_up);
         }
+        out.external_forces(k, &ws.o_x_i, &mut f_ext);
         if let (Some((p, _)), Some((p_feet, _))) = (
             centre_of_pressure(&w, up, floor),
             centre_of_pressure(&given, up, floor),

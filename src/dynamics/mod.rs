@@ -7,6 +7,7 @@
 //! into the workspace and allocates nothing.
 
 pub mod aba;
+pub mod anatomy;
 pub mod bench;
 pub mod bias;
 pub mod control;

@@ -266,6 +266,12 @@ fn split_side(name: &str) -> (Side, String) {
     (Side::Center, lower)
 }
 
+/// The side a joint name says (`LeftUpLeg`, `lThigh`, `UpperLeg_L`, `thigh.L`: left), or
+/// [`Side::Center`] if it says none.
+pub fn name_side(name: &str) -> Side {
+    split_side(name).0
+}
+
 /// The de Leva segment and side a joint name denotes, or `None` if the name says nothing
 /// (then [`distribute`] lets the joint inherit its parent's class).
 pub fn classify(name: &str) -> Option<(Segment, Side)> {
@@ -516,16 +522,21 @@ fn frame_with_z(u: &Vector3<f64>) -> Matrix3<f64> {
 /// Errors: a non-positive body mass, an override naming no joint, negative overrides, or
 /// overrides that exceed the body mass.
 pub fn distribute(bones: &[Bone], body: &BodyParams) -> Result<Vec<LinkMass>, Error> {
-    let total = body.mass_kg;
-    if !(total.is_finite() && total > 0.0) {
-        return Err(Error::Invalid(format!(
-            "body mass {total} kg: give a positive mass (--mass or `mass` in the scene)"
-        )));
-    }
-    let n = bones.len();
-    let geom: Vec<(Vector3<f64>, f64)> = bones.iter().map(Bone::geometry).collect();
+    distribute_classes(bones, body, &classes_by_name(bones))
+}
 
-    // 1. classes: by name, else inherited from the parent
+/// The segment a joint's link belongs to, and whether it is a shoulder-girdle, hip-bone or
+/// breast bone of the trunk (weighted by [`GIRDLE_WEIGHT`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SegmentOf {
+    pub class: Option<(Segment, Side)>,
+    pub girdle: bool,
+}
+
+/// Step 1 of [`distribute`]: the classes the joint names say ([`classify`], inherited from the
+/// parent when a name says nothing), a humanoid's branching unnamed root as the pelvis.
+pub fn classes_by_name(bones: &[Bone]) -> Vec<SegmentOf> {
+    let n = bones.len();
     let mut class: Vec<Option<(Segment, Side)>> = Vec::with_capacity(n);
     for b in bones {
         let inherited = b.parent.and_then(|p| class[p]);
@@ -544,6 +555,36 @@ pub fn distribute(bones: &[Bone], body: &BodyParams) -> Result<Vec<LinkMass>, Er
     {
         class[r] = Some((Segment::Trunk, Side::Center));
     }
+    (0..n)
+        .map(|j| SegmentOf {
+            class: class[j],
+            girdle: is_appendage(&bones[j].name),
+        })
+        .collect()
+}
+
+/// [`distribute`] with the joints' segments given (`classes`, one per bone: by name,
+/// [`classes_by_name`], or by the skeleton's topology, `model::skeleton`).
+pub fn distribute_classes(
+    bones: &[Bone],
+    body: &BodyParams,
+    classes: &[SegmentOf],
+) -> Result<Vec<LinkMass>, Error> {
+    let total = body.mass_kg;
+    if !(total.is_finite() && total > 0.0) {
+        return Err(Error::Invalid(format!(
+            "body mass {total} kg: give a positive mass (--mass or `mass` in the scene)"
+        )));
+    }
+    let n = bones.len();
+    if classes.len() != n {
+        return Err(Error::Invalid(format!(
+            "{} segment classes for {n} bones",
+            classes.len()
+        )));
+    }
+    let geom: Vec<(Vector3<f64>, f64)> = bones.iter().map(Bone::geometry).collect();
+    let class: Vec<Option<(Segment, Side)>> = classes.iter().map(|c| c.class).collect();
     let has_trunk = class.iter().any(|c| matches!(c, Some((Segment::Trunk, _))));
 
     let mut mass = vec![0.0; n];
@@ -585,7 +626,7 @@ pub fn distribute(bones: &[Bone], body: &BodyParams) -> Result<Vec<LinkMass>, Er
         // 3. share each instance among its joints by bone length (equally if all are zero);
         //    shoulder-girdle and breast bones count a quarter of their length in the trunk
         let weight = |j: usize| {
-            if is_appendage(&bones[j].name) {
+            if classes[j].girdle {
                 GIRDLE_WEIGHT * geom[j].1
             } else {
                 geom[j].1

@@ -88,6 +88,9 @@ pub struct BvhModelOptions {
     pub lock: Vec<String>,
     /// Keep only this BVH joint's subtree and the chain that carries it.
     pub subtree: Option<String>,
+    /// The segment of every joint's link (`model::skeleton::segment_classes`, by topology);
+    /// `None`: by the joint names (`anthropometry::classes_by_name`).
+    pub segments: Option<Vec<anthropometry::SegmentOf>>,
 }
 
 impl BvhModelOptions {
@@ -107,6 +110,7 @@ impl BvhModelOptions {
             body: BodyParams::default(),
             lock: vec![],
             subtree: None,
+            segments: None,
         }
     }
 }
@@ -206,7 +210,11 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
             bvh.joints.len()
         )));
     }
-    let links = anthropometry::distribute(&bones(bvh, scale), &opts.body)?;
+    let bones = bones(bvh, scale);
+    let links = match &opts.segments {
+        Some(c) => anthropometry::distribute_classes(&bones, &opts.body, c)?,
+        None => anthropometry::distribute(&bones, &opts.body)?,
+    };
     let mut gravity = Vector3::zeros();
     gravity[opts.up.index()] = -STANDARD_GRAVITY;
     let mut b = ModelBuilder::new(opts.name.clone(), gravity);

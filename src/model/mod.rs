@@ -14,6 +14,7 @@ pub mod bvh;
 pub mod dh;
 pub mod joint;
 pub mod simplify;
+pub mod skeleton;
 pub mod urdf;
 
 pub use joint::JointKind;

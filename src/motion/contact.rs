@@ -504,29 +504,47 @@ pub fn feet_of_bvh(bvh: &Bvh, map: &BvhMap, model: &Model) -> Vec<Foot> {
         let Some(ankle) = of(Role::Ankle).or_else(|| of(Role::Foot)) else {
             continue;
         };
-        let a = &map.joints[ankle];
         let toe = (0..bvh.joints.len()).find(|&j| {
             j != ankle
                 && matches!(roles[j], Some((s, r)) if s == side
                     && (r == Role::Toe || (has_ankle && r == Role::Foot)))
                 && descends(j, ankle)
         });
-        let (toe_body, toe_point) = match (toe, bvh.joints[ankle].end_sites.first()) {
-            (Some(t), _) => (map.joints[t].body, map.joints[t].frame.trans),
-            (None, Some(end)) => (a.body, a.frame.transform_point(&(end * map.scale_to_m))),
-            (None, None) => (a.body, shape_tip(model, a.body)),
-        };
-        feet.push(Foot {
-            name: side.name().to_string(),
-            side,
-            joint: bvh.joints[ankle].name.clone(),
-            ankle_body: a.body,
-            ankle_point: a.frame.trans,
-            heel_point: a.frame.trans,
-            toe_body,
-            toe_point,
-        });
+        feet.push((side, ankle, toe));
     }
+    feet_at(bvh, map, model, &feet)
+}
+
+/// The feet whose ankle and toe joints are known (`(side, ankle, toe)`; without a toe joint
+/// the toe point is the ankle's End Site, or the far end of its drawing shape), each with its
+/// heel point placed as [`feet_of_bvh`] places it.
+pub fn feet_at(
+    bvh: &Bvh,
+    map: &BvhMap,
+    model: &Model,
+    joints: &[(Side, usize, Option<usize>)],
+) -> Vec<Foot> {
+    let mut feet: Vec<Foot> = joints
+        .iter()
+        .map(|&(side, ankle, toe)| {
+            let a = &map.joints[ankle];
+            let (toe_body, toe_point) = match (toe, bvh.joints[ankle].end_sites.first()) {
+                (Some(t), _) => (map.joints[t].body, map.joints[t].frame.trans),
+                (None, Some(end)) => (a.body, a.frame.transform_point(&(end * map.scale_to_m))),
+                (None, None) => (a.body, shape_tip(model, a.body)),
+            };
+            Foot {
+                name: side.name().to_string(),
+                side,
+                joint: bvh.joints[ankle].name.clone(),
+                ankle_body: a.body,
+                ankle_point: a.frame.trans,
+                heel_point: a.frame.trans,
+                toe_body,
+                toe_point,
+            }
+        })
+        .collect();
     set_heel_points(model, &mut feet);
     feet
 }

@@ -14,6 +14,7 @@
 //! 7. `v, a`: central differences on the configuration manifold (`Model::difference`), then
 //!    of v.
 
+pub mod anatomy;
 mod edit;
 mod sim;
 
@@ -439,6 +440,8 @@ pub struct Take {
     pub states: States,
     /// What the loader changed on its own, for `info` (e.g. a folded helper root).
     pub notes: Vec<String>,
+    /// The skeleton's human landmarks (`model::skeleton`), or why it is not a human's.
+    pub human: Result<crate::model::skeleton::Human, String>,
 }
 
 /// Stages 1–7 of the module doc.
@@ -484,12 +487,13 @@ pub fn take_from_bvh_with(
 ) -> Result<Take, Error> {
     // axes and unit
     let mut notes = vec![];
-    let human =
+    let named_human =
         crate::model::anthropometry::looks_human(bvh.joints.iter().map(|j| j.name.as_str()));
+    let positions = bvh::resolve_position_modes(&bvh, opts.positions);
     let up = match opts.up {
         Some(u) => u,
         // hips stand over the feet, however the body bends
-        None if human => {
+        None if named_human => {
             let joints: Vec<(&str, Option<usize>)> = bvh
                 .joints
                 .iter()
@@ -501,16 +505,46 @@ pub fn take_from_bvh_with(
         // a quadruped is longer than tall: its feet tell where the floor is
         None => bvh::detect_up_by_feet(&bvh).unwrap_or_else(|| bvh::detect_up(&bvh)),
     };
+    // a human whose names say nothing (`J1`, `J2`, …) is one by its shape: two legs under an
+    // upright trunk (`model::skeleton`); then the hips stand over its ankles
+    let mut up = up;
+    let mut human = named_human;
+    // (about the axis along which its trunk stands most upright)
+    if !named_human {
+        let axes = match opts.up {
+            Some(u) => vec![u],
+            None => vec![UpAxis::X, UpAxis::Y, UpAxis::Z],
+        };
+        if let Some((axis, h)) = axes
+            .into_iter()
+            .filter_map(|a| {
+                anatomy::human_of_bvh(&bvh, &positions, 1.0, a)
+                    .ok()
+                    .map(|h| (a, h))
+            })
+            .min_by(|a, b| a.1.lean.total_cmp(&b.1.lean))
+        {
+            human = true;
+            let hips = [h.legs[0].hip, h.legs[1].hip];
+            let ankles = [h.legs[0].ankle, h.legs[1].ankle];
+            up = match opts.up {
+                Some(u) => u,
+                None => bvh::detect_up_by_legs(&bvh, &hips, &ankles).unwrap_or(axis),
+            };
+        }
+    }
     let scale = bvh::choose_scale(&bvh, up, opts.unit, opts.stature_m, human)
         .map_err(|e| at_file(path, e))?;
+    // a human's segments by topology and geometry (names only as hints)
+    let landmarks = anatomy::human_of_bvh(&bvh, &positions, scale.scale_to_m, up);
     let trunk = crate::model::anthropometry::has_trunk(bvh.joints.iter().map(|j| j.name.as_str()));
-    if !trunk {
+    if landmarks.is_err() && !trunk {
         notes.push(
-            "no joint name reads as a human trunk: link masses follow bone volume (de Leva's \
-             segment table needs a trunk)"
+            "neither the shape (two legs under an upright trunk) nor a joint name reads as a \
+             human's: link masses follow bone volume (de Leva's segment table needs a trunk)"
                 .into(),
         );
-    } else if !human {
+    } else if landmarks.is_err() {
         // a biped rig's names on an animal (3ds Max `Bip01_Pelvis` on an elephant)
         notes.push(
             "not a human skeleton, but a joint name reads as a trunk: link masses follow de \
@@ -542,9 +576,6 @@ pub fn take_from_bvh_with(
         ));
     }
 
-    // position semantics
-    let positions = bvh::resolve_position_modes(&bvh, opts.positions);
-
     // model
     let name = path
         .file_stem()
@@ -559,7 +590,13 @@ pub fn take_from_bvh_with(
         body: opts.body.clone(),
         lock: opts.lock.clone(),
         subtree: opts.subtree.clone(),
+        segments: None,
     };
+    let human = landmarks;
+    let mut mopts = mopts;
+    if let Ok(h) = &human {
+        mopts.segments = Some(anatomy::segments_of(&bvh, h));
+    }
     let (mut model, mut map) = build_bvh_model(&bvh, &mopts).map_err(|e| at_file(path, e))?;
 
     // a massless helper root whose only child has six channels of its own (Bandai's
@@ -616,6 +653,7 @@ pub fn take_from_bvh_with(
         fold,
         states,
         notes,
+        human,
     })
 }
 
@@ -1193,11 +1231,11 @@ pub fn estimate_take_ground_reactions_with(
     take: &Take,
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<crate::dynamics::grf::GroundReactions, Error> {
-    use crate::motion::contact::{ContactParams, feet_of_bvh};
+    use crate::motion::contact::ContactParams;
     let s = &take.states;
     let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)
         .map_err(|e| at_file(&take.path, e))?;
-    let mut feet = feet_of_bvh(&take.bvh, &take.map, &take.model);
+    let mut feet = take_feet(take);
     if feet.is_empty() {
         // no feet by name (an animal; a rig whose names no scheme knows): the limb ends that
         // come down to the floor
@@ -1215,6 +1253,23 @@ pub fn estimate_take_ground_reactions_with(
         keep_going,
     )
     .map_err(|e| at_file(&take.path, e))
+}
+
+/// A human's feet at the ankles and toes its topology found (`model::skeleton`), else the
+/// feet its names say ([`feet_of_bvh`](crate::motion::contact::feet_of_bvh)).
+pub fn take_feet(take: &Take) -> Vec<crate::motion::contact::Foot> {
+    use crate::motion::contact::{Side, feet_at, feet_of_bvh};
+    match &take.human {
+        Ok(h) => {
+            let side = |l: &crate::model::skeleton::Leg| match l.side {
+                crate::model::anthropometry::Side::Left => Side::Left,
+                _ => Side::Right,
+            };
+            let legs: Vec<_> = h.legs.iter().map(|l| (side(l), l.ankle, l.toe)).collect();
+            feet_at(&take.bvh, &take.map, &take.model, &legs)
+        }
+        Err(_) => feet_of_bvh(&take.bvh, &take.map, &take.model),
+    }
 }
 
 /// The feet of a skeleton that is not a human's: the limb ends

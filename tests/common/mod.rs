@@ -1,6 +1,8 @@
 //! Shared by the integration tests (owned by the lead; add helpers in your own test files).
 #![allow(dead_code)]
 
+pub mod variants;
+
 use std::path::PathBuf;
 
 /// The real takes of `ARTICULA_REAL_TAKES` (`../shared/data/bvh` in CI), sorted by name.

@@ -1,0 +1,595 @@
+//! Which joints of a human skeleton are its pelvis, hips, knees, ankles, toes, lumbar spine,
+//! thorax, shoulders, elbows and wrists: found by topology and geometry, names only as hints.
+//!
+//! Exporters name a segment by its proximal joint (`RightHip` is the thigh in an inertial
+//! suit's rig), by its bone (`RightUpLeg`), or by nothing a table knows (`J7`); a skeleton's
+//! shape says the same thing whatever the names. From world positions of the joints over a
+//! few frames of the motion (and of their End Sites):
+//! - **legs** are the chains from the pelvis to the two lowest ends: the lowest end, and the
+//!   lowest other end whose branching point with it stands more than a quarter of the body's
+//!   height above it; that branching joint is the **pelvis**;
+//! - along a leg, the **ankle** is the first joint from which the rest of the chain (foot and
+//!   toes, to the end) is shorter than [`FOOT_REACH`] of the body's height; the **knee** is the
+//!   joint between hip and ankle where the chain bends most over the motion, among those a
+//!   plausible shank length above the ankle ([`SHANK_SHARE`]); the **hip** is the most proximal
+//!   joint from which the chain runs straight to the knee (twist helpers along a femur lie on
+//!   that line; a pelvis bone such as CMU's `LHipJoint` does not);
+//! - the **head** is the highest end outside the legs; the spine is the path to it from the
+//!   pelvis's branch, its first joint the **lumbar** joint; **arms** are the two longest
+//!   branches that leave the spine (one trunk joint may carry them all), their branching joint the
+//!   **thorax**, their **wrist** the common joint of the branch's ends (fingers, props), the
+//!   elbow and shoulder found as the knee and the hip are.
+//!
+//! Sides come from the names when both legs carry a side in their names, otherwise from the
+//! geometry: the right is forward × up, forward the way the toes point from the ankles.
+
+use crate::model::anthropometry::{Segment, SegmentOf, Side};
+use nalgebra::Vector3;
+
+/// Fraction of the body's height within which the foot (ankle to the end of the chain) lies.
+pub const FOOT_REACH: f64 = 0.2;
+/// Range of the shank's share of the pelvis-to-ankle chain length searched for the knee (the
+/// forearm's share of the arm for the elbow); de Leva's (1996) segment lengths put it at 0.45
+/// (shank 0.25, thigh 0.24 and pelvis half-width 0.06 of the stature).
+pub const SHANK_SHARE: (f64, f64) = (0.3, 0.62);
+/// Range of the forearm's share of the clavicle-to-wrist chain length searched for the elbow
+/// (de Leva: forearm 0.27 m, upper arm 0.28 m, clavicle about 0.15 m).
+pub const FOREARM_SHARE: (f64, f64) = (0.25, 0.55);
+
+/// Joint positions (m, world) at one sampled frame.
+#[derive(Debug, Clone)]
+pub struct Pose {
+    /// One per joint.
+    pub joints: Vec<Vector3<f64>>,
+    /// The joint's first End Site, if it has one.
+    pub ends: Vec<Option<Vector3<f64>>>,
+}
+
+/// A leg: the joints at the hip, knee and ankle centres, and the toe joint if the foot has one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Leg {
+    pub side: Side,
+    pub hip: usize,
+    pub knee: usize,
+    pub ankle: usize,
+    pub toe: Option<usize>,
+    /// The lowest end of the leg (a toe, or the ankle itself).
+    pub end: usize,
+}
+
+/// An arm: the joints at the shoulder (glenohumeral), elbow and wrist centres.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Arm {
+    pub side: Side,
+    pub shoulder: usize,
+    pub elbow: usize,
+    pub wrist: usize,
+}
+
+/// The trunk above the pelvis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Spine {
+    /// The first joint on the way from the pelvis to the head (its moment is the lumbar one).
+    pub lumbar: usize,
+    /// Where the arms branch off (the upper trunk).
+    pub thorax: usize,
+    /// The next joint above the thorax on the way to the head, if any (the neck).
+    pub neck: Option<usize>,
+    /// The highest end outside the legs.
+    pub head: usize,
+    /// Left, right.
+    pub arms: Option<[Arm; 2]>,
+}
+
+/// The landmarks of a human skeleton.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Human {
+    /// The joint both legs branch from.
+    pub pelvis: usize,
+    /// Left, right.
+    pub legs: [Leg; 2],
+    pub spine: Option<Spine>,
+    /// Whether left and right came from the joint names (else from forward × up).
+    pub sides_from_names: bool,
+    /// Median angle (rad) of the pelvis-to-head line from the vertical over the frames (π/2
+    /// without a trunk): how upright the body stands about the up axis given.
+    pub lean: f64,
+}
+
+/// A skeleton as parent links and names (names are hints only).
+pub struct Topology<'a> {
+    pub names: &'a [&'a str],
+    pub parent: &'a [Option<usize>],
+}
+
+impl Topology<'_> {
+    fn path_to_root(&self, mut j: usize) -> Vec<usize> {
+        let mut p = vec![j];
+        while let Some(q) = self.parent[j] {
+            p.push(q);
+            j = q;
+        }
+        p
+    }
+    /// Lowest common ancestor.
+    fn lca(&self, a: usize, b: usize) -> usize {
+        let pa = self.path_to_root(a);
+        let pb = self.path_to_root(b);
+        *pa.iter()
+            .find(|j| pb.contains(j))
+            .unwrap_or(&pa[pa.len() - 1])
+    }
+    /// The chain from just below `top` down to `end` (top exclusive, end inclusive), or `None`
+    /// if `top` is not an ancestor of `end`.
+    fn chain(&self, top: usize, end: usize) -> Option<Vec<usize>> {
+        let mut p = self.path_to_root(end);
+        let i = p.iter().position(|&j| j == top)?;
+        p.truncate(i);
+        p.reverse();
+        Some(p)
+    }
+    fn is_end(&self, j: usize, poses: &[Pose]) -> bool {
+        !self.parent.contains(&Some(j)) || poses.first().is_some_and(|p| p.ends[j].is_some())
+    }
+}
+
+/// Median over samples of `f(pose)`.
+fn median(poses: &[Pose], f: impl Fn(&Pose) -> f64) -> f64 {
+    let mut v: Vec<f64> = poses.iter().map(f).collect();
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() {
+        return 0.0;
+    }
+    v[v.len() / 2]
+}
+
+/// Where a chain ends: the joint's End Site if it has one, else the joint.
+fn tip(p: &Pose, j: usize) -> Vector3<f64> {
+    p.ends[j].unwrap_or(p.joints[j])
+}
+
+/// Median length of the path along `chain` from `chain[from]` to its tip (End Site included).
+fn path_length(poses: &[Pose], chain: &[usize], from: usize) -> f64 {
+    median(poses, |p| {
+        let mut s = 0.0;
+        for w in chain[from..].windows(2) {
+            s += (p.joints[w[1]] - p.joints[w[0]]).norm();
+        }
+        let last = chain[chain.len() - 1];
+        s + (tip(p, last) - p.joints[last]).norm()
+    })
+}
+
+/// Median path length between two joints of a chain (`from < to`).
+fn span(poses: &[Pose], chain: &[usize], from: usize, to: usize) -> f64 {
+    median(poses, |p| {
+        chain[from..=to]
+            .windows(2)
+            .map(|w| (p.joints[w[1]] - p.joints[w[0]]).norm())
+            .sum()
+    })
+}
+
+/// Range (95th − 5th percentile, rad) over samples of the angle the chain turns at `chain[i]`,
+/// between the nearest distinct points above (`top` if none on the chain) and below.
+fn bend_range(poses: &[Pose], top: usize, chain: &[usize], i: usize, below: usize) -> f64 {
+    let eps = 1e-3;
+    let mut angles: Vec<f64> = poses
+        .iter()
+        .filter_map(|p| {
+            let c = p.joints[chain[i]];
+            let above = chain[..i]
+                .iter()
+                .rev()
+                .map(|&j| p.joints[j])
+                .chain(std::iter::once(p.joints[top]))
+                .find(|x| (x - c).norm() > eps)?;
+            let next = chain[i + 1..=below]
+                .iter()
+                .map(|&j| p.joints[j])
+                .find(|x| (x - c).norm() > eps)?;
+            Some((c - above).angle(&(next - c)))
+        })
+        .collect();
+    if angles.len() < 2 {
+        return 0.0;
+    }
+    angles.sort_by(f64::total_cmp);
+    let n = angles.len() - 1;
+    angles[(0.95 * n as f64).round() as usize] - angles[(0.05 * n as f64).round() as usize]
+}
+
+/// The middle joint of a limb (knee, elbow) between the chain's start and `chain[distal]`: the
+/// one whose share of the path to the distal joint lies in `share` and where the chain bends
+/// most over the motion; without motion (a single pose), the one whose share is nearest the
+/// middle of `share`.
+fn middle_joint(
+    poses: &[Pose],
+    top: usize,
+    chain: &[usize],
+    distal: usize,
+    share: (f64, f64),
+) -> Option<usize> {
+    let total = median(poses, |p| {
+        let mut s = (p.joints[chain[0]] - p.joints[top]).norm();
+        for w in chain[..=distal].windows(2) {
+            s += (p.joints[w[1]] - p.joints[w[0]]).norm();
+        }
+        s
+    });
+    if total <= 0.0 {
+        return None;
+    }
+    let mid = 0.5 * (share.0 + share.1);
+    let candidates: Vec<(usize, f64, f64)> = (0..distal)
+        .map(|i| (i, span(poses, chain, i, distal) / total))
+        .filter(|(_, s)| (share.0..=share.1).contains(s))
+        .map(|(i, s)| (i, s, bend_range(poses, top, chain, i, distal)))
+        .collect();
+    let most = candidates.iter().map(|c| c.2).fold(0.0, f64::max);
+    let pick = if most > 10f64.to_radians() {
+        candidates.iter().max_by(|a, b| a.2.total_cmp(&b.2))
+    } else {
+        candidates
+            .iter()
+            .min_by(|a, b| (a.1 - mid).abs().total_cmp(&(b.1 - mid).abs()))
+    };
+    pick.map(|c| c.0)
+}
+
+/// The proximal joint of a limb (hip, shoulder) above `chain[mid]`: the most proximal chain
+/// joint from which every joint down to the middle one lies on the straight line to it
+/// (within 3 % of that length, median over samples).
+fn proximal_joint(poses: &[Pose], chain: &[usize], mid: usize) -> usize {
+    let on_line = |i: usize| {
+        median(poses, |p| {
+            let (a, b) = (p.joints[chain[i]], p.joints[chain[mid]]);
+            let l = (b - a).norm();
+            if l <= 1e-9 {
+                return f64::INFINITY;
+            }
+            let u = (b - a) / l;
+            chain[i + 1..mid]
+                .iter()
+                .map(|&j| {
+                    let d = p.joints[j] - a;
+                    (d - u * d.dot(&u)).norm() / l
+                })
+                .fold(0.0, f64::max)
+        }) < 0.03
+    };
+    (0..mid)
+        .find(|&i| on_line(i))
+        .unwrap_or(mid.saturating_sub(1))
+}
+
+/// The first joint of a chain after `chain[i]` at a distinct position, if any.
+fn next_distinct(poses: &[Pose], chain: &[usize], i: usize) -> Option<usize> {
+    let p = poses.first()?;
+    chain[i + 1..]
+        .iter()
+        .copied()
+        .find(|&j| (p.joints[j] - p.joints[chain[i]]).norm() > 1e-3)
+}
+
+fn side_from_names(names: &[&str], chain: &[usize]) -> Option<Side> {
+    let mut votes = [0usize; 2];
+    for &j in chain {
+        match crate::model::anthropometry::name_side(names[j]) {
+            Side::Left => votes[0] += 1,
+            Side::Right => votes[1] += 1,
+            Side::Center => {}
+        }
+    }
+    match votes {
+        [l, r] if l > r => Some(Side::Left),
+        [l, r] if r > l => Some(Side::Right),
+        _ => None,
+    }
+}
+
+/// Finds the landmarks of a human (biped) skeleton; `Err` says why the skeleton is not one.
+/// `poses` are a few frames of the motion (world positions, m), `up` the up axis.
+pub fn find_human(topo: &Topology, poses: &[Pose], up: usize) -> Result<Human, String> {
+    let n = topo.parent.len();
+    if poses.is_empty() || n < 5 {
+        return Err("a human skeleton needs at least 5 joints and one frame".into());
+    }
+    let height = |j: usize| median(poses, |p| tip(p, j)[up]);
+    let ends: Vec<usize> = (0..n).filter(|&j| topo.is_end(j, poses)).collect();
+    let tops = (0..n).map(|j| median(poses, |p| p.joints[j][up]));
+    let (lo, hi) = tops.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), h| {
+        (a.min(h), b.max(h))
+    });
+    let body = (hi - lo).max(ends.iter().map(|&e| height(e)).fold(lo, f64::max) - lo);
+    if body <= 0.0 {
+        return Err("the skeleton has no height".into());
+    }
+
+    // legs: the two lowest ends whose branching point stands well above them
+    let mut by_height = ends.clone();
+    by_height.sort_by(|&a, &b| height(a).total_cmp(&height(b)));
+    let e1 = *by_height.first().ok_or("no ends")?;
+    let e2 = by_height[1..]
+        .iter()
+        .copied()
+        .find(|&e| {
+            let l = topo.lca(e1, e);
+            l != e && l != e1 && median(poses, |p| p.joints[l][up]) - height(e1) > 0.25 * body
+        })
+        .ok_or("no two legs: no second low end branches from high enough above the lowest")?;
+    let pelvis = topo.lca(e1, e2);
+    let mut legs = vec![];
+    for e in [e1, e2] {
+        let chain = topo.chain(pelvis, e).ok_or("leg chain")?;
+        let ankle = (0..chain.len())
+            .find(|&i| path_length(poses, &chain, i) <= FOOT_REACH * body)
+            .ok_or("no ankle: every joint of a leg lies far above its end")?;
+        let knee = middle_joint(poses, pelvis, &chain, ankle, SHANK_SHARE)
+            .ok_or("no knee: no joint of the leg lies a shank's length above the ankle")?;
+        let hip = proximal_joint(poses, &chain, knee);
+        legs.push(Leg {
+            side: Side::Center,
+            hip: chain[hip],
+            knee: chain[knee],
+            ankle: chain[ankle],
+            toe: next_distinct(poses, &chain, ankle),
+            end: e,
+        });
+    }
+
+    // sides: names if both legs have one and they differ, else forward × up
+    let named: Vec<Option<Side>> = [e1, e2]
+        .iter()
+        .map(|&e| side_from_names(topo.names, &topo.chain(pelvis, e).unwrap_or_default()))
+        .collect();
+    let sides_from_names = matches!(
+        (named[0], named[1]),
+        (Some(a), Some(b)) if a != b
+    );
+    let first_is_left = if sides_from_names {
+        named[0] == Some(Side::Left)
+    } else {
+        // the first leg is on the left if it lies on the −right side of the second
+        median(poses, |p| {
+            let fwd = |l: &Leg| {
+                let t = tip(p, l.end) - p.joints[l.ankle];
+                let mut t = t;
+                t[up] = 0.0;
+                t
+            };
+            let forward = fwd(&legs[0]) + fwd(&legs[1]);
+            let right = forward.cross(&Vector3::ith(up, 1.0));
+            (p.joints[legs[1].hip] - p.joints[legs[0].hip]).dot(&right)
+        }) > 0.0
+    };
+    if !first_is_left {
+        legs.swap(0, 1);
+    }
+    legs[0].side = Side::Left;
+    legs[1].side = Side::Right;
+    let legs = [legs[0], legs[1]];
+    let spine = find_spine(topo, poses, up, pelvis, &legs, &ends, body);
+    let mut lean_median = std::f64::consts::FRAC_PI_2;
+    if let Some(s) = &spine {
+        // upright at some time (a lift bends it for most of a take; a quadruped never)
+        let mut lean: Vec<f64> = poses
+            .iter()
+            .map(|p| (tip(p, s.head) - p.joints[pelvis]).angle(&Vector3::ith(up, 1.0)))
+            .collect();
+        lean.sort_by(f64::total_cmp);
+        lean_median = lean[lean.len() / 2];
+        let most_upright = lean[lean.len() / 10];
+        if most_upright > 45f64.to_radians() {
+            return Err(format!(
+                "the trunk is never upright (pelvis to head at least {:.0}° from the vertical in \
+                 nine frames of ten): not a biped",
+                most_upright.to_degrees()
+            ));
+        }
+    }
+    Ok(Human {
+        pelvis,
+        legs,
+        spine,
+        sides_from_names,
+        lean: lean_median,
+    })
+}
+
+/// The trunk, head and arms above the pelvis (`None` if the skeleton has no end above it).
+fn find_spine(
+    topo: &Topology,
+    poses: &[Pose],
+    up: usize,
+    pelvis: usize,
+    legs: &[Leg; 2],
+    ends: &[usize],
+    body: f64,
+) -> Option<Spine> {
+    let in_leg = |e: usize| {
+        topo.chain(pelvis, e)
+            .is_some_and(|c| c.contains(&legs[0].hip) || c.contains(&legs[1].hip))
+    };
+    let height = |j: usize| median(poses, |p| tip(p, j)[up]);
+    let head = ends
+        .iter()
+        .copied()
+        .filter(|&e| !in_leg(e))
+        .max_by(|&a, &b| height(a).total_cmp(&height(b)))?;
+    let base = topo.lca(pelvis, head);
+    let spine = topo.chain(base, head)?;
+    let lumbar = *spine.first()?;
+    // arms: the ends that leave the spine above the lumbar joint, grouped by where they leave
+    let mut groups: Vec<(usize, Vec<usize>)> = vec![]; // (off-spine first joint, ends)
+    for &e in ends.iter().filter(|&&e| e != head && !in_leg(e)) {
+        let path = topo.path_to_root(e);
+        let Some(k) = path.iter().position(|j| spine.contains(j)) else {
+            continue;
+        };
+        if k == 0 {
+            continue; // an end on the spine itself
+        }
+        let first = path[k - 1];
+        match groups.iter_mut().find(|g| g.0 == first) {
+            Some(g) => g.1.push(e),
+            None => groups.push((first, vec![e])),
+        }
+    }
+    let reach = |g: &(usize, Vec<usize>)| {
+        g.1.iter()
+            .map(|&e| median(poses, |p| (tip(p, e) - p.joints[g.0]).norm()))
+            .fold(0.0, f64::max)
+    };
+    groups.sort_by(|a, b| reach(b).total_cmp(&reach(a)));
+    let arms = (groups.len() >= 2 && reach(&groups[1]) > 0.2 * body).then(|| {
+        let arm = |g: &(usize, Vec<usize>)| -> Option<Arm> {
+            let wrist = g.1[1..].iter().fold(g.1[0], |a, &e| topo.lca(a, e));
+            let top = topo.parent[g.0]?;
+            let chain = topo.chain(top, wrist)?;
+            let w = chain.len() - 1;
+            let elbow = middle_joint(poses, top, &chain, w, FOREARM_SHARE)?;
+            let shoulder = proximal_joint(poses, &chain, elbow);
+            Some(Arm {
+                side: Side::Center,
+                shoulder: chain[shoulder],
+                elbow: chain[elbow],
+                wrist,
+            })
+        };
+        Some([arm(&groups[0])?, arm(&groups[1])?])
+    });
+    let mut arms = arms.flatten();
+    let thorax = match &arms {
+        Some(a) => topo.lca(a[0].shoulder, a[1].shoulder),
+        None => *spine.get(spine.len().saturating_sub(3)).unwrap_or(&lumbar),
+    };
+    if let Some(a) = arms.as_mut() {
+        // the left arm is on the side of the left hip
+        let left_first = median(poses, |p| {
+            let lr = p.joints[legs[1].hip] - p.joints[legs[0].hip];
+            (p.joints[a[1].shoulder] - p.joints[a[0].shoulder]).dot(&lr)
+        }) > 0.0;
+        if !left_first {
+            a.swap(0, 1);
+        }
+        a[0].side = Side::Left;
+        a[1].side = Side::Right;
+    }
+    let neck = spine
+        .iter()
+        .position(|&j| j == thorax)
+        .and_then(|i| next_distinct(poses, &spine, i));
+    Some(Spine {
+        lumbar,
+        thorax,
+        neck,
+        head,
+        arms,
+    })
+}
+
+/// The de Leva segment of every joint's link, from the landmarks (names play no part): the
+/// pelvis, the bones from it to the hips, the spine up to the thorax and the bones from the
+/// thorax to the shoulders are the trunk (the shoulder bones and the trunk's other branches
+/// as girdle bones); the neck and above the head; hip to knee the thigh, knee to
+/// ankle the shank, the ankle and below the foot; shoulder to elbow the upper arm, elbow to
+/// wrist the forearm, the wrist and below the hand. A joint on none of these chains takes its
+/// parent's segment (a girdle bone if the parent is the trunk); joints above the pelvis and the
+/// spine's base stay massless helpers.
+pub fn segment_classes(topo: &Topology, human: &Human) -> Vec<SegmentOf> {
+    use crate::model::anthropometry::Segment::*;
+    let n = topo.parent.len();
+    let mut out: Vec<Option<SegmentOf>> = vec![None; n];
+    let set = |out: &mut Vec<Option<SegmentOf>>, j: usize, seg, side, girdle| {
+        out[j] = Some(SegmentOf {
+            class: Some((seg, side)),
+            girdle,
+        });
+    };
+    // a limb: proximal chain (girdle) from `top`, then three segments at a, b, c
+    let limb = |out: &mut Vec<Option<SegmentOf>>,
+                top: usize,
+                [a, b, c]: [usize; 3],
+                side,
+                segs: [Segment; 3],
+                girdle: bool| {
+        let chain = topo.chain(top, c).unwrap_or_default();
+        let mut seg = None;
+        for &j in &chain {
+            if j == a {
+                seg = Some(segs[0]);
+            } else if j == b {
+                seg = Some(segs[1]);
+            } else if j == c {
+                seg = Some(segs[2]);
+            }
+            match seg {
+                None => set(out, j, Trunk, Side::Center, girdle),
+                Some(s) => set(out, j, s, side, false),
+            }
+        }
+    };
+    set(&mut out, human.pelvis, Trunk, Side::Center, false);
+    for leg in &human.legs {
+        limb(
+            &mut out,
+            human.pelvis,
+            [leg.hip, leg.knee, leg.ankle],
+            leg.side,
+            [Thigh, Shank, Foot],
+            false,
+        );
+    }
+    if let Some(s) = &human.spine {
+        let base = topo.parent[s.lumbar].unwrap_or(human.pelvis);
+        set(&mut out, base, Trunk, Side::Center, false);
+        let spine = topo.chain(base, s.head).unwrap_or_default();
+        let mut seg = Trunk;
+        for &j in &spine {
+            if Some(j) == s.neck {
+                seg = Head;
+            }
+            set(&mut out, j, seg, Side::Center, false);
+        }
+        for arm in s.arms.iter().flatten() {
+            limb(
+                &mut out,
+                s.thorax,
+                [arm.shoulder, arm.elbow, arm.wrist],
+                arm.side,
+                [UpperArm, Forearm, Hand],
+                true,
+            );
+        }
+    }
+    // the rest inherit (in file order, parents first)
+    let below_hub = |mut j: usize| loop {
+        if j == human.pelvis || out_has(&out, j) {
+            return true;
+        }
+        match topo.parent[j] {
+            Some(p) => j = p,
+            None => return false,
+        }
+    };
+    let mut result = vec![SegmentOf::default(); n];
+    for j in 0..n {
+        result[j] = match (out[j], topo.parent[j]) {
+            (Some(c), _) => c,
+            (None, Some(p)) if below_hub(p) => {
+                let pc = result[p];
+                SegmentOf {
+                    class: pc.class,
+                    girdle: pc.girdle || matches!(pc.class, Some((Trunk, _))),
+                }
+            }
+            _ => SegmentOf::default(),
+        };
+    }
+    result
+}
+
+fn out_has(out: &[Option<SegmentOf>], j: usize) -> bool {
+    out[j].is_some()
+}

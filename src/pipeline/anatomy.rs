@@ -1,0 +1,652 @@
+//! `articula anatomy`: anatomical joint angles and net internal moments of a human take
+//! (`dynamics::anatomy` for the conventions, `model::skeleton` for how the joints are found).
+//!
+//! Segment frames (X anterior, Y proximal, Z right), each fixed to the body that carries the
+//! segment's bone, are calibrated once per take from its motion:
+//! - pelvis: Z along the hip centres (left → right), Y from the mid-hip point to the lumbar
+//!   spine (a skeleton has no pelvic landmarks, ASIS or PSIS, to tilt it by; the world's up on
+//!   average over the take when the skeleton has no spine);
+//! - thorax: Z along the shoulder centres, Y towards the neck;
+//! - thigh, shank, upper arm, forearm: Y the bone (distal → proximal joint centre, every
+//!   frame), Z the knee's (elbow's) functional flexion axis
+//!   ([`functional_axis`](crate::dynamics::anatomy::functional_axis)) pointing right, or the
+//!   pelvis's Z when the joint hardly moves;
+//! - foot: Z the ankle's functional axis, X the direction from the ankle to the toe (or the
+//!   foot's end) held level: its mean over the frames where the foot lies flat and lowest, so
+//!   that the ankle reads zero with the sole flat under a vertical shank.
+//!
+//! Moments are the joint forces of inverse dynamics (with the take's ground reactions when
+//! `contact` is `feet`) at the joint centre, projected on the joint's axes.
+
+use super::{Take, ground_reactions};
+use crate::dynamics::anatomy::{
+    self as jcs, ANKLE, AXES, ELBOW, HIP, JointKind, KNEE, LUMBAR, PELVIS, SHOULDER, frame_from_yz,
+    frame_from_zx, functional_axis,
+};
+use crate::dynamics::{self, Workspace};
+use crate::error::Error;
+use crate::io::bvh::{self, Bvh, ResolvedPosition, UpAxis};
+use crate::model::anthropometry::SegmentOf;
+use crate::model::skeleton::{Human, Pose, Topology, find_human, segment_classes};
+use crate::spatial::ForceVec;
+use nalgebra::{Matrix3, Vector3};
+
+/// Angles (deg), moments (N·m) and moments per body mass (N·m/kg) per frame.
+#[derive(Debug, Clone)]
+pub struct Anatomy {
+    pub time: Vec<f64>,
+    /// Column names after `time`: `<joint>[_l|_r]:<flexion|adduction|rotation>:<angle|moment|
+    /// moment_per_kg>`.
+    pub names: Vec<String>,
+    /// One per name, one value per frame.
+    pub columns: Vec<Vec<f64>>,
+    /// The body mass the per-kg moments divide by (kg).
+    pub mass_kg: f64,
+    /// How the joints and frames were found.
+    pub notes: Vec<String>,
+}
+
+impl Anatomy {
+    /// The column called `name`.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        let i = self.names.iter().position(|n| n == name)?;
+        Some(&self.columns[i])
+    }
+}
+
+/// A segment's frame: how its axes follow the bodies.
+#[derive(Debug, Clone, Copy)]
+enum Frame {
+    /// The world's up and a heading (the lab, for the pelvis's angles).
+    Lab { x: Vector3<f64> },
+    /// Both axes fixed in the body of joint `body` (pelvis, thorax).
+    Body {
+        body: usize,
+        y: Vector3<f64>,
+        z: Vector3<f64>,
+    },
+    /// Y from joint `dist`'s centre to joint `prox`'s, Z fixed in the body of joint `body`.
+    Bone {
+        prox: usize,
+        dist: usize,
+        body: usize,
+        z: Vector3<f64>,
+    },
+    /// Z and X fixed in the body of joint `body` (foot).
+    Foot {
+        body: usize,
+        z: Vector3<f64>,
+        x: Vector3<f64>,
+    },
+}
+
+/// One anatomical joint of the take.
+#[derive(Debug, Clone)]
+struct Joint {
+    kind: JointKind,
+    /// `""`, `_l` or `_r`.
+    suffix: &'static str,
+    proximal: Frame,
+    distal: Frame,
+    /// The BVH joint whose joint force is this joint's moment (`None`: angles only).
+    moment_at: Option<usize>,
+}
+
+/// World rotation (BVH joint frame) and position of every BVH joint at one frame.
+struct Posed {
+    rot: Vec<Matrix3<f64>>,
+    pos: Vec<Vector3<f64>>,
+}
+
+fn posed(take: &Take, ws: &Workspace) -> Posed {
+    let (rot, pos) = take
+        .map
+        .joints
+        .iter()
+        .map(|jm| {
+            let o = ws.o_x_i[jm.body].compose(&jm.frame);
+            (o.rot, o.trans)
+        })
+        .unzip();
+    Posed { rot, pos }
+}
+
+impl Frame {
+    fn at(&self, p: &Posed, up: &Vector3<f64>) -> Option<Matrix3<f64>> {
+        match *self {
+            Frame::Lab { x } => Some(Matrix3::from_columns(&[x, *up, x.cross(up)])),
+            Frame::Body { body, y, z } => frame_from_yz(&(p.rot[body] * y), &(p.rot[body] * z)),
+            Frame::Bone {
+                prox,
+                dist,
+                body,
+                z,
+            } => frame_from_yz(&(p.pos[prox] - p.pos[dist]), &(p.rot[body] * z)),
+            Frame::Foot { body, z, x } => frame_from_zx(&(p.rot[body] * z), &(p.rot[body] * x)),
+        }
+    }
+}
+
+/// Mean of `f(frame)` over the frames, normalised (`None` if it vanishes).
+fn mean_dir(frames: &[Posed], f: impl Fn(&Posed) -> Vector3<f64>) -> Option<Vector3<f64>> {
+    frames
+        .iter()
+        .map(f)
+        .fold(Vector3::zeros(), |s, v| s + v)
+        .try_normalize(1e-12)
+}
+
+/// The functional axis of the joint between the bodies of BVH joints `a` (proximal) and `b`,
+/// in the frame of `a`'s body (or `b`'s with `in_b`), pointing the way `right` (world) does on
+/// average. It must lie within 45° of `right` held in that body (averaged over the frames)
+/// and more than 30° from the bone `bone(frame)`; otherwise (or when the joint hardly moves)
+/// `right` held in the body is the axis, and `up` where that lies along the bone (an arm held
+/// out sideways).
+fn lateral_axis(
+    frames: &[Posed],
+    (a, b, in_b): (usize, usize, bool),
+    right: &dyn Fn(&Posed) -> Vector3<f64>,
+    up: &Vector3<f64>,
+    bone: &dyn Fn(&Posed) -> Vector3<f64>,
+    stride: usize,
+) -> Option<Vector3<f64>> {
+    let on = if in_b { b } else { a };
+    let rel: Vec<Matrix3<f64>> = frames
+        .iter()
+        .map(|p| p.rot[a].transpose() * p.rot[b])
+        .collect();
+    // mean |cos| of the angle between an axis held in the body and the bone
+    let along_bone = |axis: &Vector3<f64>| {
+        frames
+            .iter()
+            .map(|p| {
+                bone(p)
+                    .try_normalize(1e-12)
+                    .map_or(0.0, |u| u.dot(&(p.rot[on] * axis)).abs())
+            })
+            .sum::<f64>()
+            / frames.len() as f64
+    };
+    let across = |axis: &Vector3<f64>| along_bone(axis) < 30f64.to_radians().cos();
+    // without a functional axis: the pelvis's right, else (an arm held out sideways) the up
+    let fallback = || {
+        mean_dir(frames, |p| p.rot[on].transpose() * right(p))
+            .filter(|z| across(z))
+            .or_else(|| mean_dir(frames, |p| p.rot[on].transpose() * up))
+    };
+    let Some(axis) = functional_axis(&rel, stride, in_b, 10f64.to_radians()) else {
+        return fallback();
+    };
+    let sign = frames
+        .iter()
+        .map(|p| (p.rot[on] * axis).dot(&right(p)))
+        .sum::<f64>()
+        .signum();
+    let axis = axis * sign;
+    // a joint that turned mostly about another axis in this take (an ankle that mostly
+    // inverts) gives the pelvis's right instead
+    let right_held = mean_dir(frames, |p| p.rot[on].transpose() * right(p));
+    let near_right = right_held.is_none_or(|r| r.angle(&axis) < 45f64.to_radians());
+    if !across(&axis) || !near_right {
+        return fallback();
+    }
+    Some(axis)
+}
+
+/// The take's human skeleton, or why it is not one.
+pub fn find_take_human(take: &Take) -> Result<Human, Error> {
+    take.human.clone().map_err(|why| {
+        Error::Invalid(format!(
+            "{}: anatomical angles need a human skeleton (two legs from a pelvis): {why}",
+            take.path.display()
+        ))
+    })
+}
+
+/// The human landmarks of a BVH skeleton (`model::skeleton::find_human`) from the file's own
+/// forward kinematics at up to 64 evenly spaced frames, in metres.
+pub(crate) fn human_of_bvh(
+    bvh: &Bvh,
+    modes: &[ResolvedPosition],
+    scale_to_m: f64,
+    up: UpAxis,
+) -> Result<Human, String> {
+    let n = bvh.frames;
+    let poses: Vec<Pose> = (0..n)
+        .step_by(n.div_ceil(64).max(1))
+        .map(|k| {
+            let joints: Vec<Vector3<f64>> = bvh::bvh_world_positions(bvh, modes, k)
+                .into_iter()
+                .map(|p| p * scale_to_m)
+                .collect();
+            let mut sites = bvh::bvh_end_site_positions(bvh, modes, k).into_iter();
+            let ends = bvh
+                .joints
+                .iter()
+                .map(|j| {
+                    let mut first = None;
+                    for _ in &j.end_sites {
+                        let p = sites.next().map(|p| p * scale_to_m);
+                        first = first.or(p);
+                    }
+                    first
+                })
+                .collect();
+            Pose { joints, ends }
+        })
+        .collect();
+    let names: Vec<&str> = bvh.joints.iter().map(|j| j.name.as_str()).collect();
+    let parent: Vec<Option<usize>> = bvh.joints.iter().map(|j| j.parent).collect();
+    find_human(
+        &Topology {
+            names: &names,
+            parent: &parent,
+        },
+        &poses,
+        up.index(),
+    )
+}
+
+/// The segment of every joint's link by the skeleton's landmarks.
+pub(crate) fn segments_of(bvh: &Bvh, human: &Human) -> Vec<SegmentOf> {
+    let names: Vec<&str> = bvh.joints.iter().map(|j| j.name.as_str()).collect();
+    let parent: Vec<Option<usize>> = bvh.joints.iter().map(|j| j.parent).collect();
+    segment_classes(
+        &Topology {
+            names: &names,
+            parent: &parent,
+        },
+        human,
+    )
+}
+
+/// Calibrates the segment frames of `human` on the take's frames (see the module doc).
+fn joints_of(take: &Take, human: &Human, frames: &[Posed], notes: &mut Vec<String>) -> Vec<Joint> {
+    let bvh = &take.bvh;
+    let up = Vector3::ith(take.up.index(), 1.0);
+    let parent = |j: usize| bvh.joints[j].parent.unwrap_or(j);
+    let [l, r] = human.legs;
+    let right_of_pelvis = move |p: &Posed| p.pos[r.hip] - p.pos[l.hip];
+    let stride = ((0.05 / take.bvh.frame_time).round() as usize).max(1);
+    let pelvis = human.pelvis;
+    let z_pelvis = mean_dir(frames, |p| p.rot[pelvis].transpose() * right_of_pelvis(p));
+    // the pelvis's long axis: from the mid-hip point to the lumbar spine (the first trunk joint
+    // a tenth of a thigh above it), else the world's up on average
+    let mid_hip = move |p: &Posed| 0.5 * (p.pos[l.hip] + p.pos[r.hip]);
+    let thigh = (frames[0].pos[l.hip] - frames[0].pos[l.knee]).norm();
+    let lumbar = human.spine.and_then(|s| {
+        [s.lumbar, s.thorax]
+            .into_iter()
+            .find(|&j| (frames[0].pos[j] - mid_hip(&frames[0])).norm() > 0.1 * thigh)
+    });
+    let y_pelvis = match lumbar {
+        Some(j) => mean_dir(frames, |p| {
+            p.rot[pelvis].transpose() * (p.pos[j] - mid_hip(p))
+        }),
+        None => mean_dir(frames, |p| p.rot[pelvis].transpose() * up),
+    };
+    let (Some(z), Some(y)) = (z_pelvis, y_pelvis) else {
+        notes.push("the pelvis has no left–right extent: no anatomical angles".into());
+        return vec![];
+    };
+    let pelvis_frame = Frame::Body { body: pelvis, y, z };
+    let pelvis_right = move |p: &Posed| p.rot[pelvis] * z;
+    let moment_at = |j: usize| {
+        let welded = take.map.joints[j].body == take.map.joints[parent(j)].body;
+        (!welded && bvh.joints[j].parent.is_some()).then_some(j)
+    };
+    let heading = mean_dir(frames, |p| {
+        let x = p.rot[pelvis] * y.cross(&z);
+        x - up * x.dot(&up)
+    })
+    .unwrap_or_else(|| Vector3::ith((take.up.index() + 1) % 3, 1.0));
+    let mut out = vec![Joint {
+        kind: PELVIS,
+        suffix: "",
+        proximal: Frame::Lab { x: heading },
+        distal: pelvis_frame,
+        moment_at: None,
+    }];
+    let limb = |kind_p: JointKind,
+                kind_m: JointKind,
+                suffix: &'static str,
+                top: Frame,
+                (a, b, c): (usize, usize, usize),
+                out: &mut Vec<Joint>| {
+        // a-b-c: hip, knee, ankle (shoulder, elbow, wrist); bodies of the two bones
+        let (upper, lower) = (parent(b), parent(c));
+        let bone_u = move |p: &Posed| p.pos[a] - p.pos[b];
+        let bone_l = move |p: &Posed| p.pos[b] - p.pos[c];
+        let zu = lateral_axis(
+            frames,
+            (upper, lower, false),
+            &pelvis_right,
+            &up,
+            &bone_u,
+            stride,
+        );
+        let zl = lateral_axis(
+            frames,
+            (upper, lower, true),
+            &pelvis_right,
+            &up,
+            &bone_l,
+            stride,
+        );
+        let (Some(zu), Some(zl)) = (zu, zl) else {
+            return None;
+        };
+        let u = Frame::Bone {
+            prox: a,
+            dist: b,
+            body: upper,
+            z: zu,
+        };
+        let lo = Frame::Bone {
+            prox: b,
+            dist: c,
+            body: lower,
+            z: zl,
+        };
+        out.push(Joint {
+            kind: kind_p,
+            suffix,
+            proximal: top,
+            distal: u,
+            moment_at: moment_at(a),
+        });
+        out.push(Joint {
+            kind: kind_m,
+            suffix,
+            proximal: u,
+            distal: lo,
+            moment_at: moment_at(b),
+        });
+        Some(lo)
+    };
+    let mut legs = vec![];
+    for (leg, suffix) in [(l, "_l"), (r, "_r")] {
+        let mut pair = vec![];
+        let shank = limb(
+            HIP,
+            KNEE,
+            suffix,
+            pelvis_frame,
+            (leg.hip, leg.knee, leg.ankle),
+            &mut pair,
+        );
+        legs.push((leg, suffix, shank, pair));
+    }
+    // the trunk next (output order: pelvis, lumbar, legs, arms)
+    let spine = human.spine.and_then(|s| {
+        let th = s.thorax;
+        let zt = match s.arms {
+            Some([al, ar]) => mean_dir(frames, |p| {
+                p.rot[th].transpose() * (p.pos[ar.shoulder] - p.pos[al.shoulder])
+            }),
+            None => mean_dir(frames, |p| p.rot[th].transpose() * pelvis_right(p)),
+        }?;
+        let yt = match s.neck {
+            Some(nk) => mean_dir(frames, |p| p.rot[th].transpose() * (p.pos[nk] - p.pos[th])),
+            None => mean_dir(frames, |p| p.rot[th].transpose() * up),
+        }?;
+        Some((
+            s,
+            Frame::Body {
+                body: th,
+                y: yt,
+                z: zt,
+            },
+        ))
+    });
+    if let Some((s, thorax)) = spine {
+        out.push(Joint {
+            kind: LUMBAR,
+            suffix: "",
+            proximal: pelvis_frame,
+            distal: thorax,
+            moment_at: moment_at(s.lumbar),
+        });
+    } else {
+        notes.push(
+            "no trunk above the pelvis was found: no lumbar, shoulder or elbow angles".into(),
+        );
+    }
+    for (leg, suffix, shank, pair) in legs {
+        let Some(shank) = shank else {
+            notes.push(format!(
+                "leg{suffix}: the hip and knee have no left–right axis: no angles"
+            ));
+            continue;
+        };
+        out.extend(pair);
+        let Frame::Bone {
+            body: shank_body, ..
+        } = shank
+        else {
+            continue;
+        };
+        let foot_body = leg.toe.map_or(leg.ankle, parent);
+        let toe = move |p: &Posed| match leg.toe {
+            Some(t) => p.pos[t],
+            None => {
+                let e = bvh.joints[leg.ankle]
+                    .end_sites
+                    .first()
+                    .copied()
+                    .unwrap_or_default();
+                p.pos[leg.ankle] + p.rot[leg.ankle] * (e * take.map.scale_to_m)
+            }
+        };
+        let sole = move |p: &Posed| toe(p) - p.pos[leg.ankle];
+        if foot_body == shank_body || sole(&frames[0]).norm() < 1e-6 {
+            notes.push(format!(
+                "ankle{suffix}: the foot has no bone of its own: no ankle angles"
+            ));
+            continue;
+        }
+        let zf = lateral_axis(
+            frames,
+            (shank_body, foot_body, true),
+            &pelvis_right,
+            &up,
+            &sole,
+            stride,
+        );
+        let xf = flat_sole(frames, foot_body, &sole, &|p| toe(p), &up);
+        if let (Some(z), Some(x)) = (zf, xf) {
+            out.push(Joint {
+                kind: ANKLE,
+                suffix,
+                proximal: shank,
+                distal: Frame::Foot {
+                    body: foot_body,
+                    z,
+                    x,
+                },
+                moment_at: moment_at(leg.ankle),
+            });
+        }
+    }
+    if let Some((s, thorax)) = spine {
+        for arm in s.arms.iter().flatten() {
+            let suffix = if arm.side == crate::model::anthropometry::Side::Left {
+                "_l"
+            } else {
+                "_r"
+            };
+            limb(
+                SHOULDER,
+                ELBOW,
+                suffix,
+                thorax,
+                (arm.shoulder, arm.elbow, arm.wrist),
+                &mut out,
+            );
+        }
+    }
+    out
+}
+
+/// The foot's level direction (in its body's frame): the ankle → toe line with its vertical
+/// part removed, averaged over the frames where the foot lies lowest (ankle and toe within
+/// 2 cm of their lowest), all frames if none.
+fn flat_sole(
+    frames: &[Posed],
+    body: usize,
+    sole: &dyn Fn(&Posed) -> Vector3<f64>,
+    toe: &dyn Fn(&Posed) -> Vector3<f64>,
+    up: &Vector3<f64>,
+) -> Option<Vector3<f64>> {
+    let ankle_h: Vec<f64> = frames.iter().map(|p| (toe(p) - sole(p)).dot(up)).collect();
+    let toe_h: Vec<f64> = frames.iter().map(|p| toe(p).dot(up)).collect();
+    let low = |h: &[f64]| h.iter().copied().fold(f64::INFINITY, f64::min);
+    let (la, lt) = (low(&ankle_h), low(&toe_h));
+    let level = |p: &Posed| {
+        let s = sole(p);
+        p.rot[body].transpose() * (s - up * s.dot(up))
+    };
+    let flat: Vec<usize> = (0..frames.len())
+        .filter(|&k| ankle_h[k] <= la + 0.02 && toe_h[k] <= lt + 0.02)
+        .collect();
+    let sum = flat
+        .iter()
+        .map(|&k| level(&frames[k]))
+        .fold(Vector3::zeros(), |s, v| s + v);
+    sum.try_normalize(1e-12).or_else(|| mean_dir(frames, level))
+}
+
+/// Anatomical angles and moments of every frame of a human take (see the module doc).
+pub fn anatomy(take: &Take) -> Result<Anatomy, Error> {
+    let human = find_take_human(take)?;
+    let model = &take.model;
+    let s = &take.states;
+    let n = s.len();
+    let mut ws = Workspace::new(model);
+    let frames: Vec<Posed> = (0..n)
+        .map(|k| {
+            dynamics::forward_kinematics(model, &mut ws, &s.q[k]);
+            posed(take, &ws)
+        })
+        .collect();
+    let mut notes = vec![];
+    if !human.sides_from_names {
+        notes.push(
+            "left and right were told from the geometry (forward × up), not the names".into(),
+        );
+    }
+    let joints = joints_of(take, &human, &frames, &mut notes);
+    let grf = ground_reactions(take)?;
+    let up = Vector3::ith(take.up.index(), 1.0);
+    let mass = model.total_mass();
+
+    let mut names = vec![];
+    for j in &joints {
+        for what in ["angle", "moment", "moment_per_kg"] {
+            if what != "angle" && j.moment_at.is_none() {
+                continue;
+            }
+            for axis in AXES {
+                names.push(format!("{}{}:{axis}:{what}", j.kind.name, j.suffix));
+            }
+        }
+    }
+    let mut columns = vec![Vec::with_capacity(n); names.len()];
+    let mut f_ext = vec![ForceVec::ZERO; model.nbodies()];
+    for (k, p) in frames.iter().enumerate() {
+        dynamics::forward_kinematics(model, &mut ws, &s.q[k]);
+        let fx = grf.as_ref().map(|g| {
+            g.external_forces(k, &ws.o_x_i, &mut f_ext);
+            f_ext.as_slice()
+        });
+        dynamics::rnea(model, &mut ws, &s.q[k], &s.v[k], &s.a[k], fx);
+        let mut c = 0;
+        for j in &joints {
+            let (Some(fp), Some(fd)) = (j.proximal.at(p, &up), j.distal.at(p, &up)) else {
+                return Err(Error::Numerical(format!(
+                    "{}: frame {k}: the {}{} joint's segments have no frame (a bone of zero \
+                     length or parallel to its lateral axis)",
+                    take.path.display(),
+                    j.kind.name,
+                    j.suffix
+                )));
+            };
+            let m = j.moment_at.map_or(Vector3::zeros(), |b| {
+                let jm = &take.map.joints[b];
+                ws.o_x_i[jm.body].rot * ws.f[jm.body].ang
+            });
+            let (ang, mom) = jcs::joint_angles_moments(j.kind, j.suffix != "_l", &fp, &fd, &m);
+            for a in ang {
+                columns[c].push(a.to_degrees());
+                c += 1;
+            }
+            if j.moment_at.is_some() {
+                for x in mom {
+                    columns[c].push(x);
+                    c += 1;
+                }
+                for x in mom {
+                    columns[c].push(x / mass);
+                    c += 1;
+                }
+            }
+        }
+    }
+    for (name, col) in names.iter().zip(columns.iter_mut()) {
+        if name.ends_with(":angle") {
+            unwrap_degrees(col);
+        }
+    }
+    Ok(Anatomy {
+        time: s.time.clone(),
+        names,
+        columns,
+        mass_kg: mass,
+        notes,
+    })
+}
+
+/// Removes jumps of whole turns from an angle series (deg).
+fn unwrap_degrees(x: &mut [f64]) {
+    for k in 1..x.len() {
+        let d = x[k] - x[k - 1];
+        x[k] -= 360.0 * (d / 360.0).round();
+    }
+}
+
+/// `articula anatomy -o PATH`: `time` (s), then every column of [`anatomy`].
+pub fn write_anatomy(a: &Anatomy, path: &std::path::Path) -> Result<(), Error> {
+    let mut header = vec!["time".to_string()];
+    header.extend(a.names.iter().cloned());
+    let mut cols: Vec<&[f64]> = vec![&a.time];
+    cols.extend(a.columns.iter().map(|c| c.as_slice()));
+    crate::report::csv::write_columns(path, &header, &cols)
+}
+
+/// A few lines for the terminal: per joint, the flexion range (deg) and the largest extensor
+/// and flexor moments (N·m/kg) over the take.
+pub fn summary(a: &Anatomy) -> String {
+    let mut out = format!(
+        "{:<12} {:>22} {:>30}\n",
+        "joint", "flexion min..max (deg)", "flexion moment min..max (N·m/kg)"
+    );
+    let range = |c: &[f64]| {
+        c.iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                (lo.min(*x), hi.max(*x))
+            })
+    };
+    for name in a.names.iter().filter(|n| n.ends_with(":flexion:angle")) {
+        let joint = name.trim_end_matches(":flexion:angle");
+        let (lo, hi) = range(a.column(name).unwrap_or(&[]));
+        let m = a
+            .column(&format!("{joint}:flexion:moment_per_kg"))
+            .map(|c| {
+                let (l, h) = range(c);
+                format!("{l:.2}..{h:.2}")
+            })
+            .unwrap_or_else(|| "-".into());
+        out += &format!("{joint:<12} {:>22} {m:>30}\n", format!("{lo:.1}..{hi:.1}"));
+    }
+    out
+}

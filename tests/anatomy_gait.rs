@@ -1,0 +1,102 @@
+//! Anatomical angles and moments of walks read as a gait lab's (issue 13): the knee flexes
+//! 50–75° in swing (median of the strides' peaks) and carries an extensor moment in early
+//! stance (within 150 ms of most foot strikes), on the demo walk and every shared walk.
+
+mod common;
+
+use articula::pipeline::{self, Contact, TakeOptions, anatomy::Anatomy};
+use std::path::Path;
+
+fn opts() -> TakeOptions {
+    TakeOptions {
+        joints: "ball".parse().unwrap(),
+        contact: Contact::Feet,
+        ..TakeOptions::default()
+    }
+}
+
+/// The peaks of `y` above `floor`, each the largest within `half` samples either side.
+fn peaks(y: &[f64], floor: f64, half: usize) -> Vec<f64> {
+    (0..y.len())
+        .filter(|&k| {
+            let w = &y[k.saturating_sub(half)..(k + half + 1).min(y.len())];
+            y[k] > floor && w.iter().all(|x| *x <= y[k])
+        })
+        .map(|k| y[k])
+        .collect()
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Per knee: the median swing peak (deg), and the share of foot strikes followed within
+/// 150 ms by an extensor moment.
+fn gait(path: &Path) -> Vec<(String, f64, f64)> {
+    let take = pipeline::load_take(path, &opts()).unwrap();
+    let a: Anatomy = pipeline::anatomy::anatomy(&take).unwrap();
+    let g = pipeline::ground_reactions(&take).unwrap().unwrap();
+    let dt = take.bvh.frame_time;
+    let half = (0.4 / dt) as usize;
+    let mut out = vec![];
+    for (foot, side) in g.feet.iter().zip(["l", "r"]) {
+        let j = g.feet.iter().position(|f| f == foot).unwrap();
+        let knee = format!("knee_{}", if foot == "left" { "l" } else { side });
+        let flex = a.column(&format!("{knee}:flexion:angle")).unwrap();
+        let swing = median(peaks(flex, 35.0, half));
+        let moment = a.column(&format!("{knee}:flexion:moment")).unwrap();
+        let strikes: Vec<usize> = (1..g.contact.len())
+            .filter(|&k| g.contact[k][j] && !g.contact[k - 1][j])
+            .collect();
+        let window = (0.15 / dt).ceil() as usize;
+        let extensor = strikes
+            .iter()
+            .filter(|&&k| {
+                moment[k..(k + window).min(moment.len())]
+                    .iter()
+                    .any(|m| *m > 0.0)
+            })
+            .count();
+        let share = extensor as f64 / strikes.len().max(1) as f64;
+        eprintln!(
+            "{}: {knee} swing peak {swing:.1}°, {extensor} of {} strikes with an extensor moment",
+            path.display(),
+            strikes.len()
+        );
+        out.push((knee, swing, share));
+    }
+    out
+}
+
+fn assert_gait(path: &Path) {
+    for (knee, swing, share) in gait(path) {
+        assert!(
+            (50.0..=75.0).contains(&swing),
+            "{}: {knee} peaks at {swing:.1}° in swing",
+            path.display()
+        );
+        assert!(
+            share >= 0.75,
+            "{}: {knee}: an extensor moment after only {:.0} % of foot strikes",
+            path.display(),
+            share * 100.0
+        );
+    }
+}
+
+#[test]
+fn the_demo_walk_flexes_its_knees_in_swing_and_extends_them_in_early_stance() {
+    assert_gait(&common::repo("data/demo_walk.bvh"));
+}
+
+#[test]
+#[ignore = "real takes: ARTICULA_REAL_TAKES=../shared/data/bvh cargo test -- --ignored"]
+fn every_shared_walk_flexes_its_knees_in_swing_and_extends_them_in_early_stance() {
+    for name in [
+        "AV_8Walk_Meredith_HVHA_Rep1.bvh",
+        "dataset-1_walk_normal_001.bvh",
+    ] {
+        assert_gait(&common::real_take(name));
+    }
+}
