@@ -84,6 +84,7 @@
 pub mod command;
 pub mod engine;
 pub mod trajectory;
+pub mod units;
 pub mod workbench;
 
 pub use command::{Command, Expectation, ExportKind, RunKind, parse_line, parse_session};
