@@ -155,7 +155,8 @@ pub fn shown(kind: Kind, si: f64) -> (f64, &'static str) {
     (si * r.per_si, r.symbol)
 }
 
-/// Decimals that show `x` (already in the display unit) as the rule of `kind` asks.
+/// Decimals that show `x` (already in the display unit) as the rule of `kind` asks; a value
+/// that needs more than 4 decimals beyond the rule's to show is shown as zero.
 fn decimals(kind: Kind, x: f64) -> usize {
     let r = rule(kind);
     let by_digits = if x == 0.0 || !x.is_finite() {
@@ -163,7 +164,12 @@ fn decimals(kind: Kind, x: f64) -> usize {
     } else {
         r.significant - 1 - x.abs().log10().floor() as i32
     };
-    r.decimals.max(by_digits).clamp(0, 15) as usize
+    let d = if by_digits > r.decimals + 4 {
+        r.decimals
+    } else {
+        r.decimals.max(by_digits)
+    };
+    d.clamp(0, 15) as usize
 }
 
 /// `x` with `d` decimals, never `-0.0`.
@@ -199,23 +205,24 @@ fn format_bound(x: f64) -> String {
 
 /// `value` against `[lo, hi]` (all SI, of `kind`), in the display unit:
 /// `131.4 N·m not in [110, 120] N·m` or `131.4 N·m in [110, 160] N·m`. The value gets the
-/// kind's rounding, and more decimals when the bounds are finer or rounding would put it on
-/// the wrong side of a bound.
+/// kind's rounding, and more decimals while rounding would put it on another side of a bound
+/// (below, within, above) than it is.
 pub fn format_check(kind: Kind, value: f64, lo: f64, hi: f64) -> String {
     let r = rule(kind);
     let (x, a, b) = (value * r.per_si, lo * r.per_si, hi * r.per_si);
-    let (sa, sb) = (format_bound(a), format_bound(b));
-    let bound_decimals = |s: &str| s.split_once('.').map_or(0, |(_, f)| f.len());
-    let inside = (lo..=hi).contains(&value);
-    let mut d = decimals(kind, x)
-        .max(bound_decimals(&sa))
-        .max(bound_decimals(&sb));
+    let side = |y: f64| (y >= a) as i8 + (y > b) as i8;
+    let mut d = decimals(kind, x);
     let mut sx = fixed(x, d);
-    while d < 15 && sx.parse::<f64>().is_ok_and(|y| (a..=b).contains(&y) != inside) {
+    while d < 15 && sx.parse::<f64>().is_ok_and(|y| side(y) != side(x)) {
         d += 1;
         sx = fixed(x, d);
     }
-    let verdict = if inside { "in" } else { "not in" };
+    let verdict = if (lo..=hi).contains(&value) {
+        "in"
+    } else {
+        "not in"
+    };
+    let (sa, sb) = (format_bound(a), format_bound(b));
     format!("{sx} {} {verdict} [{sa}, {sb}] {}", r.symbol, r.symbol)
 }
 
