@@ -62,7 +62,10 @@ fn an_angle_bound_means_the_same_in_bare_degrees_deg_and_rad() {
         "expect max LeftLeg.Xrotation angle between 30deg 70deg",
     );
     ok(&mut wb, "expect max LeftLeg.Xrotation angle between 30 70");
-    ok(&mut wb, "expect max LeftLeg.Xrotation angle between 30° 70°");
+    ok(
+        &mut wb,
+        "expect max LeftLeg.Xrotation angle between 30° 70°",
+    );
     ok(
         &mut wb,
         "expect max LeftLeg.Xrotation angle between 0.5236rad 1.2217rad",
@@ -169,7 +172,11 @@ fn display_rules_round_each_kind_to_what_is_meaningful() {
         (Kind::Angle, -0.0001, "-0.0057 deg"),
         (Kind::Angle, -1e-9, "0.0 deg"),
         (Kind::Length, 0.91234, "0.912 m"),
-        (Kind::AngularVelocity, std::f64::consts::PI * 1.25, "225.0 deg/s"),
+        (
+            Kind::AngularVelocity,
+            std::f64::consts::PI * 1.25,
+            "225.0 deg/s",
+        ),
         (Kind::Torque, 131.4213, "131.4 N·m"),
         (Kind::Torque, 0.028252, "0.0283 N·m"),
         (Kind::Force, 5.2, "5.20 N"),
@@ -211,14 +218,20 @@ fn a_prismatic_coordinate_is_in_metres_and_its_force_in_newtons() {
     let out = tempfile::tempdir().unwrap();
     let mut wb = wb_in(out.path());
     ok(&mut wb, "load data/stanford.toml");
-    ok(&mut wb, "trajectory 0,0,0.2,0,0,0 0,0,30cm,0,0,0 over 0.5 at 100");
+    ok(
+        &mut wb,
+        "trajectory 0,0,0.2,0,0,0 0,0,30cm,0,0,0 over 0.5 at 100",
+    );
     ok(&mut wb, "frame 0");
     // bare is metres on a translation; cm and mm as written
     ok(&mut wb, "expect now j3 angle between 0.19 0.21");
     ok(&mut wb, "expect now j3 angle between 19cm 210mm");
     ok(&mut wb, "expect max j3 angle between 29.9cm 30.1cm");
     let e = fails(&mut wb, "expect now j3 angle between 0.5 0.6");
-    assert!(e.ends_with("now j3 angle 0.200 m not in [0.5, 0.6] m"), "{e}");
+    assert!(
+        e.ends_with("now j3 angle 0.200 m not in [0.5, 0.6] m"),
+        "{e}"
+    );
     let e = fails(&mut wb, "expect peak j3 torque between 1e6 2e6");
     assert!(e.contains(" N not in [1000000, 2000000] N"), "{e}");
     assert!(!e.contains("N·m"), "{e}");
@@ -237,7 +250,10 @@ fn a_prismatic_coordinate_is_in_metres_and_its_force_in_newtons() {
     assert!(e.contains("takes N (force; a bare number is N)"), "{e}");
     // a pose of deg on the slider is refused, and nothing changes
     let e = apply(&mut wb, "trajectory 0,0,10deg,0,0,0 over 0.5").unwrap_err();
-    assert!(e.contains("j3 (a prismatic coordinate) takes m, cm, mm"), "{e}");
+    assert!(
+        e.contains("j3 (a prismatic coordinate) takes m, cm, mm"),
+        "{e}"
+    );
     ok(&mut wb, "expect frames 51");
 }
 
@@ -249,7 +265,10 @@ fn a_pose_in_degrees_is_the_pose_in_radians() {
     ok(&mut wb, "trajectory 0,pi/4,-pi,0,pi/4,0 over 0.5 at 100");
     ok(&mut wb, "run id");
     let rad = wb.fresh_results().unwrap().clone();
-    ok(&mut wb, "trajectory 0,45deg,-180°,0deg,0.7853981633974483rad,0 over 500ms at 100Hz");
+    ok(
+        &mut wb,
+        "trajectory 0,45deg,-180°,0deg,0.7853981633974483rad,0 over 500ms at 100Hz",
+    );
     ok(&mut wb, "run id");
     let deg = wb.fresh_results().unwrap();
     for (a, b) in rad.tau.row(0).iter().zip(deg.tau.row(0)) {
@@ -274,7 +293,10 @@ fn set_values_take_their_units_and_refuse_others() {
     ok(&mut wb, "set stature 175cm");
     assert!((wb.params.take.stature_m.unwrap() - 1.75).abs() < 1e-12);
     let e = apply(&mut wb, "set dt 5kg").unwrap_err();
-    assert!(e.contains("'5kg' is a mass; a positive step in seconds takes s, ms"), "{e}");
+    assert!(
+        e.contains("'5kg' is a mass; a positive step in seconds takes s, ms"),
+        "{e}"
+    );
     let e = apply(&mut wb, "set kp 400deg").unwrap_err();
     assert!(e.contains("is a plain number, without a unit"), "{e}");
     let e = apply(&mut wb, "set body.mass 80N").unwrap_err();
@@ -343,7 +365,10 @@ fn the_tracking_error_is_in_degrees() {
     ok(&mut wb, "load data/puma560.toml");
     ok(&mut wb, "trajectory 0,0,0,0,0,0 0,1,0,0,0,0 over 0.2 at 50");
     let m = ok(&mut wb, "run sim");
-    assert!(m.contains("tracking error RMS ") && m.contains(" deg, max "), "{m}");
+    assert!(
+        m.contains("tracking error RMS ") && m.contains(" deg, max "),
+        "{m}"
+    );
     assert!(m.ends_with(" deg"), "{m}");
     assert!(!m.contains("rad") && !m.contains("e-"), "{m}");
 }

@@ -313,10 +313,9 @@ fn quantity(w: &str, line: usize, kind: Kind, what: &str) -> Result<f64, Session
 /// A unit error at `line`, for `what`.
 fn unit_error(line: usize, what: &str, e: UnitError) -> SessionError {
     match e {
-        UnitError::NotANumber { word } => syntax(
-            line,
-            format!("expected {what} (a number), found '{word}'"),
-        ),
+        UnitError::NotANumber { word } => {
+            syntax(line, format!("expected {what} (a number), found '{word}'"))
+        }
         e => syntax(line, e.to_string()),
     }
 }
@@ -708,7 +707,11 @@ fn stat_bound(
             format!(
                 "'{w}' is {}; {} {} takes {}",
                 k.name(),
-                if quantity == Quantity::Angle { "an" } else { "a" },
+                if quantity == Quantity::Angle {
+                    "an"
+                } else {
+                    "a"
+                },
                 quantity.name(),
                 units::accepted(&kinds, units::Bare::Shown)
             ),

@@ -1211,7 +1211,9 @@ impl Workbench {
         let auto = matches!(value, "auto" | "none");
         let p = &mut self.params;
         match key {
-            "body.mass" => p.take.body.mass_kg = positive(Some(Kind::Mass), "a positive mass in kg")?,
+            "body.mass" => {
+                p.take.body.mass_kg = positive(Some(Kind::Mass), "a positive mass in kg")?
+            }
             "body.sex" => p.take.body.sex = parsed(key, value)?,
             "unit" => {
                 p.take.unit = if auto {
@@ -1493,7 +1495,10 @@ impl Workbench {
                     ))
                 })?;
                 // the coordinate's own unit: a rotation's angle in deg, a translation's in m
-                let angular = r.model.v_index(coord).is_some_and(|k| is_angular(&r.model, k));
+                let angular = r
+                    .model
+                    .v_index(coord)
+                    .is_some_and(|k| is_angular(&r.model, k));
                 let kind = quantity.kind(angular);
                 let what = format!(
                     "the {} of {coord} (a {})",
