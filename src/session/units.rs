@@ -140,7 +140,8 @@ const SHOWN: &[Shown] = &[
 ];
 
 fn rule(kind: Kind) -> &'static Shown {
-    // every kind has a row (tests/session_units.rs checks it); SI as written otherwise
+    // every kind has a row: tests/session_units.rs checks that each kind is shown in a unit
+    // of its own (the first row, degrees, would fail that)
     SHOWN.iter().find(|s| s.kind == kind).unwrap_or(&SHOWN[0])
 }
 
