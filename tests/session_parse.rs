@@ -2,6 +2,7 @@
 //! line is refused with its line number and what was expected.
 
 use articula::session::command::{Expectation, Quantity, Statistic};
+use articula::session::units::{Measure, UNITS};
 use articula::session::{Command, ExportKind, RunKind, SessionError, parse_line, parse_session};
 use std::path::PathBuf;
 
@@ -9,6 +10,18 @@ fn one(line: &str) -> Command {
     parse_line(line, 1)
         .unwrap_or_else(|e| panic!("{line}: {e}"))
         .unwrap_or_else(|| panic!("{line}: no command"))
+}
+
+/// A number as written without a unit.
+fn bare(value: f64) -> Measure {
+    Measure { value, unit: None }
+}
+
+/// A number written with `symbol` after it.
+fn with(value: f64, symbol: &str) -> Measure {
+    let unit = UNITS.iter().find(|u| u.symbol == symbol).copied();
+    assert!(unit.is_some(), "no unit {symbol}");
+    Measure { value, unit }
 }
 
 #[test]
@@ -213,8 +226,8 @@ fn every_command_parses() {
             "trajectory 0,pi/4 -pi/2,0.5 over 1.5 at 200",
             Command::Trajectory {
                 poses: vec![
-                    vec![0.0, std::f64::consts::FRAC_PI_4],
-                    vec![-std::f64::consts::FRAC_PI_2, 0.5],
+                    vec![bare(0.0), bare(std::f64::consts::FRAC_PI_4)],
+                    vec![bare(-std::f64::consts::FRAC_PI_2), bare(0.5)],
                 ],
                 duration_s: 1.5,
                 rate_hz: 200.0,
@@ -224,11 +237,27 @@ fn every_command_parses() {
             "trajectory 3pi/4,0.5*pi over 2s",
             Command::Trajectory {
                 poses: vec![vec![
-                    3.0 * std::f64::consts::PI / 4.0,
-                    0.5 * std::f64::consts::PI,
+                    bare(3.0 * std::f64::consts::PI / 4.0),
+                    bare(0.5 * std::f64::consts::PI),
                 ]],
                 duration_s: 2.0,
                 rate_hz: 500.0,
+            },
+        ),
+        (
+            "trajectory 0,45deg,-pi/2rad,5cm 10°,0,0,0.1m over 500ms at 200Hz",
+            Command::Trajectory {
+                poses: vec![
+                    vec![
+                        bare(0.0),
+                        with(45.0, "deg"),
+                        with(-std::f64::consts::FRAC_PI_2, "rad"),
+                        with(5.0, "cm"),
+                    ],
+                    vec![with(10.0, "°"), bare(0.0), bare(0.0), with(0.1, "m")],
+                ],
+                duration_s: 0.5,
+                rate_hz: 200.0,
             },
         ),
         (
@@ -266,9 +295,61 @@ fn every_command_parses() {
                 stat: Statistic::Peak,
                 coord: "LeftLeg.Xrotation".into(),
                 quantity: Quantity::Torque,
-                lo: 20.0,
-                hi: 150.0,
+                lo: bare(20.0),
+                hi: bare(150.0),
             }),
+        ),
+        (
+            "expect max LeftLeg.Xrotation angle between 30deg 1.05rad",
+            Command::Expect(Expectation::Stat {
+                stat: Statistic::Max,
+                coord: "LeftLeg.Xrotation".into(),
+                quantity: Quantity::Angle,
+                lo: with(30.0, "deg"),
+                hi: with(1.05, "rad"),
+            }),
+        ),
+        (
+            "expect now j3 angle between 12cm 0.2m",
+            Command::Expect(Expectation::Stat {
+                stat: Statistic::Now,
+                coord: "j3".into(),
+                quantity: Quantity::Angle,
+                lo: with(12.0, "cm"),
+                hi: with(0.2, "m"),
+            }),
+        ),
+        (
+            "expect peak j2 torque between 30N·m 32Nm",
+            Command::Expect(Expectation::Stat {
+                stat: Statistic::Peak,
+                coord: "j2".into(),
+                quantity: Quantity::Torque,
+                lo: with(30.0, "N·m"),
+                hi: with(32.0, "Nm"),
+            }),
+        ),
+        (
+            "expect mean j3 acceleration between -2deg/s2 2°/s²",
+            Command::Expect(Expectation::Stat {
+                stat: Statistic::Mean,
+                coord: "j3".into(),
+                quantity: Quantity::Acceleration,
+                lo: with(-2.0, "deg/s2"),
+                hi: with(2.0, "°/s²"),
+            }),
+        ),
+        (
+            "expect mass between 74kg 76",
+            Command::Expect(Expectation::Mass { lo: 74.0, hi: 76.0 }),
+        ),
+        (
+            "blend a b 1s:1500ms",
+            Command::Blend {
+                a: "a".into(),
+                b: "b".into(),
+                window: (1.0, 1.5),
+            },
         ),
         (
             "expect rms Hips.Yposition velocity between 0 1e3",
@@ -276,8 +357,8 @@ fn every_command_parses() {
                 stat: Statistic::Rms,
                 coord: "Hips.Yposition".into(),
                 quantity: Quantity::Velocity,
-                lo: 0.0,
-                hi: 1000.0,
+                lo: bare(0.0),
+                hi: bare(1000.0),
             }),
         ),
         (
@@ -399,6 +480,39 @@ fn malformed_lines_name_their_line_and_what_was_expected() {
             "expect peak LeftLeg.Xrotation torque between 1 inf",
             "expected HI",
         ),
+        // a unit of another quantity names the units the quantity takes
+        (
+            "expect peak LeftLeg.Xrotation torque between 10deg 20deg",
+            "'10deg' is an angle; a torque takes N·m, Nm, N.m (torque; a bare number is N·m) \
+             or N (force; a bare number is N)",
+        ),
+        (
+            "expect max LeftLeg.Xrotation angle between 10 20kg",
+            "'20kg' is a mass; an angle takes deg, °, rad (angle; a bare number is deg) or m, \
+             cm, mm (length; a bare number is m)",
+        ),
+        (
+            "expect peak j1 velocity between 1rad/s2 2rad/s2",
+            "velocity takes deg/s, °/s, rad/s",
+        ),
+        (
+            "expect max j1 angle between 10deg 1m",
+            "LO is an angle and HI a length",
+        ),
+        ("expect max j1 angle between 20deg 10deg", "HI is below LO"),
+        ("expect max j1 angle between 10furlongs 2", "expected LO"),
+        (
+            "expect mass between 70deg 80",
+            "'70deg' is an angle; LO (kg) takes kg",
+        ),
+        ("blend a b 1deg:2", "'1deg' is an angle; t0 takes s, ms"),
+        ("compare weights 60,80N out.svg", "'80N' is a force"),
+        ("trajectory 0,5kg over 1", "'5kg' in pose '0,5kg' is a mass"),
+        (
+            "trajectory 0,pi/2deg over 1",
+            "multiplies π by a unit other than rad",
+        ),
+        ("trajectory 0,1 over 1deg", "T (s) takes s, ms"),
         ("screen", "usage: screen PATH"),
         ("key", "usage: key KEYS"),
         ("load \"unterminated", "unterminated"),

@@ -22,7 +22,7 @@ expect mass between 79.99 80.01
 select LeftLeg.Xrotation
 expect selected LeftLeg.Xrotation
 expect peak LeftLeg.Xrotation torque between 1 400
-expect max LeftLeg.Xrotation angle between 0.5 1.5
+expect max LeftLeg.Xrotation angle between 0.5rad 1.5rad
 export csv torques.csv
 expect message contains torques.csv
 compare weights 60,100 joint LeftLeg.Xrotation knee.csv
@@ -115,7 +115,7 @@ fn a_failing_expect_fails_the_replay_with_its_line() {
     assert!(err.is_expect());
     let shown = err.to_string();
     assert!(shown.contains("bad.session:4:"), "{shown}");
-    assert!(shown.contains("expected 1000‥2000"), "{shown}");
+    assert!(shown.contains(" N·m not in [1000, 2000] N·m"), "{shown}");
     // nothing after the failure ran
     assert!(!dir.path().join("out/never.csv").exists());
 }
@@ -204,7 +204,7 @@ export urdf walker.urdf
 load out/blended.bvh as again
 expect frames 480
 # a walk blended with itself is the walk
-expect peak LeftLeg.Xrotation angle between 1.0 1.2
+expect peak LeftLeg.Xrotation angle between 1.0rad 1.2rad
 blend a nothing 1.0:1.5
 ",
     );

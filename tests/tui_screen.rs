@@ -2,7 +2,7 @@
 //! workbench, and what the user needs is on screen (joint tree, sparkline labels with running
 //! min/max and the current value, timeline, status), at 80×24 and larger, across resizes.
 
-use articula::session::{Command, Workbench};
+use articula::session::{Command, Workbench, units};
 use articula::tui::keys::parse_keys;
 use articula::tui::{Focus, Ui, draw};
 use ratatui::Terminal;
@@ -69,7 +69,9 @@ fn the_demo_screen_shows_tree_sparklines_timeline_and_status() {
     let j = r.tau.col_index("LeftLeg.Xrotation").unwrap();
     let tau = r.tau.column(j);
     let (min, max, now) = draw::running_stats(&tau, 30).unwrap();
-    let label = format!("min {min:.1}  max {max:.1}  now {now:.1}");
+    // rounded as every value the workbench shows (0.1 N·m, 3 significant digits below 100)
+    let n = |x| units::format_number(units::Kind::Torque, x);
+    let label = format!("min {}  max {}  now {}", n(min), n(max), n(now));
     assert!(s.contains(&label), "missing {label:?} in\n{s}");
     // stepping forward widens (never narrows) the running range
     press(&mut ui, &mut wb, "}}}}}}");
@@ -192,8 +194,9 @@ fn ball_joints_show_a_rotation_vector_angle_sparkline() {
     let r = wb.fresh_results().unwrap();
     let angle = articula::session::workbench::angle_series(r, "LeftLeg:wx").unwrap();
     let deg: Vec<f64> = angle.iter().map(|x| x.to_degrees()).collect();
-    let (min, max, now) = draw::running_stats(&deg, 60).unwrap();
-    let label = format!("min {min:.1}  max {max:.1}  now {now:.1}");
+    let (min, max, now) = draw::running_stats(&angle, 60).unwrap();
+    let n = |x| units::format_number(units::Kind::Angle, x);
+    let label = format!("min {}  max {}  now {}", n(min), n(max), n(now));
     assert!(s.contains(&label), "missing {label:?} in\n{s}");
     // a knee flexes by tens of degrees: the series is not flat
     let range =

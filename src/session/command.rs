@@ -3,6 +3,7 @@
 //! The grammar is documented in the [module doc of `session`](super).
 
 use super::SessionError;
+use super::units::{self, Kind, Measure, UnitError};
 use std::path::PathBuf;
 
 /// What `export` writes.
@@ -42,6 +43,32 @@ pub enum Quantity {
     Torque,
 }
 
+impl Quantity {
+    /// The kind of this quantity on a rotational (`angular`) or a translational coordinate.
+    pub fn kind(self, angular: bool) -> Kind {
+        match (self, angular) {
+            (Quantity::Angle, true) => Kind::Angle,
+            (Quantity::Angle, false) => Kind::Length,
+            (Quantity::Velocity, true) => Kind::AngularVelocity,
+            (Quantity::Velocity, false) => Kind::Velocity,
+            (Quantity::Acceleration, true) => Kind::AngularAcceleration,
+            (Quantity::Acceleration, false) => Kind::Acceleration,
+            (Quantity::Torque, true) => Kind::Torque,
+            (Quantity::Torque, false) => Kind::Force,
+        }
+    }
+
+    /// Its name in messages (`angle`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Quantity::Angle => "angle",
+            Quantity::Velocity => "velocity",
+            Quantity::Acceleration => "acceleration",
+            Quantity::Torque => "torque",
+        }
+    }
+}
+
 /// A statistic of a series over the whole take.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Statistic {
@@ -56,7 +83,8 @@ pub enum Statistic {
     Now,
 }
 
-/// An assertion on the state or the results. Numbers are SI (rad, m, N·m, kg).
+/// An assertion on the state or the results. `Mass` is in kg; the bounds of `Stat` are kept
+/// as written, since what a bare number means (deg or m) depends on the coordinate.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Expectation {
     /// `expect nv N`: degrees of freedom of the current model.
@@ -67,13 +95,15 @@ pub enum Expectation {
     Frames(usize),
     /// `expect mass between LO HI`: total mass of the current model (kg).
     Mass { lo: f64, hi: f64 },
-    /// `expect STAT COORD QUANTITY between LO HI`.
+    /// `expect STAT COORD QUANTITY between LO HI`: LO and HI as written (a bare number is in
+    /// the unit the workbench shows: deg, deg/s, deg/s² on a rotation, m, m/s, m/s² on a
+    /// translation, N·m or N).
     Stat {
         stat: Statistic,
         coord: String,
         quantity: Quantity,
-        lo: f64,
-        hi: f64,
+        lo: Measure,
+        hi: Measure,
     },
     /// `expect screen contains TEXT`: the current screen (as `screen` writes it) contains TEXT.
     ScreenContains(String),
@@ -92,10 +122,11 @@ pub enum Command {
     /// (`.toml`), a URDF (`.urdf`), or a states CSV (`.csv`) as the active robot's motion.
     Load { path: PathBuf, name: Option<String> },
     /// `trajectory POSE [POSE …] over T [at HZ]`: the active robot's motion, quintic
-    /// point-to-point moves of T seconds between the poses (rad or m, comma separated, one
-    /// value per coordinate), sampled at HZ (default 500).
+    /// point-to-point moves of T seconds between the poses (comma separated, one value per
+    /// coordinate; bare values rad or m, or with a unit: `40deg`, `5cm`), sampled at HZ
+    /// (default 500).
     Trajectory {
-        poses: Vec<Vec<f64>>,
+        poses: Vec<Vec<Measure>>,
         duration_s: f64,
         rate_hz: f64,
     },
@@ -273,13 +304,19 @@ fn syntax(line: usize, message: impl Into<String>) -> SessionError {
     }
 }
 
-fn number(w: &str, line: usize, what: &str) -> Result<f64, SessionError> {
-    match w.parse::<f64>() {
-        Ok(x) if x.is_finite() => Ok(x),
-        _ => Err(syntax(
-            line,
-            format!("expected {what} (a number), found '{w}'"),
-        )),
+/// A number of `kind` in SI: a unit may be written (`500ms`), a bare number is in the unit
+/// the workbench shows.
+fn quantity(w: &str, line: usize, kind: Kind, what: &str) -> Result<f64, SessionError> {
+    units::parse_si(w, kind, what).map_err(|e| unit_error(line, what, e))
+}
+
+/// A unit error at `line`, for `what`.
+fn unit_error(line: usize, what: &str, e: UnitError) -> SessionError {
+    match e {
+        UnitError::NotANumber { word } => {
+            syntax(line, format!("expected {what} (a number), found '{word}'"))
+        }
+        e => syntax(line, e.to_string()),
     }
 }
 
@@ -297,7 +334,10 @@ pub fn parse_window(w: &str, line: usize) -> Result<(f64, f64), SessionError> {
     let (a, b) = w
         .split_once(':')
         .ok_or_else(|| syntax(line, format!("expected a window t0:t1 (s), found '{w}'")))?;
-    let (t0, t1) = (number(a, line, "t0")?, number(b, line, "t1")?);
+    let (t0, t1) = (
+        quantity(a, line, Kind::Time, "t0")?,
+        quantity(b, line, Kind::Time, "t1")?,
+    );
     if t1 <= t0 {
         return Err(syntax(line, format!("window {w}: t1 must be after t0")));
     }
@@ -436,7 +476,7 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
             }
             let masses = args[1]
                 .split(',')
-                .map(|m| number(m, lineno, "a body mass in kg"))
+                .map(|m| quantity(m, lineno, Kind::Mass, "a body mass in kg"))
                 .collect::<Result<Vec<_>, _>>()?;
             if let Some(m) = masses.iter().find(|m| **m <= 0.0) {
                 return Err(syntax(lineno, format!("body mass {m} kg must be positive")));
@@ -480,7 +520,27 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
 }
 
 const TRAJECTORY_USAGE: &str = "usage: trajectory POSE [POSE …] over T [at HZ] (a pose: one \
-     value per coordinate, comma separated, rad or m, e.g. 0,pi/4,pi,0,pi/4,0)";
+     value per coordinate, comma separated, rad or m unless a unit is written, e.g. \
+     0,pi/4,pi,0,pi/4,0 or 0,45deg,180deg,0,45deg,0)";
+
+/// One value of a pose: a number or a multiple of π (rad or m), or a number with an angle or
+/// length unit (`40deg`, `5cm`; `pi/2rad`).
+fn pose_value(x: &str, pose: &str, lineno: usize) -> Result<Measure, SessionError> {
+    let bad = |why: &str| syntax(lineno, format!("trajectory: '{x}' in pose '{pose}' {why}"));
+    let (value, unit) = units::split_unit(x, parse_angle).map_err(|_| bad("is not a number"))?;
+    match unit {
+        Some(u) if x.contains("pi") && u.symbol != "rad" => {
+            Err(bad("multiplies π by a unit other than rad"))
+        }
+        Some(u) if !matches!(u.kind, Kind::Angle | Kind::Length) => Err(bad(&format!(
+            "is {}; a pose takes angles ({}) or lengths ({})",
+            u.kind.name(),
+            units::symbols(Kind::Angle),
+            units::symbols(Kind::Length)
+        ))),
+        _ => Ok(Measure { value, unit }),
+    }
+}
 
 /// `trajectory POSE [POSE …] over T [at HZ]`.
 fn parse_trajectory(args: &[String], lineno: usize) -> Result<Command, SessionError> {
@@ -493,15 +553,8 @@ fn parse_trajectory(args: &[String], lineno: usize) -> Result<Command, SessionEr
         .iter()
         .map(|p| {
             p.split(',')
-                .map(|x| {
-                    parse_angle(x.trim()).ok_or_else(|| {
-                        syntax(
-                            lineno,
-                            format!("trajectory: '{x}' in pose '{p}' is not a number"),
-                        )
-                    })
-                })
-                .collect::<Result<Vec<f64>, _>>()
+                .map(|x| pose_value(x.trim(), p, lineno))
+                .collect::<Result<Vec<Measure>, _>>()
         })
         .collect::<Result<Vec<_>, _>>()?;
     if poses.iter().any(|p| p.len() != poses[0].len()) {
@@ -511,16 +564,11 @@ fn parse_trajectory(args: &[String], lineno: usize) -> Result<Command, SessionEr
         ));
     }
     let rest = &args[over + 1..];
+    let time = |t: &str| quantity(t, lineno, Kind::Time, "T (s)");
+    let rate = |hz: &str| quantity(hz, lineno, Kind::Frequency, "a rate (Hz)");
     let (duration_s, rate_hz) = match rest {
-        [t] => (number(t.trim_end_matches('s'), lineno, "T (s)")?, 500.0),
-        [t, at, hz] if at == "at" => (
-            number(t.trim_end_matches('s'), lineno, "T (s)")?,
-            number(
-                hz.trim_end_matches("hz").trim_end_matches("Hz"),
-                lineno,
-                "a rate (Hz)",
-            )?,
-        ),
+        [t] => (time(t)?, 500.0),
+        [t, at, hz] if at == "at" => (time(t)?, rate(hz)?),
         _ => return Err(usage()),
     };
     if duration_s <= 0.0 || rate_hz <= 0.0 {
@@ -548,16 +596,13 @@ const EXPECT_USAGE: &str = "expect nv N | nq N | frames N | frame N | selected N
 
 fn parse_expect(args: &[String], lineno: usize) -> Result<Expectation, SessionError> {
     let usage = || syntax(lineno, format!("usage: {EXPECT_USAGE}"));
-    let between = |a: &[String]| -> Result<(f64, f64), SessionError> {
+    let between_words = |a: &[String]| -> Result<(String, String), SessionError> {
         if a.len() != 3 || a[0] != "between" {
             return Err(usage());
         }
-        let (lo, hi) = (number(&a[1], lineno, "LO")?, number(&a[2], lineno, "HI")?);
-        if hi < lo {
-            return Err(syntax(lineno, format!("between {lo} {hi}: HI is below LO")));
-        }
-        Ok((lo, hi))
+        Ok((a[1].clone(), a[2].clone()))
     };
+    let below = |lo: &str, hi: &str| syntax(lineno, format!("between {lo} {hi}: HI is below LO"));
     let Some(head) = args.first() else {
         return Err(usage());
     };
@@ -575,7 +620,12 @@ fn parse_expect(args: &[String], lineno: usize) -> Result<Expectation, SessionEr
         "frame" => Expectation::Frame(one("a frame index")?),
         "selected" if rest.len() == 1 => Expectation::Selected(rest[0].clone()),
         "mass" => {
-            let (lo, hi) = between(rest)?;
+            let (a, b) = between_words(rest)?;
+            let lo = quantity(&a, lineno, Kind::Mass, "LO (kg)")?;
+            let hi = quantity(&b, lineno, Kind::Mass, "HI (kg)")?;
+            if hi < lo {
+                return Err(below(&a, &b));
+            }
             Expectation::Mass { lo, hi }
         }
         "screen" | "message" if rest.len() >= 2 && rest[0] == "contains" => {
@@ -610,7 +660,24 @@ fn parse_expect(args: &[String], lineno: usize) -> Result<Expectation, SessionEr
                     ));
                 }
             };
-            let (lo, hi) = between(&rest[2..])?;
+            let (a, b) = between_words(&rest[2..])?;
+            let (lo, hi) = (
+                stat_bound(&a, quantity, lineno, "LO")?,
+                stat_bound(&b, quantity, lineno, "HI")?,
+            );
+            // HI below LO is known now when both are bare or both of one kind
+            let si = |m: &Measure| m.unit.map_or(m.value, |u| m.value * u.to_si);
+            if lo.kind() == hi.kind() && si(&hi) < si(&lo) {
+                return Err(below(&a, &b));
+            }
+            if let (Some(k), Some(l)) = (lo.kind(), hi.kind())
+                && k != l
+            {
+                return Err(syntax(
+                    lineno,
+                    format!("between {a} {b}: LO is {} and HI {}", k.name(), l.name()),
+                ));
+            }
             Expectation::Stat {
                 stat,
                 coord: rest[0].clone(),
@@ -621,6 +688,36 @@ fn parse_expect(args: &[String], lineno: usize) -> Result<Expectation, SessionEr
         }
         _ => return Err(usage()),
     })
+}
+
+/// A bound of `expect STAT COORD QUANTITY between LO HI`: a number, with a unit of the
+/// quantity on a rotation or on a translation (which of the two the coordinate is, the
+/// workbench checks when it runs).
+fn stat_bound(
+    w: &str,
+    quantity: Quantity,
+    lineno: usize,
+    what: &str,
+) -> Result<Measure, SessionError> {
+    let m = units::parse_measure(w).map_err(|e| unit_error(lineno, what, e))?;
+    let kinds = [quantity.kind(true), quantity.kind(false)];
+    match m.kind() {
+        Some(k) if !kinds.contains(&k) => Err(syntax(
+            lineno,
+            format!(
+                "'{w}' is {}; {} {} takes {}",
+                k.name(),
+                if quantity == Quantity::Angle {
+                    "an"
+                } else {
+                    "a"
+                },
+                quantity.name(),
+                units::accepted(&kinds, units::Bare::Shown)
+            ),
+        )),
+        _ => Ok(m),
+    }
 }
 
 /// Parses a whole session text; the first bad line stops it. Returns `(line number, command)`.

@@ -598,9 +598,9 @@ impl Engine for Builtin {
             time: r.time.clone(),
             scale,
             note: format!(
-                "tracking error RMS {:.3e} rad, max {:.3e} rad",
-                r.rms_error_rad(),
-                r.max_error_rad()
+                "tracking error RMS {}, max {}",
+                super::units::format_value(super::units::Kind::Angle, r.rms_error_rad()),
+                super::units::format_value(super::units::Kind::Angle, r.max_error_rad())
             ),
             model,
         })

@@ -9,12 +9,29 @@
 //! One command per line. Blank lines and lines starting with `#` are ignored. Words are
 //! separated by spaces; `"…"` quotes a word that contains spaces. Relative input paths are
 //! read from the session file's folder; relative output paths are written under the output
-//! folder (`--out DIR`). Numbers are SI (kg, s, rad, m, N·m) unless a unit is written.
+//! folder (`--out DIR`).
+//!
+//! Units: a number may carry its unit right after it (`40deg`, `0.7rad`, `12cm`, `500ms`,
+//! `80kg`, `120N·m`); the unit is checked against the quantity, and a unit of another one
+//! (`expect peak X torque between 10deg 20deg`) is an error naming the line and the units the
+//! quantity takes. The units ([`units::UNITS`]): angles `deg` `°` `rad`; lengths `m` `cm`
+//! `mm`; angular velocities `deg/s` `°/s` `rad/s`, velocities `m/s` `cm/s` `mm/s`; angular
+//! accelerations `deg/s2` `deg/s²` `°/s²` `rad/s2` `rad/s²`, accelerations `m/s2` `m/s²`;
+//! torques `N·m` `Nm` `N.m`; forces `N`; masses `kg`; times `s` `ms`; rates `Hz` `hz`.
+//! **A bare number is in the unit the workbench shows**: degrees (deg, deg/s, deg/s²) for
+//! the angles of revolute coordinates and ball-joint rotation components, metres (m, m/s,
+//! m/s²) for translations, N·m for torques, N for the forces of prismatic coordinates, kg,
+//! s. One exception: the values of a `trajectory` pose are rad or m when bare, as DH tables
+//! and URDF write joint values (and `pi` multiples are radians). Gains (`kp`, `kv`) and drive
+//! values (`motor.*`) are plain numbers and take no unit. Messages print every value in its
+//! coordinate's own unit (deg for a rotation, m for a translation, N·m or N), rounded to what
+//! is meaningful ([`units::format_value`]: 0.1°, 1 mm, 0.1 N·m with 3 significant digits
+//! below 100, 0.01 kg); CSV files stay SI at full precision.
 //!
 //! | command | effect |
 //! |---|---|
 //! | `load PATH [as NAME]` | load and make active: a BVH take (`demo:walk`: the generated demo walk), a DH table (`.toml`, `data/puma560.toml`) or a URDF (`.urdf`, fixed base, gravity −z); a states CSV (`.csv`, the `articula export states` or `export csv` format) becomes the active robot's motion |
-//! | `trajectory POSE [POSE …] over T [at HZ]` | the active robot's motion: quintic point-to-point moves of T s between the poses (zero speed and acceleration at each pose, Corke's `jtraj`), sampled at HZ (default 500); a pose is one value per coordinate, comma separated, rad or m, `pi` multiples allowed (`0,pi/4,-pi,0,pi/4,0`); one pose is held for T (the gravity load) |
+//! | `trajectory POSE [POSE …] over T [at HZ]` | the active robot's motion: quintic point-to-point moves of T s between the poses (zero speed and acceleration at each pose, Corke's `jtraj`), sampled at HZ (default 500); a pose is one value per coordinate, comma separated, rad or m when bare, `pi` multiples allowed (`0,pi/4,-pi,0,pi/4,0`), or with a unit (`0,45deg,-180deg,0,45deg,0`, `5cm`); one pose is held for T (the gravity load) |
 //! | `scene PATH` | read a TOML scene (io::scene) exactly as `--scene` does (`pipeline::TakeOptions::from_scene`): unit, stature, up, position, joints, mass, sex, link masses, smooth, locks, subtree, contact and keep_first_frame become the take options, its gains `kp`/`kv`; its takes are loaded (the first active) |
 //! | `set KEY VALUE` | change a parameter (below); results recompute on the next use |
 //! | `run id` | inverse dynamics over the active take (RNEA at every frame) |
@@ -52,13 +69,18 @@
 //! `motor.catalogue PATH|auto` chooses the catalogue of motor classes (TOML, the format of the
 //! bundled `data/motor_classes.toml`, values on the motor shaft).
 //!
-//! `expect` forms (values SI: rad, rad/s, rad/s², N·m, kg):
+//! `expect` forms (bare bounds in the unit the workbench shows, see Units above):
 //! - `expect nv N`, `expect nq N`, `expect frames N`, `expect frame N`, `expect selected NAME`;
-//! - `expect mass between LO HI`;
+//! - `expect mass between LO HI` (kg);
 //! - `expect peak|min|max|mean|rms|now COORD angle|velocity|acceleration|torque between LO HI`
 //!   (peak is the largest |x| over the take, now the value at the current frame; the angle of
-//!   a ball joint coordinate `J:wx` is the rotation-vector component), e.g.
-//!   `expect peak LeftLeg.Xrotation torque between 20 150`;
+//!   a ball joint coordinate `J:wx` is the rotation-vector component). Bare LO and HI are deg,
+//!   deg/s, deg/s² on a rotation and m, m/s, m/s² on a translation; torques N·m, forces N.
+//!   E.g. `expect max LeftLeg.Xrotation angle between 30 60` (degrees), the same as
+//!   `between 30deg 60deg` or `between 0.5236rad 1.0472rad`;
+//!   `expect peak LeftLeg.Xrotation torque between 20 150`; `expect now j3 angle between 19cm
+//!   21cm` (a prismatic joint). A failure prints the value rounded in the coordinate's unit:
+//!   `peak LeftLeg.Xrotation torque 131.4 N·m not in [110, 120] N·m`;
 //! - `expect screen contains TEXT`, `expect message contains TEXT`.
 //!
 //! `expect`, `export`, `compare`, `report` and `screen` run inverse dynamics first when the results are missing or
@@ -84,6 +106,7 @@
 pub mod command;
 pub mod engine;
 pub mod trajectory;
+pub mod units;
 pub mod workbench;
 
 pub use command::{Command, Expectation, ExportKind, RunKind, parse_line, parse_session};

@@ -3,6 +3,7 @@
 use super::SessionError;
 use super::command::{Command, Expectation, ExportKind, Quantity, RunKind, Statistic};
 use super::engine::{Analysis, Builtin, Control, Engine, Params, Take, TakeData};
+use super::units::{self, Bare, Kind, Measure};
 use crate::model::{JointKind, Model};
 use crate::pipeline::{PerJoint, TakeOptions};
 use crate::report::chart::{Panel, Series, stacked_svg};
@@ -776,11 +777,11 @@ impl Workbench {
                 duration_s,
                 rate_hz,
             } => {
-                let index = self.check_trajectory(poses)?;
+                let (index, poses) = self.check_trajectory(poses)?;
                 let label = format!("trajectory of {}", self.takes[index].name);
                 let task = Task::Trajectory {
                     index,
-                    poses: poses.clone(),
+                    poses,
                     duration_s: *duration_s,
                     rate_hz: *rate_hz,
                 };
@@ -1097,8 +1098,12 @@ impl Workbench {
     }
 
     /// Checks a `trajectory` for the active take: a robot of revolute and prismatic joints,
-    /// poses of one value per coordinate. Its index in `takes`.
-    fn check_trajectory(&self, poses: &[Vec<f64>]) -> Result<usize, SessionError> {
+    /// poses of one value per coordinate, each an angle on a revolute coordinate and a length
+    /// on a prismatic one (bare: rad or m). Its index in `takes` and the poses in SI.
+    fn check_trajectory(
+        &self,
+        poses: &[Vec<Measure>],
+    ) -> Result<(usize, Vec<Vec<f64>>), SessionError> {
         let (i, model) = self.active_robot("trajectory")?;
         let simple = (1..model.nbodies()).all(|b| {
             matches!(
@@ -1120,7 +1125,24 @@ impl Workbench {
                 model.q_names.join(", ")
             )));
         }
-        Ok(i)
+        // revolute and prismatic joints only: q and v coordinates coincide
+        let si = poses
+            .iter()
+            .map(|p| {
+                p.iter()
+                    .enumerate()
+                    .map(|(k, m)| {
+                        let angular = is_angular(&model, k);
+                        let kind = Quantity::Angle.kind(angular);
+                        let joint = if angular { "revolute" } else { "prismatic" };
+                        let what = format!("{} (a {joint} coordinate)", model.v_names[k]);
+                        m.to_si(&m.written(), kind, Bare::Si, &what)
+                            .map_err(|e| err(format!("trajectory: {e}")))
+                    })
+                    .collect::<Result<Vec<f64>, _>>()
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok((i, si))
     }
 
     /// The active take if it is a robot: its index and model.
@@ -1149,17 +1171,31 @@ impl Workbench {
     }
 
     fn set(&mut self, key: &str, value: &str) -> Result<(), SessionError> {
-        let num = |what: &str| -> Result<f64, SessionError> {
-            match value.trim_end_matches("kg").parse::<f64>() {
-                Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+        // a number of `kind` (a unit may be written: `80kg`, `5ms`, `175cm`), or a plain
+        // number for `kind` None (gains, drive ratios)
+        let read = |kind: Option<Kind>, what: &str| -> Result<f64, SessionError> {
+            match kind {
+                Some(k) => units::parse_si(value, k, what),
+                None => units::parse_plain(value, what),
+            }
+            .map_err(|e| match e {
+                units::UnitError::NotANumber { .. } => {
+                    err(format!("set {key}: expected {what}, found '{value}'"))
+                }
+                e => err(format!("set {key}: {e}")),
+            })
+        };
+        let num = |kind: Option<Kind>, what: &str| -> Result<f64, SessionError> {
+            match read(kind, what)? {
+                x if x >= 0.0 => Ok(x),
                 _ => Err(err(format!(
                     "set {key}: expected {what} (a non-negative number), found '{value}'"
                 ))),
             }
         };
-        let positive = |what: &str| -> Result<f64, SessionError> {
-            match value.trim_end_matches("kg").parse::<f64>() {
-                Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        let positive = |kind: Option<Kind>, what: &str| -> Result<f64, SessionError> {
+            match read(kind, what)? {
+                x if x > 0.0 => Ok(x),
                 _ => Err(err(format!("set {key}: expected {what}, found '{value}'"))),
             }
         };
@@ -1175,7 +1211,9 @@ impl Workbench {
         let auto = matches!(value, "auto" | "none");
         let p = &mut self.params;
         match key {
-            "body.mass" => p.take.body.mass_kg = positive("a positive mass in kg")?,
+            "body.mass" => {
+                p.take.body.mass_kg = positive(Some(Kind::Mass), "a positive mass in kg")?
+            }
             "body.sex" => p.take.body.sex = parsed(key, value)?,
             "unit" => {
                 p.take.unit = if auto {
@@ -1189,7 +1227,7 @@ impl Workbench {
                 p.take.stature_m = if auto {
                     None
                 } else {
-                    let s = num("a stature in m")?;
+                    let s = num(Some(Kind::Length), "a stature in m")?;
                     crate::io::bvh::check_given_stature(s)
                         .map_err(|e| err(format!("set {key}: {e}")))?;
                     Some(s)
@@ -1222,8 +1260,8 @@ impl Workbench {
             }
             "contact" => p.take.contact = parsed(key, value)?,
             "keep_first_frame" => p.take.keep_first_frame = parsed::<bool>(key, value)?,
-            "kp" => p.kp.all = num("a gain in 1/s²")?,
-            "kv" => p.kv.all = num("a gain in 1/s")?,
+            "kp" => p.kp.all = num(None, "a gain in 1/s²")?,
+            "kv" => p.kv.all = num(None, "a gain in 1/s")?,
             "integrator" => {
                 const KNOWN: [&str; 4] = ["euler", "semi-implicit", "rk4", "dopri5"];
                 if !KNOWN.contains(&value) {
@@ -1234,7 +1272,7 @@ impl Workbench {
                 }
                 p.integrator = value.to_string();
             }
-            "dt" => p.dt = positive("a positive step in seconds")?,
+            "dt" => p.dt = positive(Some(Kind::Time), "a positive step in seconds")?,
             "lock" => {
                 p.take.lock = value
                     .split([',', ' '])
@@ -1242,7 +1280,7 @@ impl Workbench {
                     .map(str::to_string)
                     .collect();
             }
-            "blend.window" => p.blend_window = num("a window length in seconds")?,
+            "blend.window" => p.blend_window = num(Some(Kind::Time), "a window length in seconds")?,
             "motor.catalogue" => {
                 // read now, so a bad file fails here and not at the report
                 if auto {
@@ -1257,7 +1295,7 @@ impl Workbench {
             _ if key.starts_with("kp.") || key.starts_with("kv.") => {
                 // a diagonal gain of one joint or coordinate (`kp.LeftLeg`, `kv.j2`)
                 let (which, name) = (&key[..2], &key[3..]);
-                let x = num("a gain (1/s² for kp, 1/s for kv)")?;
+                let x = num(None, "a gain (1/s² for kp, 1/s for kv)")?;
                 if name.is_empty() {
                     return Err(err(format!("set {key}: expected kp.<joint> or kv.<joint>")));
                 }
@@ -1280,7 +1318,7 @@ impl Workbench {
                 g.joints.insert(name.to_string(), x);
             }
             _ if key.starts_with("motor.") => {
-                let x = num("a positive number")?;
+                let x = num(None, "a positive number")?;
                 let (joint, field) = key
                     .strip_prefix("motor.")
                     .and_then(|k| k.rsplit_once('.'))
@@ -1332,7 +1370,7 @@ impl Workbench {
                         "set {key}: a robot's masses are those of its DH table or URDF"
                     )));
                 }
-                let m = num("a mass in kg")?;
+                let m = num(Some(Kind::Mass), "a mass in kg")?;
                 self.params.take.body.link_mass.insert(link.to_string(), m);
             }
         }
@@ -1431,10 +1469,11 @@ impl Workbench {
             }
             Expectation::Mass { lo, hi } => {
                 let m = self.ensure_results()?.model.total_mass();
+                let check = units::format_check(Kind::Mass, m, *lo, *hi);
                 if !within(m, *lo, *hi) {
-                    return fail(format!("total mass {m} kg is outside {lo}‥{hi}"));
+                    return fail(format!("total mass {check}"));
                 }
-                format!("mass {m} kg in {lo}‥{hi}")
+                format!("mass {check}")
             }
             Expectation::Stat {
                 stat,
@@ -1444,11 +1483,10 @@ impl Workbench {
                 hi,
             } => {
                 let r = self.ensure_results()?;
-                let (table, unit) = match quantity {
-                    Quantity::Angle => (&r.v, "rad|m"),
-                    Quantity::Velocity => (&r.v, "rad/s|m/s"),
-                    Quantity::Acceleration => (&r.a, "rad/s²|m/s²"),
-                    Quantity::Torque => (&r.tau, "N·m|N"),
+                let table = match quantity {
+                    Quantity::Angle | Quantity::Velocity => &r.v,
+                    Quantity::Acceleration => &r.a,
+                    Quantity::Torque => &r.tau,
                 };
                 let j = table.col_index(coord).ok_or_else(|| {
                     err(format!(
@@ -1456,6 +1494,29 @@ impl Workbench {
                         table.names.first().map_or("", String::as_str)
                     ))
                 })?;
+                // the coordinate's own unit: a rotation's angle in deg, a translation's in m
+                let angular = r
+                    .model
+                    .v_index(coord)
+                    .is_some_and(|k| is_angular(&r.model, k));
+                let kind = quantity.kind(angular);
+                let what = format!(
+                    "the {} of {coord} (a {})",
+                    quantity.name(),
+                    if angular { "rotation" } else { "translation" }
+                );
+                let bound = |m: &Measure| {
+                    m.to_si(&m.written(), kind, Bare::Shown, &what)
+                        .map_err(|e| err(e.to_string()))
+                };
+                let (lo, hi) = (bound(lo)?, bound(hi)?);
+                if hi < lo {
+                    return Err(err(format!(
+                        "between {} {}: HI is below LO",
+                        units::format_value(kind, lo),
+                        units::format_value(kind, hi)
+                    )));
+                }
                 // angles of ball and free joints: rotation-vector components (angle_series)
                 let x = match quantity {
                     Quantity::Angle => angle_series(&r, coord)
@@ -1469,12 +1530,13 @@ impl Workbench {
                 let name = format!(
                     "{} {coord} {}",
                     format!("{stat:?}").to_lowercase(),
-                    format!("{quantity:?}").to_lowercase()
+                    quantity.name()
                 );
-                if !within(value, *lo, *hi) {
-                    return fail(format!("{name} is {value} {unit}, expected {lo}‥{hi}"));
+                let check = units::format_check(kind, value, lo, hi);
+                if !within(value, lo, hi) {
+                    return fail(format!("{name} {check}"));
                 }
-                format!("{name} = {value} in {lo}‥{hi}")
+                format!("{name} {check}")
             }
             Expectation::MessageContains(text) => {
                 let last = self

@@ -9,7 +9,9 @@ use super::ui::{Focus, Ui, params_of};
 use crate::dynamics::{Workspace, forward_kinematics};
 use crate::report::superquadric::SuperquadricMesh;
 use crate::session::Workbench;
+use crate::session::command::Quantity;
 use crate::session::engine::Analysis;
+use crate::session::units::{self, Kind};
 use crate::session::workbench::{angle_series, is_angular};
 use crate::spatial::SpatialTransform;
 use ratatui::Frame;
@@ -335,9 +337,9 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     }));
     if let Some(r) = wb.latest_results() {
         lines.push(Line::from(format!(
-            "nv {}  {:.1} kg{}",
+            "nv {}  {}{}",
             r.model.nv,
-            r.model.total_mass(),
+            units::format_value(Kind::Mass, r.model.total_mass()),
             if wb.fresh_results().is_none() {
                 " (stale)"
             } else {
@@ -377,8 +379,8 @@ fn bars(x: &[f64], k: usize, width: usize) -> Vec<Option<u64>> {
         .collect()
 }
 
-/// What a sparkline shows: quantity, series, display factor, unit, colour.
-type SparkRow<'a> = (&'a str, Option<Vec<f64>>, f64, &'a str, Color);
+/// What a sparkline shows: quantity, series (SI), its kind, colour.
+type SparkRow<'a> = (&'a str, Option<Vec<f64>>, Kind, Color);
 
 fn draw_sparks(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     let [a, b] = Layout::vertical([Constraint::Length(3), Constraint::Length(3)]).areas(area);
@@ -399,33 +401,34 @@ fn draw_sparks(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         (
             if is_angle { "angle" } else { "position" },
             angle,
-            if is_angle {
-                180.0 / std::f64::consts::PI
-            } else {
-                1.0
-            },
-            if is_angle { "deg" } else { "m" },
+            Quantity::Angle.kind(is_angle),
             Color::Cyan,
         ),
         (
             if is_angle { "torque" } else { "force" },
             torque,
-            1.0,
-            if is_angle { "N·m" } else { "N" },
+            Quantity::Torque.kind(is_angle),
             Color::Magenta,
         ),
     ];
-    for ((what, x, factor, unit, color), rect) in rows.into_iter().zip([a, b]) {
+    for ((what, x, kind, color), rect) in rows.into_iter().zip([a, b]) {
         let name = sel.as_deref().unwrap_or("no selection");
         let Some(x) = x else {
             let p = Paragraph::new(format!("{name} {what}: no results"));
             f.render_widget(p, rect);
             continue;
         };
-        let x: Vec<f64> = x.iter().map(|v| v * factor).collect();
+        // the label in the coordinate's own unit, rounded by its kind; the bars in SI
+        let unit = units::shown_unit(kind);
         let label = match running_stats(&x, wb.frame) {
             Some((min, max, now)) => {
-                format!("{name} {what} [{unit}]  min {min:.1}  max {max:.1}  now {now:.1}")
+                let n = |v| units::format_number(kind, v);
+                format!(
+                    "{name} {what} [{unit}]  min {}  max {}  now {}",
+                    n(min),
+                    n(max),
+                    n(now)
+                )
             }
             None => format!("{name} {what}"),
         };
