@@ -38,8 +38,9 @@ fn screen(ui: &Ui, wb: &Workbench, w: u16, h: u16) -> String {
 #[test]
 fn the_demo_screen_shows_tree_sparklines_timeline_and_status() {
     let (mut ui, mut wb) = demo(80, 24);
-    // after loading, inverse dynamics ran and a rotation coordinate is selected
-    assert_eq!(wb.selection.as_deref(), Some("Hips.Zrotation"));
+    // after loading, inverse dynamics ran and, the take being a human's, its left knee's
+    // anatomical flexion is selected
+    assert_eq!(wb.selection.as_deref(), Some("knee_l:flexion"));
     // down the tree to LeftUpLeg's child LeftLeg: select it from the command line
     // a joint selects its coordinate with the largest range of motion: knee flexion
     press(&mut ui, &mut wb, ":select LeftLeg<Enter>");

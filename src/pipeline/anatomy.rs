@@ -23,6 +23,7 @@ use crate::dynamics::anatomy::{
     self as jcs, ANKLE, AXES, ELBOW, HIP, JointKind, KNEE, LUMBAR, PELVIS, SHOULDER, frame_from_yz,
     frame_from_zx, functional_axis,
 };
+use crate::dynamics::grf::GroundReactions;
 use crate::dynamics::{self, Workspace};
 use crate::error::Error;
 use crate::io::bvh::{self, Bvh, ResolvedPosition, UpAxis};
@@ -516,8 +517,15 @@ fn flat_sole(
     sum.try_normalize(1e-12).or_else(|| mean_dir(frames, level))
 }
 
-/// Anatomical angles and moments of every frame of a human take (see the module doc).
+/// Anatomical angles and moments of every frame of a human take (see the module doc), with
+/// the take's ground reactions when its `contact` is `feet`.
 pub fn anatomy(take: &Take) -> Result<Anatomy, Error> {
+    let grf = ground_reactions(take)?;
+    anatomy_with(take, grf.as_ref())
+}
+
+/// [`anatomy`] with the ground reactions already estimated (`None`: no contact).
+pub fn anatomy_with(take: &Take, grf: Option<&GroundReactions>) -> Result<Anatomy, Error> {
     let human = find_take_human(take)?;
     let model = &take.model;
     let s = &take.states;
@@ -536,7 +544,6 @@ pub fn anatomy(take: &Take) -> Result<Anatomy, Error> {
         );
     }
     let joints = joints_of(take, &human, &frames, &mut notes);
-    let grf = ground_reactions(take)?;
     let up = Vector3::ith(take.up.index(), 1.0);
     let mass = model.total_mass();
 
@@ -555,7 +562,7 @@ pub fn anatomy(take: &Take) -> Result<Anatomy, Error> {
     let mut f_ext = vec![ForceVec::ZERO; model.nbodies()];
     for (k, p) in frames.iter().enumerate() {
         dynamics::forward_kinematics(model, &mut ws, &s.q[k]);
-        let fx = grf.as_ref().map(|g| {
+        let fx = grf.map(|g| {
             g.external_forces(k, &ws.o_x_i, &mut f_ext);
             f_ext.as_slice()
         });

@@ -295,6 +295,42 @@ impl Take {
     }
 }
 
+/// The anatomical angles (rad) and moments (N·m) of a human take as a table
+/// ([`Analysis::anatomy`]); empty for a take that is not a human's, or whose segments have no
+/// frame somewhere (the inverse dynamics stands without them).
+fn anatomy_table(t: &pipeline::Take, g: Option<&crate::dynamics::grf::GroundReactions>) -> Table {
+    let Ok(a) = t
+        .human
+        .as_ref()
+        .map_err(|_| ())
+        .and_then(|_| pipeline::anatomy::anatomy_with(t, g).map_err(|_| ()))
+    else {
+        return Table::zeros(vec![], 0);
+    };
+    let keep: Vec<(usize, String, f64)> = a
+        .names
+        .iter()
+        .enumerate()
+        .filter_map(|(i, n)| {
+            if let Some(b) = n.strip_suffix(":angle") {
+                Some((i, format!("{b}:angle"), 1f64.to_radians()))
+            } else {
+                n.strip_suffix(":moment")
+                    .map(|b| (i, format!("{b}:moment"), 1.0))
+            }
+        })
+        .collect();
+    let frames = a.time.len();
+    let mut out = Table::zeros(keep.iter().map(|k| k.1.clone()).collect(), frames);
+    for k in 0..frames {
+        let row = out.row_mut(k);
+        for (c, (i, _, f)) in keep.iter().enumerate() {
+            row[c] = a.columns[*i][k] * f;
+        }
+    }
+    out
+}
+
 /// A per-frame table: `frames × names.len()` values, row-major.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Table {
@@ -353,6 +389,9 @@ pub struct Analysis {
     pub scale: f64,
     /// A one-line summary for messages (a simulation's tracking error), or empty.
     pub note: String,
+    /// A human take's anatomical series (`pipeline::anatomy`): `<joint>:<axis>:angle` (rad)
+    /// and `<joint>:<axis>:moment` (N·m) per frame, `knee_l:flexion:angle`; empty otherwise.
+    pub anatomy: Table,
 }
 
 /// The computations behind the workbench. Implementations must be deterministic.
@@ -476,6 +515,7 @@ impl Engine for Builtin {
     ) -> Result<Analysis, Error> {
         ctl.check()?;
         let mut note = String::new();
+        let mut anatomy = Table::zeros(vec![], 0);
         let (model, states, scale, grf) = match &take.data {
             TakeData::Bvh(bvh) => {
                 // the pipeline's stages: axes and unit, model, q, unwrap, smooth, differentiate
@@ -493,16 +533,19 @@ impl Engine for Builtin {
                 note = summarize_notes(&t.notes);
                 // with `contact feet`: the torques with the estimated ground reactions
                 // (and how far the feet could give the ground force the motion needs)
-                let grf = pipeline::ground_reactions_with(&t, &mut ctl.stage(0.2, 1.0))?.map(|g| {
+                let g = pipeline::ground_reactions_with(&t, &mut ctl.stage(0.2, 0.9))?;
+                if let Some(g) = &g {
                     let quality = g.quality().to_string();
                     note = if note.is_empty() {
                         quality
                     } else {
                         format!("{note}; {quality}")
                     };
-                    g.tau
-                });
+                }
                 ctl.check()?;
+                anatomy = anatomy_table(&t, g.as_ref());
+                ctl.check()?;
+                let grf = g.map(|g| g.tau);
                 (Arc::new(t.model), Arc::new(t.states), scale, grf)
             }
             TakeData::Robot(r) => {
@@ -542,6 +585,7 @@ impl Engine for Builtin {
             scale,
             note,
             model,
+            anatomy,
         })
     }
 
@@ -603,6 +647,7 @@ impl Engine for Builtin {
                 super::units::format_value(super::units::Kind::Angle, r.max_error_rad())
             ),
             model,
+            anatomy: Table::zeros(vec![], 0),
         })
     }
 

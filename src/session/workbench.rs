@@ -405,13 +405,11 @@ impl Job {
             let mut params = self.params.clone();
             params.take.body.mass_kg = mass_kg;
             let r = self.engine.inverse_dynamics(take, &params, ctl)?;
-            let j = r
-                .model
-                .v_index(coord)
+            let tau = torque_series(&r, coord)
                 .ok_or_else(|| err(format!("no coordinate '{coord}' in the model")))?;
             runs.push(MassRun {
                 mass_kg,
-                tau: r.tau.column(j),
+                tau,
                 t: r.time,
             });
         }
@@ -546,9 +544,15 @@ fn loaded_message(take: &Take) -> String {
 /// rotation.
 fn selection_for(r: &Analysis, sel: Option<&str>) -> Option<String> {
     if let Some(s) = sel
-        && r.model.v_index(s).is_some()
+        && (r.model.v_index(s).is_some() || is_anatomical(r, s))
     {
         return Some(s.to_string());
+    }
+    // a human take: its left knee's flexion, as a gait lab shows it first
+    if sel.is_none()
+        && let Some(c) = anatomical_axis(r, "knee_l")
+    {
+        return Some(c);
     }
     let joint = sel.and_then(|s| joint_of_name(&r.model, s));
     joint.and_then(|j| best_coordinate(r, &j)).or_else(|| {
@@ -1399,6 +1403,9 @@ impl Workbench {
         {
             return Ok(name.to_string());
         }
+        if let Some(c) = self.latest_results().and_then(|r| anatomical_axis(r, name)) {
+            return Ok(c);
+        }
         if let Some(rb) = take.robot() {
             // a robot joint is its coordinate (or the first of a multi-DoF joint)
             return coords_of_joint(&rb.model, name)
@@ -1488,17 +1495,30 @@ impl Workbench {
                     Quantity::Acceleration => &r.a,
                     Quantity::Torque => &r.tau,
                 };
-                let j = table.col_index(coord).ok_or_else(|| {
-                    err(format!(
-                        "no coordinate '{coord}' (expected e.g. {})",
-                        table.names.first().map_or("", String::as_str)
-                    ))
-                })?;
+                // an anatomical axis (`knee_l:flexion`) has an angle and a moment
+                let anatomical = is_anatomical(&r, coord);
+                if anatomical && matches!(quantity, Quantity::Velocity | Quantity::Acceleration) {
+                    return Err(err(format!(
+                        "{coord} is an anatomical axis: it has an angle and a moment (torque), \
+                         not a {}",
+                        quantity.name()
+                    )));
+                }
+                let j = if anatomical {
+                    0
+                } else {
+                    table.col_index(coord).ok_or_else(|| {
+                        err(format!(
+                            "no coordinate '{coord}' (expected e.g. {})",
+                            table.names.first().map_or("", String::as_str)
+                        ))
+                    })?
+                };
                 // the coordinate's own unit: a rotation's angle in deg, a translation's in m
-                let angular = r
-                    .model
-                    .v_index(coord)
-                    .is_some_and(|k| is_angular(&r.model, k));
+                let angular = anatomical
+                    || r.model
+                        .v_index(coord)
+                        .is_some_and(|k| is_angular(&r.model, k));
                 let kind = quantity.kind(angular);
                 let what = format!(
                     "the {} of {coord} (a {})",
@@ -1521,6 +1541,8 @@ impl Workbench {
                 let x = match quantity {
                     Quantity::Angle => angle_series(&r, coord)
                         .ok_or_else(|| err(format!("no angle for '{coord}'")))?,
+                    Quantity::Torque if anatomical => torque_series(&r, coord)
+                        .ok_or_else(|| err(format!("no moment for '{coord}'")))?,
                     _ => table.column(j),
                 };
                 let value = match stat {
@@ -1568,10 +1590,13 @@ fn is_csv(p: &Path) -> bool {
 /// The paper's figure 4 for one coordinate: its angle (deg) or position (m) and its torque
 /// over time, minimum and maximum marked.
 pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> {
-    let (Some(q), Some(jv)) = (angle_series(r, coord), r.tau.col_index(coord)) else {
+    let (Some(q), Some(tau)) = (angle_series(r, coord), torque_series(r, coord)) else {
         return Err(err(format!("no coordinate '{coord}' in the model")));
     };
-    let rotation = is_angular(&r.model, jv);
+    let rotation = r
+        .model
+        .v_index(coord)
+        .is_none_or(|k| is_angular(&r.model, k));
     let (factor, angle_label, torque_label) = if rotation {
         (180.0 / std::f64::consts::PI, "angle (deg)", "torque (N·m)")
     } else {
@@ -1582,7 +1607,7 @@ pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> 
         r.time.clone(),
         q.iter().map(|x| x * factor).collect(),
     )];
-    let torque = [Series::new(coord, r.time.clone(), r.tau.column(jv))];
+    let torque = [Series::new(coord, r.time.clone(), tau)];
     let title_a = format!("{coord} {}", angle_label.split(' ').next().unwrap_or(""));
     let title_t = format!("{coord} {}", torque_label.split(' ').next().unwrap_or(""));
     let panels = [
@@ -1672,6 +1697,9 @@ pub fn is_angular(model: &Model, k: usize) -> bool {
 pub fn angle_series(r: &Analysis, coord: &str) -> Option<Vec<f64>> {
     if let Some(j) = r.q.col_index(coord) {
         return Some(r.q.column(j));
+    }
+    if let Some(j) = r.anatomy.col_index(&format!("{coord}:angle")) {
+        return Some(r.anatomy.column(j));
     }
     let m = &r.model;
     let k = m.v_index(coord)?;
@@ -1809,4 +1837,26 @@ pub fn results_csv(r: &Analysis) -> String {
         text.push('\n');
     }
     text
+}
+
+/// The generalized force of coordinate `coord` (N·m, N), or the net moment about an
+/// anatomical axis (`knee_l:flexion`, N·m, signed as `pipeline::anatomy` signs it).
+pub fn torque_series(r: &Analysis, coord: &str) -> Option<Vec<f64>> {
+    if let Some(j) = r.tau.col_index(coord) {
+        return Some(r.tau.column(j));
+    }
+    let j = r.anatomy.col_index(&format!("{coord}:moment"))?;
+    Some(r.anatomy.column(j))
+}
+
+/// Whether `coord` is an anatomical axis of the results (`knee_l:flexion`).
+pub fn is_anatomical(r: &Analysis, coord: &str) -> bool {
+    r.anatomy.col_index(&format!("{coord}:angle")).is_some()
+}
+
+/// The anatomical axis a name means: `knee_l` → `knee_l:flexion`, `knee_l:adduction` as it is.
+fn anatomical_axis(r: &Analysis, name: &str) -> Option<String> {
+    [name.to_string(), format!("{name}:flexion")]
+        .into_iter()
+        .find(|c| is_anatomical(r, c))
 }

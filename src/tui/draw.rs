@@ -12,7 +12,7 @@ use crate::session::Workbench;
 use crate::session::command::Quantity;
 use crate::session::engine::Analysis;
 use crate::session::units::{self, Kind};
-use crate::session::workbench::{angle_series, is_angular};
+use crate::session::workbench::{angle_series, is_angular, torque_series};
 use crate::spatial::SpatialTransform;
 use ratatui::Frame;
 use ratatui::buffer::Buffer;
@@ -389,10 +389,7 @@ fn draw_sparks(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     // the angle of the selected coordinate (a rotation-vector component for ball joints) and
     // its torque
     let angle = r.zip(sel.as_deref()).and_then(|(r, s)| angle_series(r, s));
-    let torque = r.zip(sel.as_deref()).and_then(|(r, s)| {
-        let j = r.tau.col_index(s)?;
-        Some(r.tau.column(j))
-    });
+    let torque = r.zip(sel.as_deref()).and_then(|(r, s)| torque_series(r, s));
     let is_angle = match (r, sel.as_deref()) {
         (Some(r), Some(s)) => r.model.v_index(s).is_none_or(|k| is_angular(&r.model, k)),
         _ => true,
