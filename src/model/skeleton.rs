@@ -5,9 +5,10 @@
 //! suit's rig), by its bone (`RightUpLeg`), or by nothing a table knows (`J7`); a skeleton's
 //! shape says the same thing whatever the names. From world positions of the joints over a
 //! few frames of the motion (and of their End Sites):
-//! - **legs** are the chains from the pelvis to the two lowest ends: the lowest end, and the
-//!   lowest other end whose branching point with it stands more than a quarter of the body's
-//!   height above it; that branching joint is the **pelvis**;
+//! - **legs** are the chains from the pelvis to two ends near the floor (within 15 % of the
+//!   body's height of the lowest) whose branching point stands more than a quarter of the
+//!   body's height above them, the pair most alike in length (a cane or a prop that reaches
+//!   the floor is not a leg); that branching joint is the **pelvis**;
 //! - along a leg, the **ankle** is the first joint from which the rest of the chain (foot and
 //!   toes, to the end) is shorter than [`FOOT_REACH`] of the body's height; the **knee** is the
 //!   joint between hip and ankle where the chain bends most over the motion, among those a
@@ -160,6 +161,11 @@ fn path_length(poses: &[Pose], chain: &[usize], from: usize) -> f64 {
     })
 }
 
+/// Median distance from joint `top` to joint `first` (the step onto a chain).
+fn span_from(poses: &[Pose], top: usize, first: usize) -> f64 {
+    median(poses, |p| (p.joints[first] - p.joints[top]).norm())
+}
+
 /// Median path length between two joints of a chain (`from < to`).
 fn span(poses: &[Pose], chain: &[usize], from: usize, to: usize) -> f64 {
     median(poses, |p| {
@@ -306,18 +312,37 @@ pub fn find_human(topo: &Topology, poses: &[Pose], up: usize) -> Result<Human, S
         return Err("the skeleton has no height".into());
     }
 
-    // legs: the two lowest ends whose branching point stands well above them
+    // legs: two ends near the floor whose branching point stands well above them, as alike
+    // in length as two legs are (a cane or a prop that reaches the floor is not a leg)
     let mut by_height = ends.clone();
     by_height.sort_by(|&a, &b| height(a).total_cmp(&height(b)));
-    let e1 = *by_height.first().ok_or("no ends")?;
-    let e2 = by_height[1..]
+    let floor = height(*by_height.first().ok_or("no ends")?);
+    let low: Vec<usize> = by_height
         .iter()
         .copied()
-        .find(|&e| {
-            let l = topo.lca(e1, e);
-            l != e && l != e1 && median(poses, |p| p.joints[l][up]) - height(e1) > 0.25 * body
+        .take_while(|&e| height(e) - floor <= 0.15 * body)
+        .collect();
+    let reach = |top: usize, e: usize| {
+        topo.chain(top, e).map_or(0.0, |c| {
+            path_length(poses, &c, 0) + span_from(poses, top, c[0])
         })
-        .ok_or("no two legs: no second low end branches from high enough above the lowest")?;
+    };
+    let mut best: Option<(f64, usize, usize)> = None;
+    for (i, &a) in low.iter().enumerate() {
+        for &b in &low[i + 1..] {
+            let l = topo.lca(a, b);
+            if l == a || l == b || median(poses, |p| p.joints[l][up]) - floor <= 0.25 * body {
+                continue;
+            }
+            let (la, lb) = (reach(l, a), reach(l, b));
+            let unlike = (la - lb).abs() / la.max(lb).max(1e-12);
+            if best.is_none_or(|(u, _, _)| unlike < u) {
+                best = Some((unlike, a, b));
+            }
+        }
+    }
+    let (_, e1, e2) =
+        best.ok_or("no two legs: no two ends near the floor branch from high enough above it")?;
     let pelvis = topo.lca(e1, e2);
     let mut legs = vec![];
     for e in [e1, e2] {

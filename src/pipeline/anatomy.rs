@@ -248,17 +248,91 @@ pub(crate) fn human_of_bvh(
     )
 }
 
-/// The segment of every joint's link by the skeleton's landmarks.
-pub(crate) fn segments_of(bvh: &Bvh, human: &Human) -> Vec<SegmentOf> {
+/// The segment of every joint's link of a human take (by name for a take that is not a
+/// human's).
+pub fn segments_of_take(take: &Take) -> Vec<SegmentOf> {
+    match &take.human {
+        Ok(h) => segments_of(&take.bvh, h).0,
+        Err(_) => {
+            let scale = take.map.scale_to_m;
+            let bones: Vec<crate::model::anthropometry::Bone> = take
+                .bvh
+                .joints
+                .iter()
+                .enumerate()
+                .map(|(j, joint)| crate::model::anthropometry::Bone {
+                    name: joint.name.clone(),
+                    parent: joint.parent,
+                    ends: take
+                        .bvh
+                        .joints
+                        .iter()
+                        .filter(|c| c.parent == Some(j))
+                        .map(|c| c.offset * scale)
+                        .chain(joint.end_sites.iter().map(|e| e * scale))
+                        .collect(),
+                })
+                .collect();
+            crate::model::anthropometry::classes_by_name(&bones)
+        }
+    }
+}
+
+/// The segment of every joint's link by the skeleton's landmarks, and the names of the bones
+/// that carry no body: a bone off the limbs' chains, under a hand, foot or head, that reaches
+/// farther than half a thigh (a prop held in a hand, a marker on a stick) is massless.
+pub(crate) fn segments_of(bvh: &Bvh, human: &Human) -> (Vec<SegmentOf>, Vec<String>) {
+    use crate::model::anthropometry::Segment;
     let names: Vec<&str> = bvh.joints.iter().map(|j| j.name.as_str()).collect();
     let parent: Vec<Option<usize>> = bvh.joints.iter().map(|j| j.parent).collect();
-    segment_classes(
-        &Topology {
-            names: &names,
-            parent: &parent,
-        },
-        human,
-    )
+    let topo = Topology {
+        names: &names,
+        parent: &parent,
+    };
+    let mut classes = segment_classes(&topo, human);
+    let reach = |j: usize| {
+        bvh.joints
+            .iter()
+            .filter(|c| c.parent == Some(j))
+            .map(|c| c.offset)
+            .chain(bvh.joints[j].end_sites.iter().copied())
+            .map(|o| o.norm())
+            .fold(0.0, f64::max)
+    };
+    let leg = human.legs[0];
+    let mut thigh = 0.0;
+    let mut j = leg.knee;
+    while j != leg.hip {
+        thigh += bvh.joints[j].offset.norm();
+        match parent[j] {
+            Some(p) => j = p,
+            None => break,
+        }
+    }
+    let mut marks = vec![human.pelvis];
+    for l in &human.legs {
+        marks.extend([l.hip, l.knee, l.ankle]);
+        marks.extend(l.toe);
+    }
+    if let Some(s) = &human.spine {
+        marks.extend([s.lumbar, s.thorax, s.head]);
+        marks.extend(s.neck);
+        for a in s.arms.iter().flatten() {
+            marks.extend([a.shoulder, a.elbow, a.wrist]);
+        }
+    }
+    let mut props = vec![];
+    for (j, c) in classes.iter_mut().enumerate() {
+        let distal = matches!(
+            c.class,
+            Some((Segment::Hand | Segment::Foot | Segment::Head, _))
+        );
+        if distal && !marks.contains(&j) && reach(j) > 0.5 * thigh {
+            *c = SegmentOf::default();
+            props.push(bvh.joints[j].name.clone());
+        }
+    }
+    (classes, props)
 }
 
 /// Calibrates the segment frames of `human` on the take's frames (see the module doc).

@@ -595,7 +595,21 @@ pub fn take_from_bvh_with(
     let human = landmarks;
     let mut mopts = mopts;
     if let Ok(h) = &human {
-        mopts.segments = Some(anatomy::segments_of(&bvh, h));
+        let (segments, props) = anatomy::segments_of(&bvh, h);
+        mopts.segments = Some(segments);
+        if !props.is_empty() {
+            notes.push(format!(
+                "massless and welded (they reach farther than half a thigh from a hand, foot or \
+                 head: a prop or a marker, not a body part; a massless joint would make D(q) \
+                 singular): {}",
+                props.join(", ")
+            ));
+            for p in props {
+                if !mopts.lock.contains(&p) {
+                    mopts.lock.push(p);
+                }
+            }
+        }
     }
     let (mut model, mut map) = build_bvh_model(&bvh, &mopts).map_err(|e| at_file(path, e))?;
 

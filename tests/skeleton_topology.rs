@@ -1,0 +1,115 @@
+//! Segments by topology and geometry, names only as hints (issue 13, item 2): an inertial
+//! suit's names (`RightHip` is the thigh, `RightKnee` the shank, `RightShoulder` the upper arm)
+//! give the same link masses as the bone names; a prop held in a hand carries no body.
+
+mod common;
+
+use articula::io::bvh::{self, Bvh, BvhJoint, Channel};
+use articula::model::anthropometry::{Segment, Side};
+use articula::pipeline::{self, TakeOptions};
+use nalgebra::Vector3;
+use std::path::Path;
+
+fn demo() -> Bvh {
+    bvh::read(&common::repo("data/demo_walk.bvh")).unwrap()
+}
+
+fn masses(b: Bvh) -> (Vec<f64>, pipeline::Take) {
+    let t = pipeline::take_from_bvh(Path::new("t.bvh"), b, &TakeOptions::default()).unwrap();
+    let m = t
+        .map
+        .joints
+        .iter()
+        .map(|jm| t.model.inertia[jm.body].mass)
+        .collect();
+    (m, t)
+}
+
+/// The inertial-suit names of the demo walk's joints (Xsens MVN, Perception Neuron).
+fn suit_name(n: &str) -> String {
+    [
+        ("UpLeg", "Hip"),
+        ("Leg", "Knee"),
+        ("Foot", "Ankle"),
+        ("ToeBase", "Toe"),
+        ("Shoulder", "Collar"),
+        ("ForeArm", "Elbow"),
+        ("Arm", "Shoulder"),
+        ("Hand", "Wrist"),
+    ]
+    .iter()
+    .find_map(|(from, to)| {
+        n.strip_suffix(from)
+            .filter(|side| matches!(*side, "Left" | "Right"))
+            .map(|side| format!("{side}{to}"))
+    })
+    .unwrap_or_else(|| n.to_string())
+}
+
+#[test]
+fn an_inertial_suits_joint_names_give_the_same_masses_as_the_bone_names() {
+    let b = demo();
+    let mut suit = b.clone();
+    for j in &mut suit.joints {
+        j.name = suit_name(&j.name);
+    }
+    assert!(suit.joint_index("RightHip").is_some() && suit.joint_index("RightShoulder").is_some());
+    let (m0, t0) = masses(b);
+    let (m1, t1) = masses(suit);
+    for (j, (a, b)) in m0.iter().zip(&m1).enumerate() {
+        assert!((a - b).abs() < 1e-9, "joint {j}: {a} vs {b}");
+    }
+    // RightHip is a thigh (de Leva's ~14 % of the body), not the trunk
+    let h = t1.human.as_ref().unwrap();
+    let right = h.legs.iter().find(|l| l.side == Side::Right).unwrap();
+    assert_eq!(t1.bvh.joints[right.hip].name, "RightHip");
+    assert_eq!(t1.bvh.joints[right.knee].name, "RightKnee");
+    assert_eq!(t1.bvh.joints[right.ankle].name, "RightAnkle");
+    let thigh = m1[right.hip] / t1.model.total_mass();
+    assert!(
+        (0.08..0.2).contains(&thigh),
+        "RightHip carries {thigh} of the body"
+    );
+    assert!(t0.human.is_ok());
+}
+
+#[test]
+fn a_prop_in_a_hand_is_massless_welded_and_named() {
+    let mut b = demo();
+    let hand = b.joint_index("RightHand").unwrap();
+    // a cane held in the right hand, reaching the floor, with rotation channels of its own
+    let first = b.channel_count;
+    b.joints.push(BvhJoint {
+        name: "Prop1".into(),
+        parent: Some(hand),
+        offset: Vector3::new(0.0, -8.0, 0.0),
+        channels: vec![Channel::Zrotation, Channel::Xrotation, Channel::Yrotation],
+        first_channel: first,
+        end_sites: vec![Vector3::new(0.0, -70.0, 0.0)],
+        line: 0,
+    });
+    let mut motion = Vec::with_capacity(b.frames * (first + 3));
+    for k in 0..b.frames {
+        motion.extend_from_slice(b.frame(k));
+        motion.extend_from_slice(&[0.0, 10.0 * (k as f64 * 0.05).sin(), 0.0]);
+    }
+    b.motion = motion;
+    b.channel_count = first + 3;
+    let (m_prop, t) = masses(b);
+    let (m0, _) = masses(demo());
+    assert!(
+        t.notes
+            .iter()
+            .any(|n| n.contains("massless") && n.contains("Prop1")),
+        "{:?}",
+        t.notes
+    );
+    // welded: no coordinate of the prop; every other link as without it
+    assert!(t.model.v_names.iter().all(|n| !n.starts_with("Prop1")));
+    for (j, (a, b)) in m0.iter().zip(&m_prop).enumerate() {
+        assert!((a - b).abs() < 1e-9, "joint {j}: {a} vs {b}");
+    }
+    let segments = pipeline::anatomy::segments_of_take(&t);
+    assert_eq!(segments[hand].class, Some((Segment::Hand, Side::Right)));
+    assert_eq!(segments[t.bvh.joints.len() - 1].class, None);
+}
