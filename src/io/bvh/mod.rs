@@ -58,11 +58,11 @@ pub mod write;
 
 pub use parse::{parse_bytes, parse_str, read};
 pub use semantics::{
-    LengthUnit, PositionMode, ResolvedPosition, STANDARD_STATURE_M, STATURE_RANGE_M, Scale, UpAxis,
-    bvh_end_site_positions, bvh_world_positions, check_given_stature, check_stature, choose_scale,
-    detect_unit, detect_up, detect_up_by_feet, detect_up_by_legs, joint_rotation,
-    joint_translation, resolve_position_modes, rest_points, rest_stature, scale_for_stature,
-    stature,
+    JointTranslations, LengthUnit, PositionMode, ResolvedPosition, STANDARD_STATURE_M,
+    STATURE_RANGE_M, Scale, UpAxis, bvh_end_site_positions, bvh_world_positions,
+    check_given_stature, check_stature, choose_scale, detect_unit, detect_up, detect_up_by_feet,
+    detect_up_by_legs, joint_rotation, joint_translation, resolve_position_modes, rest_points,
+    rest_stature, scale_for_stature, stature,
 };
 pub use write::{write, write_string};
 
