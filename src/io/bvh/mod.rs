@@ -25,7 +25,8 @@
 //! - **Local transform.** A joint's pose in its parent frame is `T(offset) · T(p) · R`, where
 //!   `p` comes from its position channels. Position channels may appear on any joint (Bandai
 //!   and MakeHuman files have them on non-root joints), in any order, with or without
-//!   rotations.
+//!   rotations. Below the body's root the pipeline welds them at their mean by default
+//!   ([`semantics::JointTranslations`], `motion::weld`): bones do not stretch.
 //! - **Add or replace.** Files disagree on whether position channels *add* to the OFFSET
 //!   (MakeHuman: all zeros; most parsers) or *replace* it (Blender's importer; Bandai: channel
 //!   values equal to the OFFSET; PyMO's root). [`semantics::PositionMode`] chooses `add`,
