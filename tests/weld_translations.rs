@@ -313,6 +313,11 @@ fn locks_and_subtrees_apply_to_a_welded_take() {
     opts.lock = vec!["LeftArm".into()];
     let t = load(six.clone(), &opts);
     assert_eq!(t.model.nv, 6 + 3 * 19);
+    // a welded channel has no coordinate left to lock: it holds still already
+    opts.lock = vec!["LeftLeg.Yposition".into(), "LeftLeg.Xrotation".into()];
+    assert_eq!(load(six.clone(), &opts).model.nv, 6 + 3 * 20 - 1);
+    opts.lock = vec!["LeftLeg.Wposition".into()];
+    assert!(pipeline::take_from_bvh(Path::new("six.bvh"), six.clone(), &opts).is_err());
     opts.lock.clear();
     opts.subtree = Some("RightUpLeg".into());
     let t = load(six, &opts);

@@ -200,6 +200,20 @@ fn bones(bvh: &Bvh, scale: f64) -> Vec<Bone> {
         .collect()
 }
 
+/// True when `name` is `<joint>.<position channel>` of a joint whose position channels are
+/// held ([`BvhModelOptions::held_positions`]).
+fn is_held(bvh: &Bvh, opts: &BvhModelOptions, name: &str) -> bool {
+    let Some((joint, channel)) = name.rsplit_once('.') else {
+        return false;
+    };
+    let (Some(j), Some(c)) = (bvh.joint_index(joint), Channel::from_name(channel)) else {
+        return false;
+    };
+    !c.is_rotation()
+        && bvh.joints[j].channels.contains(&c)
+        && matches!(opts.held_positions.get(j), Some(Some(_)))
+}
+
 /// Builds the model of a BVH skeleton and the channel ↔ coordinate map (see the module doc).
 ///
 /// Errors: a non-positive `scale_to_m`, `positions` of the wrong length, anthropometry errors
@@ -372,6 +386,8 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
             lock[first_body[j]..=maps[j].body].fill(true);
         } else if let Some(i) = full.body_index(name) {
             lock[i] = true;
+        } else if is_held(bvh, opts, name) {
+            // a held position channel has no coordinate to lock: it holds still already
         } else {
             return Err(Error::Invalid(format!(
                 "cannot lock {name:?}: it is neither a joint nor a coordinate of {} \
