@@ -271,6 +271,10 @@ pub struct TakeArgs {
     /// Keep frame 0 even when it is a rest pose before the motion (dropped by default).
     #[arg(long)]
     pub keep_first_frame: bool,
+    /// Position channels on joints below the body's root: weld (held at their mean, bones do
+    /// not stretch; the default) or keep (a prismatic coordinate each).
+    #[arg(long, value_name = "weld|keep")]
+    pub joint_translations: Option<String>,
     /// Viscous joint friction b (N·m·s/rad; N·s/m on translations), τ gains b·q̇: `B` for every
     /// joint coordinate, `JOINT=B` for one joint's (or one coordinate's) (repeatable). Never on
     /// the 6 root coordinates of a floating avatar.
@@ -326,7 +330,8 @@ const UNUSED_TAKE_FLAGS: &[(&str, &[&str], &str)] = &[
             "--damping",
             "--lock",
         ],
-        "positions come from the file's channels as read; no model, mass or smoothing enters",
+        "positions come from the file's channels (those below the root welded at their mean \
+         unless --joint-translations keep); no model, mass or smoothing enters",
     ),
     (
         "export states",
@@ -393,6 +398,7 @@ impl TakeArgs {
             ("--damping", !self.damping.is_empty()),
             ("--lock", !self.lock.is_empty()),
             ("--keep-first-frame", self.keep_first_frame),
+            ("--joint-translations", self.joint_translations.is_some()),
         ]
         .into_iter()
         .filter_map(|(f, given)| given.then_some(f))
@@ -466,6 +472,7 @@ impl TakeArgs {
             contact: self.contact.as_deref(),
             keep_first_frame: self.keep_first_frame,
             damping: &self.damping,
+            joint_translations: self.joint_translations.as_deref(),
         })?;
         Ok((o, scene.and_then(|s| s.gains)))
     }

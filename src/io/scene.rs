@@ -14,6 +14,7 @@
 //! smooth = "butterworth:6hz"
 //! contact = "feet"                # or "none"
 //! keep_first_frame = false        # true keeps a rest pose stored as frame 0
+//! joint_translations = "weld"     # or "keep": position channels below the root as coordinates
 //! damping = 0.5                   # N·m·s/rad, every joint coordinate (or a table by joint)
 //! [link_mass]
 //! LeftUpLeg = 9.5
@@ -28,7 +29,7 @@
 //! scene into model options).
 
 use crate::error::Error;
-use crate::io::bvh::{LengthUnit, PositionMode, UpAxis, check_given_stature};
+use crate::io::bvh::{JointTranslations, LengthUnit, PositionMode, UpAxis, check_given_stature};
 use serde::{Deserialize, Deserializer, de::Error as _};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -189,6 +190,10 @@ pub struct Scene {
     /// false: such a frame is dropped, as `--keep-first-frame` keeps it).
     #[serde(default)]
     pub keep_first_frame: bool,
+    /// Position channels of the joints below the body's root: `"weld"` (default: held at
+    /// their mean, as `--joint-translations weld`) or `"keep"` (coordinates).
+    #[serde(default, deserialize_with = "from_str")]
+    pub joint_translations: JointTranslations,
     /// Per-link mass overrides (kg, ≥ 0) by BVH joint name.
     #[serde(default, deserialize_with = "masses")]
     pub link_mass: BTreeMap<String, f64>,
@@ -398,7 +403,10 @@ mod tests {
         assert_eq!(s.joints, "euler");
         assert_eq!(s.contact, "none");
         assert_eq!(s.position, PositionMode::Auto);
+        assert_eq!(s.joint_translations, JointTranslations::Weld);
         assert_eq!((s.unit, s.up, s.stature), (None, None, None));
+        let s = parse("takes = [\"a.bvh\"]\njoint_translations = \"keep\"\n").unwrap();
+        assert_eq!(s.joint_translations, JointTranslations::Keep);
         let s = parse("takes = [\"a.bvh\"]\nunit = 0.0254\nup = \"Z\"\nsex = \"F\"\n").unwrap();
         assert_eq!(s.unit, Some(LengthUnit::Custom(0.0254)));
         assert_eq!(s.up, Some(UpAxis::Z));
@@ -428,6 +436,7 @@ mod tests {
             ("takes = [\"a.bvh\"]\njoints = \"hinge\"\n", 2),
             ("takes = [\"a.bvh\"]\ncontact = \"hands\"\n", 2),
             ("takes = [\"a.bvh\"]\nposition = \"both\"\n", 2),
+            ("takes = [\"a.bvh\"]\njoint_translations = \"stretch\"\n", 2),
             ("takes = [\"a.bvh\"]\n[link_mass]\nLeftUpLeg = -1\n", 3),
             ("takes = [\"a.bvh\"]\n[gains]\nkp = -1\nkv = 1\n", 3),
             ("takes = [\"a.bvh\"]\ndamping = -0.5\n", 2),

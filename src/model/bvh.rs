@@ -17,6 +17,11 @@
 //! de Leva mass, inertia and shape from [`anthropometry`](crate::model::anthropometry).
 //! Lengths are multiplied by `scale_to_m`; gravity is −9.81 m/s² along −up.
 //!
+//! Position channels held at a value ([`BvhModelOptions::held_positions`]: the pipeline welds
+//! those of joints below the body's root at their mean, `motion::weld`) are no coordinate in
+//! either model: the joint is placed at `T(offset) · T(held)` and keeps only its rotation (a
+//! spherical joint in the ball model, not a free one).
+//!
 //! Joints without channels, locked joints and the branches outside the subtree of interest are
 //! welded to their parent by [`simplify`](crate::model::simplify); the [`BvhMap`] follows.
 
@@ -91,6 +96,11 @@ pub struct BvhModelOptions {
     /// The segment of every joint's link (`model::skeleton::segment_classes`, by topology);
     /// `None`: by the joint names (`anthropometry::classes_by_name`).
     pub segments: Option<Vec<anthropometry::SegmentOf>>,
+    /// Position channels held at a value instead of being coordinates, by BVH joint
+    /// (`motion::weld`): `Some(v)` places the joint at `T(offset) · T(p)`, `p` what its
+    /// position channels at the values `v` (file units, by axis) mean under its position mode,
+    /// and gives them no coordinate; `None` (or an empty list): each is a coordinate.
+    pub held_positions: Vec<Option<Vector3<f64>>>,
 }
 
 impl BvhModelOptions {
@@ -111,6 +121,7 @@ impl BvhModelOptions {
             lock: vec![],
             subtree: None,
             segments: None,
+            held_positions: vec![],
         }
     }
 }
@@ -143,7 +154,8 @@ pub struct ChannelMap {
     /// only (rotations go through [`JointMap::quat_q`]). `None`: locked (held at rest).
     pub q: Option<usize>,
     /// Position channels: the value (file units) that means "at rest" (the OFFSET component for
-    /// `Replace`, 0 for `Add`); 0 for rotations.
+    /// `Replace`, 0 for `Add`), or the value a held channel is held at
+    /// ([`BvhModelOptions::held_positions`]); 0 for rotations.
     pub rest: f64,
 }
 
@@ -192,6 +204,20 @@ fn bones(bvh: &Bvh, scale: f64) -> Vec<Bone> {
         .collect()
 }
 
+/// True when `name` is `<joint>.<position channel>` of a joint whose position channels are
+/// held ([`BvhModelOptions::held_positions`]).
+fn is_held(bvh: &Bvh, opts: &BvhModelOptions, name: &str) -> bool {
+    let Some((joint, channel)) = name.rsplit_once('.') else {
+        return false;
+    };
+    let (Some(j), Some(c)) = (bvh.joint_index(joint), Channel::from_name(channel)) else {
+        return false;
+    };
+    !c.is_rotation()
+        && bvh.joints[j].channels.contains(&c)
+        && matches!(opts.held_positions.get(j), Some(Some(_)))
+}
+
 /// Builds the model of a BVH skeleton and the channel ↔ coordinate map (see the module doc).
 ///
 /// Errors: a non-positive `scale_to_m`, `positions` of the wrong length, anthropometry errors
@@ -210,6 +236,13 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
             bvh.joints.len()
         )));
     }
+    if !opts.held_positions.is_empty() && opts.held_positions.len() != bvh.joints.len() {
+        return Err(Error::Invalid(format!(
+            "{} held positions for {} joints",
+            opts.held_positions.len(),
+            bvh.joints.len()
+        )));
+    }
     let bones = bones(bvh, scale);
     let links = match &opts.segments {
         Some(c) => anthropometry::distribute_classes(&bones, &opts.body, c)?,
@@ -225,7 +258,6 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
     let mut weld = vec![false]; // bodies to weld to their parent (joints without channels)
     for (j, joint) in bvh.joints.iter().enumerate() {
         let parent_body = joint.parent.map_or(0, |p| maps[p].body);
-        let placement = SpatialTransform::from_translation(joint.offset * scale);
         let replace = matches!(opts.positions.get(j), Some(ResolvedPosition::Replace));
         let rest_of = |c: Channel| {
             if !c.is_rotation() && replace {
@@ -245,13 +277,29 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
                 rest: rest_of(c),
             })
             .collect();
+        // held position channels: the joint placed where they hold it, no coordinate
+        let mut t = joint.offset * scale;
+        let held = opts.held_positions.get(j).copied().flatten();
+        if let Some(v) = held {
+            for c in channels.iter_mut().filter(|c| !c.channel.is_rotation()) {
+                let a = c.channel.axis();
+                t[a] += (v[a] - c.rest) * scale;
+                c.rest = v[a];
+            }
+        }
+        let placement = SpatialTransform::from_translation(t);
+        let is_coordinate = |c: Channel| c.is_rotation() || held.is_none();
         let link = &links[j];
         let inertia = SpatialInertia::new(link.mass, link.com, link.inertia_com);
-        let has_pos = joint.channels.iter().any(|c| !c.is_rotation());
+        let has_pos = joint
+            .channels
+            .iter()
+            .any(|&c| !c.is_rotation() && is_coordinate(c));
         let has_rot = joint.channels.iter().any(|c| c.is_rotation());
         let mut quat_q = None;
+        let mut coordinate_bodies = 0;
         let body = match opts.joints {
-            _ if joint.channels.is_empty() => {
+            _ if !joint.channels.iter().any(|&c| is_coordinate(c)) => {
                 weld.push(true);
                 b.add_body(
                     parent_body,
@@ -266,6 +314,7 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
                 // position channels first (T(offset)·T(pos)·R), then rotations in file order
                 let mut order: Vec<usize> = (0..channels.len())
                     .filter(|&k| !channels[k].channel.is_rotation())
+                    .filter(|&k| is_coordinate(channels[k].channel))
                     .collect();
                 order.extend((0..channels.len()).filter(|&k| channels[k].channel.is_rotation()));
                 let mut prev = parent_body;
@@ -294,6 +343,7 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
                     weld.push(false);
                     channels[k].q = Some(b.model().idx_q[prev]);
                 }
+                coordinate_bodies = order.len();
                 prev
             }
             JointModel::Ball => {
@@ -312,8 +362,10 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
                 );
                 weld.push(false);
                 let iq = b.model().idx_q[i];
-                for c in channels.iter_mut().filter(|c| !c.channel.is_rotation()) {
-                    c.q = Some(iq + c.channel.axis());
+                if has_pos {
+                    for c in channels.iter_mut().filter(|c| !c.channel.is_rotation()) {
+                        c.q = Some(iq + c.channel.axis());
+                    }
                 }
                 if has_rot {
                     quat_q = Some(if has_pos { iq + 3 } else { iq });
@@ -321,11 +373,8 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
                 i
             }
         };
-        first_body[j] = if joint.channels.is_empty() || opts.joints == JointModel::Ball {
-            body
-        } else {
-            body + 1 - joint.channels.len()
-        };
+        // euler: the joint's first coordinate body; otherwise its one body
+        first_body[j] = body + 1 - coordinate_bodies.max(1);
         if let Some(s) = link.shape {
             b.set_shape(body, s);
         }
@@ -345,6 +394,8 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
             lock[first_body[j]..=maps[j].body].fill(true);
         } else if let Some(i) = full.body_index(name) {
             lock[i] = true;
+        } else if is_held(bvh, opts, name) {
+            // a held position channel has no coordinate to lock: it holds still already
         } else {
             return Err(Error::Invalid(format!(
                 "cannot lock {name:?}: it is neither a joint nor a coordinate of {} \

@@ -1,5 +1,6 @@
 //! Joint-space motion: BVH channels → q (take), continuity (unwrap), smoothing, derivatives,
-//! C² ramps and blending/warping of takes.
+//! C² ramps and blending/warping of takes, a helper root folded (fold) and bone translations
+//! welded (weld).
 
 pub mod blend;
 pub mod contact;
@@ -10,3 +11,4 @@ pub mod smooth;
 pub mod take;
 pub mod trim;
 pub mod unwrap;
+pub mod weld;

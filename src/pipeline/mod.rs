@@ -7,8 +7,11 @@
 //! 1. `read`: parse the BVH (`io::bvh`);
 //! 2. `axes and unit`: up axis and length unit detected from the rest pose, or given
 //!    (`--up`, `--unit`, `--stature`), stature checked against 1.0–2.3 m;
-//! 3. `position semantics`: add / replace / auto per joint;
-//! 4. `model`: euler or ball joints, de Leva masses, locks and subtree (`model::bvh`);
+//! 3. `position semantics`: add / replace / auto per joint; position channels of the joints
+//!    below the body's root welded at their mean (`motion::weld`; `--joint-translations keep`
+//!    keeps them as coordinates);
+//! 4. `model`: euler or ball joints, de Leva masses, locks and subtree (`model::bvh`); a
+//!    massless helper root folded into the pelvis (`motion::fold`);
 //! 5. `q`: channels → q per frame (`motion::take`), Euler angles unwrapped;
 //! 6. `smooth`: the chosen low-pass on q (`motion::smooth`);
 //! 7. `v, a`: central differences on the configuration manifold (`Model::difference`), then
@@ -26,7 +29,9 @@ pub use sim::{
 
 use crate::dynamics::{self, Workspace};
 use crate::error::Error;
-use crate::io::bvh::{self, Bvh, LengthUnit, PositionMode, ResolvedPosition, UpAxis};
+use crate::io::bvh::{
+    self, Bvh, JointTranslations, LengthUnit, PositionMode, ResolvedPosition, UpAxis,
+};
 pub use crate::io::scene::{Damping, PerJoint};
 use crate::model::anthropometry::{BodyParams, Sex};
 use crate::model::bvh::{BvhMap, BvhModelOptions, JointModel, build_bvh_model};
@@ -67,6 +72,9 @@ pub struct TakeOptions {
     /// Viscous joint friction `b q̇` set on the model (`Model::damping`); never on the 6 root
     /// coordinates of a floating avatar.
     pub damping: Damping,
+    /// Position channels of the joints below the body's root: welded at their mean (the
+    /// default) or kept as coordinates (`motion::weld`).
+    pub joint_translations: JointTranslations,
 }
 
 /// Ground contact model of a scene.
@@ -106,6 +114,7 @@ impl Default for TakeOptions {
             contact: Contact::None,
             keep_first_frame: false,
             damping: Damping::default(),
+            joint_translations: JointTranslations::Weld,
         }
     }
 }
@@ -129,6 +138,8 @@ pub struct Flags<'a> {
     pub keep_first_frame: bool,
     /// `B` (every joint coordinate) or `JOINT=B` (N·m·s/rad), in order.
     pub damping: &'a [String],
+    /// `weld` or `keep`.
+    pub joint_translations: Option<&'a str>,
 }
 
 /// A smoothing as typed: `auto` (the default that fits the take) or a [`SmoothSpec`].
@@ -226,6 +237,7 @@ impl TakeOptions {
         o.contact = scene.contact.parse()?;
         o.keep_first_frame = scene.keep_first_frame;
         o.damping = scene.damping.clone();
+        o.joint_translations = scene.joint_translations;
         Ok(o)
     }
 
@@ -286,6 +298,9 @@ impl TakeOptions {
         }
         if f.keep_first_frame {
             self.keep_first_frame = true;
+        }
+        if let Some(j) = f.joint_translations {
+            self.joint_translations = parse_flag("joint-translations", j)?;
         }
         parse_per_joint(
             "damping",
@@ -436,6 +451,9 @@ pub struct Take {
     /// A massless helper root folded into its child (`motion::fold`): `bvh` holds the folded
     /// motion, this the file's root channels, so outputs can give the root motion back.
     pub fold: Option<crate::motion::fold::Fold>,
+    /// The position channels held at their mean (`motion::weld`): `bvh` holds them so, as the
+    /// model does.
+    pub welded: Vec<crate::motion::weld::Welded>,
     /// q, v, a after unwrapping, smoothing and differentiation.
     pub states: States,
     /// What the loader changed on its own, for `info` (e.g. a folded helper root).
@@ -581,7 +599,7 @@ pub fn take_from_bvh_with(
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "take".into());
-    let mopts = BvhModelOptions {
+    let mut mopts = BvhModelOptions {
         name,
         joints: opts.joints,
         scale_to_m,
@@ -591,9 +609,9 @@ pub fn take_from_bvh_with(
         lock: opts.lock.clone(),
         subtree: opts.subtree.clone(),
         segments: None,
+        held_positions: vec![],
     };
     let human = landmarks;
-    let mut mopts = mopts;
     if let Ok(h) = &human {
         let (segments, props) = anatomy::segments_of(&bvh, h);
         mopts.segments = Some(segments);
@@ -617,22 +635,39 @@ pub fn take_from_bvh_with(
     // `joint_Root` above `Hips`) duplicates the child's coordinates and makes D(q) singular:
     // fold its motion into the child and weld it (`motion::fold`)
     let mut fold = None;
+    let mut pelvis = None; // below a helper root: it carries the body too (`motion::weld`)
     if let Some(c) = crate::motion::fold::redundant_root_child(&bvh) {
         let root_body = map.joints[0].body;
         let root = bvh.joints[0].name.clone();
         let overridden = opts.body.link_mass.contains_key(&root);
-        if root_body != 0 && model.inertia[root_body].mass == 0.0 && !overridden {
+        let massless = root_body != 0 && model.inertia[root_body].mass == 0.0;
+        if massless || (root_body != 0 && overridden) {
+            pelvis = Some(c);
+        }
+        if massless && !overridden {
             fold = Some(crate::motion::fold::Fold::record(&bvh, c));
             crate::motion::fold::fold_root_into_child(&mut bvh, &positions, c);
-            let mut welded = mopts.clone();
-            welded.lock.push(root.clone());
-            (model, map) = build_bvh_model(&bvh, &welded).map_err(|e| at_file(path, e))?;
+            mopts.lock.push(root.clone());
             notes.push(format!(
                 "root `{root}` is massless and `{}` has six channels of its own: its motion \
                  was folded into `{}` and it was welded (its coordinates were redundant)",
                 bvh.joints[c].name, bvh.joints[c].name
             ));
         }
+    }
+
+    // bones do not stretch: the position channels of the joints below the body's root are
+    // held at their mean, in the frames and in the model (`motion::weld`)
+    let welded = match opts.joint_translations {
+        JointTranslations::Weld => {
+            crate::motion::weld::weld_at_mean(&mut bvh, &positions, scale_to_m, pelvis)
+        }
+        JointTranslations::Keep => vec![],
+    };
+    notes.extend(crate::motion::weld::note(&bvh, &welded));
+    if fold.is_some() || !welded.is_empty() {
+        mopts.held_positions = crate::motion::weld::held_positions(&welded, bvh.joints.len());
+        (model, map) = build_bvh_model(&bvh, &mopts).map_err(|e| at_file(path, e))?;
     }
     apply_damping(&mut model, &opts.damping).map_err(|e| at_file(path, e))?;
 
@@ -665,6 +700,7 @@ pub fn take_from_bvh_with(
         map,
         smooth,
         fold,
+        welded,
         states,
         notes,
         human,
@@ -1517,7 +1553,7 @@ impl Info<'_> {
             s,
             "joints      (name: channels [rotation order] position channels)"
         );
-        for (j, pos) in b.joints.iter().zip(&t.positions) {
+        for (i, (j, pos)) in b.joints.iter().zip(&t.positions).enumerate() {
             let chans: Vec<&str> = j.channels.iter().map(|c| c.name()).collect();
             let order = j
                 .euler_order()
@@ -1528,7 +1564,14 @@ impl Info<'_> {
                 ResolvedPosition::Add => " positions: add".into(),
                 ResolvedPosition::Replace => " positions: replace".into(),
             };
-            let _ = writeln!(s, "  {}: {}{order}{p}", j.name, chans.join(" "));
+            let held = match t.welded.iter().find(|w| w.joint == i) {
+                Some(w) => format!(
+                    ", welded at their mean (varied up to {})",
+                    crate::motion::weld::centimetres(w.variation_m)
+                ),
+                None => String::new(),
+            };
+            let _ = writeln!(s, "  {}: {}{order}{p}{held}", j.name, chans.join(" "));
         }
         for n in &t.notes {
             let _ = writeln!(s, "note        {n}");

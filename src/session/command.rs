@@ -205,6 +205,7 @@ pub const SET_KEYS: &[&str] = &[
     "smooth",
     "contact",
     "keep_first_frame",
+    "joint_translations",
     "kp",
     "kv",
     "kp.<joint>",

@@ -32,7 +32,7 @@
 //! |---|---|
 //! | `load PATH [as NAME]` | load and make active: a BVH take (`demo:walk`: the generated demo walk), a DH table (`.toml`, `data/puma560.toml`) or a URDF (`.urdf`, fixed base, gravity −z); a states CSV (`.csv`, the `articula export states` or `export csv` format) becomes the active robot's motion |
 //! | `trajectory POSE [POSE …] over T [at HZ]` | the active robot's motion: quintic point-to-point moves of T s between the poses (zero speed and acceleration at each pose, Corke's `jtraj`), sampled at HZ (default 500); a pose is one value per coordinate, comma separated, rad or m when bare, `pi` multiples allowed (`0,pi/4,-pi,0,pi/4,0`), or with a unit (`0,45deg,-180deg,0,45deg,0`, `5cm`); one pose is held for T (the gravity load) |
-//! | `scene PATH` | read a TOML scene (io::scene) exactly as `--scene` does (`pipeline::TakeOptions::from_scene`): unit, stature, up, position, joints, mass, sex, link masses, smooth, locks, subtree, contact and keep_first_frame become the take options, its gains `kp`/`kv`; its takes are loaded (the first active) |
+//! | `scene PATH` | read a TOML scene (io::scene) exactly as `--scene` does (`pipeline::TakeOptions::from_scene`): unit, stature, up, position, joints, mass, sex, link masses, smooth, locks, subtree, contact, keep_first_frame and joint_translations become the take options, its gains `kp`/`kv`; its takes are loaded (the first active) |
 //! | `set KEY VALUE` | change a parameter (below); results recompute on the next use |
 //! | `run id` | inverse dynamics over the active take (RNEA at every frame) |
 //! | `run sim` | computed-torque simulation tracking the active take (`kp`, `kv`, `integrator`, `dt`); the message gives the tracking error |
@@ -56,7 +56,9 @@
 //! `joints euler|ball`, `smooth none|gaussian:W|butterworth:F[hz][:ORDER]` (W in s, F in Hz),
 //! `contact none|feet`, `link.<joint>.mass KG`, `lock J1,J2,…` (or `none`),
 //! `keep_first_frame true|false` (keep a rest pose stored as frame 0, `--keep-first-frame`; it
-//! acts when a take is read, so it applies to the takes loaded after it); of the simulation:
+//! acts when a take is read, so it applies to the takes loaded after it),
+//! `joint_translations weld|keep` (position channels on joints below the body's root held at
+//! their mean, or prismatic coordinates, `--joint-translations`); of the simulation:
 //! `kp X`, `kv X` (every coordinate's gain, 1/s² and 1/s), `kp.<joint> X`, `kv.<joint> X` (one
 //! joint's coordinates or one coordinate: diagonal gains, as `--kp LeftLeg=900`),
 //! `integrator euler|semi-implicit|rk4|dopri5`, `dt S`; `blend.window S`.

@@ -1264,6 +1264,7 @@ impl Workbench {
             }
             "contact" => p.take.contact = parsed(key, value)?,
             "keep_first_frame" => p.take.keep_first_frame = parsed::<bool>(key, value)?,
+            "joint_translations" => p.take.joint_translations = parsed(key, value)?,
             "kp" => p.kp.all = num(None, "a gain in 1/s²")?,
             "kv" => p.kv.all = num(None, "a gain in 1/s")?,
             "integrator" => {

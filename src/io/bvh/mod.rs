@@ -25,7 +25,8 @@
 //! - **Local transform.** A joint's pose in its parent frame is `T(offset) · T(p) · R`, where
 //!   `p` comes from its position channels. Position channels may appear on any joint (Bandai
 //!   and MakeHuman files have them on non-root joints), in any order, with or without
-//!   rotations.
+//!   rotations. Below the body's root the pipeline welds them at their mean by default
+//!   ([`semantics::JointTranslations`], `motion::weld`): bones do not stretch.
 //! - **Add or replace.** Files disagree on whether position channels *add* to the OFFSET
 //!   (MakeHuman: all zeros; most parsers) or *replace* it (Blender's importer; Bandai: channel
 //!   values equal to the OFFSET; PyMO's root). [`semantics::PositionMode`] chooses `add`,
@@ -58,11 +59,11 @@ pub mod write;
 
 pub use parse::{parse_bytes, parse_str, read};
 pub use semantics::{
-    LengthUnit, PositionMode, ResolvedPosition, STANDARD_STATURE_M, STATURE_RANGE_M, Scale, UpAxis,
-    bvh_end_site_positions, bvh_world_positions, check_given_stature, check_stature, choose_scale,
-    detect_unit, detect_up, detect_up_by_feet, detect_up_by_legs, joint_rotation,
-    joint_translation, resolve_position_modes, rest_points, rest_stature, scale_for_stature,
-    stature,
+    JointTranslations, LengthUnit, PositionMode, ResolvedPosition, STANDARD_STATURE_M,
+    STATURE_RANGE_M, Scale, UpAxis, bvh_end_site_positions, bvh_world_positions,
+    check_given_stature, check_stature, choose_scale, detect_unit, detect_up, detect_up_by_feet,
+    detect_up_by_legs, joint_rotation, joint_translation, resolve_position_modes, rest_points,
+    rest_stature, scale_for_stature, stature,
 };
 pub use write::{write, write_string};
 

@@ -49,6 +49,41 @@ impl std::fmt::Display for PositionMode {
     }
 }
 
+/// What position channels on joints other than the body's root become (a user option, `weld`
+/// by default): bones do not stretch, so where a file restates a bone's OFFSET in them or moves
+/// it by capture noise they are held at their mean (`motion::weld`); `keep` makes each a
+/// prismatic coordinate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum JointTranslations {
+    /// Held at their mean over the take: no coordinate.
+    #[default]
+    Weld,
+    /// One prismatic coordinate per channel (euler model), a free joint (ball model).
+    Keep,
+}
+
+impl FromStr for JointTranslations {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "weld" => Ok(JointTranslations::Weld),
+            "keep" => Ok(JointTranslations::Keep),
+            _ => Err(Error::Invalid(format!(
+                "unknown joint translations '{s}': expected weld or keep"
+            ))),
+        }
+    }
+}
+
+impl std::fmt::Display for JointTranslations {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            JointTranslations::Weld => "weld",
+            JointTranslations::Keep => "keep",
+        })
+    }
+}
+
 /// The mode in force for one joint.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ResolvedPosition {
