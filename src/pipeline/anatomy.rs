@@ -45,6 +45,8 @@ pub struct Anatomy {
     pub mass_kg: f64,
     /// How the joints and frames were found.
     pub notes: Vec<String>,
+    /// With ground contact: per foot (`left`, `right`), whether it is on the floor per frame.
+    pub contact: Vec<(String, Vec<bool>)>,
 }
 
 impl Anatomy {
@@ -678,13 +680,79 @@ pub fn anatomy_with(take: &Take, grf: Option<&GroundReactions>) -> Result<Anatom
             unwrap_degrees(col);
         }
     }
+    let contact = grf.map_or(vec![], |g| {
+        g.feet
+            .iter()
+            .enumerate()
+            .map(|(j, f)| (f.clone(), g.contact.iter().map(|c| c[j]).collect()))
+            .collect()
+    });
     Ok(Anatomy {
         time: s.time.clone(),
         names,
         columns,
         mass_kg: mass,
         notes,
+        contact,
     })
+}
+
+/// One knee over the gait cycles of a take (medians over its strides).
+#[derive(Debug, Clone, PartialEq)]
+pub struct KneeCycles {
+    /// `knee_l`, `knee_r`.
+    pub knee: String,
+    /// Foot strikes followed by a whole stance and swing before the next.
+    pub strides: usize,
+    /// Largest flexion in swing (deg).
+    pub swing_flexion_deg: f64,
+    /// Largest extensor moment in loading response, the first fifth of stance (N·m/kg).
+    pub loading_extensor_nm_kg: f64,
+    /// Knee flexion at that moment's peak (deg).
+    pub loading_flexion_deg: f64,
+}
+
+/// The gait-cycle figures of each knee from its foot's contact phases (a stride: foot strike,
+/// stance, toe-off, swing, the next strike); empty without contact or a whole stride.
+pub fn knee_cycles(a: &Anatomy) -> Vec<KneeCycles> {
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+    };
+    let mut out = vec![];
+    for (foot, on) in &a.contact {
+        let knee = if foot == "left" { "knee_l" } else { "knee_r" };
+        let (Some(flex), Some(moment)) = (
+            a.column(&format!("{knee}:flexion:angle")),
+            a.column(&format!("{knee}:flexion:moment_per_kg")),
+        ) else {
+            continue;
+        };
+        let strikes: Vec<usize> = (1..on.len()).filter(|&k| on[k] && !on[k - 1]).collect();
+        let (mut swing, mut load, mut load_flex) = (vec![], vec![], vec![]);
+        for w in strikes.windows(2) {
+            let (s0, s1) = (w[0], w[1]);
+            let Some(off) = (s0..s1).find(|&k| !on[k]) else {
+                continue;
+            };
+            swing.push(flex[off..s1].iter().copied().fold(f64::NEG_INFINITY, f64::max));
+            let end = s0 + ((off - s0) / 5).max(1);
+            let k = (s0..end).max_by(|&x, &y| moment[x].total_cmp(&moment[y])).unwrap_or(s0);
+            load.push(moment[k]);
+            load_flex.push(flex[k]);
+        }
+        if swing.is_empty() {
+            continue;
+        }
+        out.push(KneeCycles {
+            knee: knee.into(),
+            strides: swing.len(),
+            swing_flexion_deg: median(swing),
+            loading_extensor_nm_kg: median(load),
+            loading_flexion_deg: median(load_flex),
+        });
+    }
+    out
 }
 
 /// Removes jumps of whole turns from an angle series (deg).
@@ -695,12 +763,21 @@ fn unwrap_degrees(x: &mut [f64]) {
     }
 }
 
-/// `articula anatomy -o PATH`: `time` (s), then every column of [`anatomy`].
+/// `articula anatomy -o PATH`: `time` (s), then every column of [`anatomy`] (angles in deg,
+/// moments in N·m and N·m/kg), then with ground contact `contact:left`, `contact:right` (1 on
+/// the floor, 0 off it).
 pub fn write_anatomy(a: &Anatomy, path: &std::path::Path) -> Result<(), Error> {
     let mut header = vec!["time".to_string()];
     header.extend(a.names.iter().cloned());
     let mut cols: Vec<&[f64]> = vec![&a.time];
     cols.extend(a.columns.iter().map(|c| c.as_slice()));
+    let contact: Vec<Vec<f64>> = a
+        .contact
+        .iter()
+        .map(|(_, on)| on.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect())
+        .collect();
+    header.extend(a.contact.iter().map(|(f, _)| format!("contact:{f}")));
+    cols.extend(contact.iter().map(|c| c.as_slice()));
     crate::report::csv::write_columns(path, &header, &cols)
 }
 
@@ -728,6 +805,18 @@ pub fn summary(a: &Anatomy) -> String {
             })
             .unwrap_or_else(|| "-".into());
         out += &format!("{joint:<12} {:>22} {m:>30}\n", format!("{lo:.1}..{hi:.1}"));
+    }
+    for c in knee_cycles(a) {
+        out += &format!(
+            "{}: {} strides (medians): swing flexion peak {:.1}°, loading-response extensor \
+             moment {:.2} N·m/kg at {:.1}° flexion ({:.0} kg body)\n",
+            c.knee,
+            c.strides,
+            c.swing_flexion_deg,
+            c.loading_extensor_nm_kg,
+            c.loading_flexion_deg,
+            a.mass_kg
+        );
     }
     out
 }
