@@ -240,6 +240,10 @@ pub struct TakeArgs {
     /// Sex for the de Leva (1996) tables: male (default) or female.
     #[arg(long)]
     pub sex: Option<String>,
+    /// Segment masses: regression (default: Zatsiorsky–Seluyanov, on body mass and the
+    /// skeleton's stature) or fractions (de Leva's fixed fractions of body mass).
+    #[arg(long)]
+    pub segments: Option<String>,
     /// Link mass override `JOINT=KG` (repeatable); the other links are rescaled.
     #[arg(long = "link-mass", value_name = "JOINT=KG")]
     pub link_mass: Vec<String>,
@@ -306,6 +310,7 @@ const UNUSED_TAKE_FLAGS: &[(&str, &[&str], &str)] = &[
         &[
             "--mass",
             "--sex",
+            "--segments",
             "--link-mass",
             "--smooth",
             "--joints",
@@ -317,7 +322,14 @@ const UNUSED_TAKE_FLAGS: &[(&str, &[&str], &str)] = &[
     ),
     (
         "export states",
-        &["--mass", "--sex", "--link-mass", "--contact", "--damping"],
+        &[
+            "--mass",
+            "--sex",
+            "--segments",
+            "--link-mass",
+            "--contact",
+            "--damping",
+        ],
         "states are kinematics: no mass, contact or friction enters",
     ),
     (
@@ -353,7 +365,14 @@ const UNUSED_TAKE_FLAGS: &[(&str, &[&str], &str)] = &[
     ),
     (
         "smooth",
-        &["--mass", "--sex", "--link-mass", "--contact", "--damping"],
+        &[
+            "--mass",
+            "--sex",
+            "--segments",
+            "--link-mass",
+            "--contact",
+            "--damping",
+        ],
         "smoothing writes the motion; no mass, contact or friction enters",
     ),
 ];
@@ -373,6 +392,7 @@ impl TakeArgs {
             ("--subtree", self.subtree.is_some()),
             ("--mass", self.mass.is_some()),
             ("--sex", self.sex.is_some()),
+            ("--segments", self.segments.is_some()),
             ("--link-mass", !self.link_mass.is_empty()),
             ("--smooth", self.smooth.is_some()),
             ("--joints", self.joints.is_some()),
@@ -446,6 +466,7 @@ impl TakeArgs {
             joints: self.joints.as_deref(),
             mass_kg: self.mass,
             sex: self.sex.as_deref(),
+            segments: self.segments.as_deref(),
             link_mass: &self.link_mass,
             smooth: self.smooth.as_deref(),
             lock: &self.lock,

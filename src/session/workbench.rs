@@ -1177,6 +1177,7 @@ impl Workbench {
         match key {
             "body.mass" => p.take.body.mass_kg = positive("a positive mass in kg")?,
             "body.sex" => p.take.body.sex = parsed(key, value)?,
+            "body.segments" => p.take.body.segments = parsed(key, value)?,
             "unit" => {
                 p.take.unit = if auto {
                     None
