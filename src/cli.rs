@@ -29,13 +29,15 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Cmd {
-    /// Describe a take: skeleton, channels, frames, unit, up axis, model size, mass.
+    /// Describe a take: skeleton, channels, frames, unit, up axis, model size, mass, the
+    /// segment-mass table and the stature it used.
     Info {
         take: PathBuf,
         #[command(flatten)]
         opts: TakeArgs,
         /// Machine-readable summary with the keys joints, frames, frame_time, nq, nv,
-        /// scale_to_m, stature_m, up, gravity, mass_kg.
+        /// scale_to_m, stature_m, up, gravity, mass_kg, unit, smooth, segments,
+        /// segments_stature_m, notes.
         #[arg(long)]
         json: bool,
     },
