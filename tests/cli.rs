@@ -803,6 +803,10 @@ fn a_take_flag_a_command_would_ignore_is_refused() {
             "--smooth",
         ),
         (vec!["info", "--damping", "2"], "--damping"),
+        (
+            vec!["export", "states", "--segments", "fractions", "-o", "s.csv"],
+            "--segments",
+        ),
     ] {
         let (cmd, rest) = args.split_at(if args[0] == "export" { 2 } else { 1 });
         let o = articula()
@@ -817,6 +821,21 @@ fn a_take_flag_a_command_would_ignore_is_refused() {
         assert!(err.contains(flag) && err.contains("has no effect"), "{err}");
     }
     assert!(!dir.path().join("s.bvh").exists() && !dir.path().join("p.csv").exists());
+    // and a table the flag does not know is an error that names the two it does
+    let o = articula()
+        .arg("info")
+        .arg(&take)
+        .args(["--segments", "dempster"])
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--segments dempster")
+            && err.contains("regression")
+            && err.contains("fractions"),
+        "{err}"
+    );
 }
 
 /// `articula id TAKE -o OUT`, run in `dir`, and its standard output.
