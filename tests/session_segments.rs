@@ -5,6 +5,9 @@
 //! same height carries more of its mass in the trunk and thighs and less in the shanks and
 //! feet, so the torque per kg changes with the mass.
 
+mod common;
+
+use articula::pipeline::{TakeOptions, load_take};
 use articula::report::csv::read_columns;
 use articula::session::run_session;
 
@@ -98,4 +101,34 @@ fn set_body_segments_refuses_an_unknown_table_at_its_line() {
         msg.contains("bad.session:2:") && msg.contains("regression") && msg.contains("fractions"),
         "{msg}"
     );
+}
+
+#[test]
+fn a_body_far_outside_the_regression_sample_loads_with_positive_masses_and_a_note() {
+    // 30 kg at 2.2 m: the regression's middle trunk is negative there
+    let mut o = TakeOptions {
+        stature_m: Some(2.2),
+        ..TakeOptions::default()
+    };
+    o.body.mass_kg = 30.0;
+    let take = load_take(&common::repo("data/demo_walk.bvh"), &o).unwrap();
+    assert!((take.stature_m - 2.2).abs() < 1e-12);
+    assert!((take.model.total_mass() - 30.0).abs() < 1e-9);
+    assert!(take.model.inertia.iter().all(|i| i.mass >= 0.0));
+    let note = take
+        .notes
+        .iter()
+        .find(|n| n.contains("held at a quarter"))
+        .unwrap_or_else(|| panic!("{:?}", take.notes));
+    assert!(note.contains("middle trunk"), "{note}");
+    // near the sample: no such note
+    let take = load_take(&common::repo("data/demo_walk.bvh"), &TakeOptions::default()).unwrap();
+    assert!(
+        !take.notes.iter().any(|n| n.contains("held at a quarter")),
+        "{:?}",
+        take.notes
+    );
+    // a body mass that is not positive stays an error
+    o.body.mass_kg = 0.0;
+    assert!(load_take(&common::repo("data/demo_walk.bvh"), &o).is_err());
 }
