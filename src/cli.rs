@@ -29,13 +29,15 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Cmd {
-    /// Describe a take: skeleton, channels, frames, unit, up axis, model size, mass.
+    /// Describe a take: skeleton, channels, frames, unit, up axis, model size, mass, the
+    /// segment-mass table and the stature it used.
     Info {
         take: PathBuf,
         #[command(flatten)]
         opts: TakeArgs,
         /// Machine-readable summary with the keys joints, frames, frame_time, nq, nv,
-        /// scale_to_m, stature_m, up, gravity, mass_kg.
+        /// scale_to_m, stature_m, up, gravity, mass_kg, unit, smooth, segments,
+        /// segments_stature_m, notes.
         #[arg(long)]
         json: bool,
     },
@@ -253,6 +255,10 @@ pub struct TakeArgs {
     /// Sex for the de Leva (1996) tables: male (default) or female.
     #[arg(long)]
     pub sex: Option<String>,
+    /// Segment masses: regression (default: Zatsiorsky–Seluyanov, on body mass and the
+    /// skeleton's stature) or fractions (de Leva's fixed fractions of body mass).
+    #[arg(long)]
+    pub segments: Option<String>,
     /// Link mass override `JOINT=KG` (repeatable); the other links are rescaled.
     #[arg(long = "link-mass", value_name = "JOINT=KG")]
     pub link_mass: Vec<String>,
@@ -323,6 +329,7 @@ const UNUSED_TAKE_FLAGS: &[(&str, &[&str], &str)] = &[
         &[
             "--mass",
             "--sex",
+            "--segments",
             "--link-mass",
             "--smooth",
             "--joints",
@@ -335,7 +342,14 @@ const UNUSED_TAKE_FLAGS: &[(&str, &[&str], &str)] = &[
     ),
     (
         "export states",
-        &["--mass", "--sex", "--link-mass", "--contact", "--damping"],
+        &[
+            "--mass",
+            "--sex",
+            "--segments",
+            "--link-mass",
+            "--contact",
+            "--damping",
+        ],
         "states are kinematics: no mass, contact or friction enters",
     ),
     (
@@ -371,7 +385,14 @@ const UNUSED_TAKE_FLAGS: &[(&str, &[&str], &str)] = &[
     ),
     (
         "smooth",
-        &["--mass", "--sex", "--link-mass", "--contact", "--damping"],
+        &[
+            "--mass",
+            "--sex",
+            "--segments",
+            "--link-mass",
+            "--contact",
+            "--damping",
+        ],
         "smoothing writes the motion; no mass, contact or friction enters",
     ),
 ];
@@ -391,6 +412,7 @@ impl TakeArgs {
             ("--subtree", self.subtree.is_some()),
             ("--mass", self.mass.is_some()),
             ("--sex", self.sex.is_some()),
+            ("--segments", self.segments.is_some()),
             ("--link-mass", !self.link_mass.is_empty()),
             ("--smooth", self.smooth.is_some()),
             ("--joints", self.joints.is_some()),
@@ -465,6 +487,7 @@ impl TakeArgs {
             joints: self.joints.as_deref(),
             mass_kg: self.mass,
             sex: self.sex.as_deref(),
+            segments: self.segments.as_deref(),
             link_mass: &self.link_mass,
             smooth: self.smooth.as_deref(),
             lock: &self.lock,

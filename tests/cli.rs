@@ -65,6 +65,8 @@ fn info_json_has_exactly_the_documented_keys() {
             "nq",
             "nv",
             "scale_to_m",
+            "segments",
+            "segments_stature_m",
             "smooth",
             "stature_m",
             "unit",
@@ -73,6 +75,9 @@ fn info_json_has_exactly_the_documented_keys() {
     );
     assert_eq!(v["notes"], serde_json::json!([]));
     assert_eq!(v["smooth"], "butterworth:6hz");
+    // the segment masses: the regression, at the take's stature
+    assert_eq!(v["segments"], "regression");
+    assert_eq!(v["segments_stature_m"], v["stature_m"]);
     assert_eq!(v["frames"], 60);
     assert_eq!(v["up"], "y");
     assert!(
@@ -87,31 +92,48 @@ fn info_json_has_exactly_the_documented_keys() {
     let text = articula().arg("info").arg(&take).output().unwrap();
     let text = String::from_utf8(text.stdout).unwrap();
     assert!(text.contains("positions: "), "{text}");
+    assert!(
+        text.contains(&format!("Zatsiorsky–Seluyanov (1983) regression on body mass and stature (75 kg, stature {stature:.3} m)")),
+        "{text}"
+    );
+    let json = |flag: &str| -> serde_json::Value {
+        let out = articula()
+            .arg("info")
+            .arg(&take)
+            .args(["--segments", flag, "--json"])
+            .output()
+            .unwrap();
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let v = json("fractions");
+    assert_eq!(v["segments"], "fractions");
+    assert_eq!(v["segments_stature_m"], serde_json::Value::Null);
 }
 
 #[test]
 fn inverse_dynamics_of_a_take_has_one_column_per_coordinate_and_scales_with_mass() {
     let dir = tempfile::tempdir().unwrap();
     let take = walk(dir.path(), 1.0);
-    let run = |mass: &str, out: &str| {
+    let run = |mass: &str, segments: &str, out: &str| {
         let p = dir.path().join(out);
         articula()
             .arg("id")
             .arg(&take)
-            .args(["--mass", mass, "-o"])
+            .args(["--mass", mass, "--segments", segments, "-o"])
             .arg(&p)
             .assert()
             .success();
         read_columns(&p).unwrap()
     };
-    let (h, c) = run("60", "t60.csv");
-    let (h2, c2) = run("90", "t90.csv");
+    let (h, c) = run("60", "fractions", "t60.csv");
+    let (h2, c2) = run("90", "fractions", "t90.csv");
     assert_eq!(h[0], "time");
     assert!(h.iter().any(|x| x == "LeftLeg.Xrotation"), "{h:?}");
     assert!(h.iter().any(|x| x == "Hips.Yposition"), "{h:?}");
     assert_eq!(h, h2);
     assert_eq!(c[0].len(), 60);
-    // every link mass scales with the body mass, so every torque does too (same kinematics)
+    // with de Leva's fractions every link mass scales with the body mass, so every torque
+    // does too (same kinematics)
     let k60 = column(&h, &c, "LeftLeg.Xrotation");
     let k90 = column(&h2, &c2, "LeftLeg.Xrotation");
     let peak = k60.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -119,6 +141,17 @@ fn inverse_dynamics_of_a_take_has_one_column_per_coordinate_and_scales_with_mass
     for (a, b) in k60.iter().zip(k90) {
         assert!((b - a * 1.5).abs() <= 1e-9 * (1.0 + b.abs()), "{a} {b}");
     }
+    // with the regression (the default) the 90 kg body is not the 60 kg one scaled
+    let (h, c) = run("60", "regression", "r60.csv");
+    let (h2, c2) = run("90", "regression", "r90.csv");
+    let k60 = column(&h, &c, "LeftLeg.Xrotation");
+    let k90 = column(&h2, &c2, "LeftLeg.Xrotation");
+    let gap = k60
+        .iter()
+        .zip(k90)
+        .map(|(a, b)| (b - a * 1.5).abs())
+        .fold(0.0, f64::max);
+    assert!(gap > 1e-3 * peak, "{gap} N·m");
 }
 
 #[test]
@@ -770,6 +803,10 @@ fn a_take_flag_a_command_would_ignore_is_refused() {
             "--smooth",
         ),
         (vec!["info", "--damping", "2"], "--damping"),
+        (
+            vec!["export", "states", "--segments", "fractions", "-o", "s.csv"],
+            "--segments",
+        ),
     ] {
         let (cmd, rest) = args.split_at(if args[0] == "export" { 2 } else { 1 });
         let o = articula()
@@ -784,6 +821,21 @@ fn a_take_flag_a_command_would_ignore_is_refused() {
         assert!(err.contains(flag) && err.contains("has no effect"), "{err}");
     }
     assert!(!dir.path().join("s.bvh").exists() && !dir.path().join("p.csv").exists());
+    // and a table the flag does not know is an error that names the two it does
+    let o = articula()
+        .arg("info")
+        .arg(&take)
+        .args(["--segments", "dempster"])
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--segments dempster")
+            && err.contains("regression")
+            && err.contains("fractions"),
+        "{err}"
+    );
 }
 
 /// `articula id TAKE -o OUT`, run in `dir`, and its standard output.

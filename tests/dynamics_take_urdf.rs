@@ -2,12 +2,15 @@
 //! CRBA and ABA at random states (tests/fixtures/pinocchio/take_*, made by
 //! tools/take_urdf_fixtures.sh) agree with articula's own model of the take — built straight
 //! from the BVH, not from the URDF — to 1e-10 relative. So the BVH → model step, the URDF
-//! writer and the algorithms are all checked against an independent peer at once.
+//! writer and the algorithms are all checked against an independent peer at once. The fixtures
+//! were exported with de Leva's fixed fractions (`--segments fractions`, as the script says);
+//! the segment table is an input of the check, not what it checks.
 
 mod common;
 
 use articula::dynamics::{Workspace, aba, crba, rnea};
 use articula::model::Model;
+use articula::model::anthropometry::SegmentTable;
 use articula::pipeline::{TakeOptions, load_take};
 use articula::report::csv::read_columns;
 use std::path::Path;
@@ -99,9 +102,16 @@ fn check(model: &Model, dir: &Path) {
     }
 }
 
+/// The options the fixtures were exported with: the defaults, de Leva's fractions.
+fn fractions() -> TakeOptions {
+    let mut o = TakeOptions::default();
+    o.body.segments = SegmentTable::Fractions;
+    o
+}
+
 #[test]
 fn demo_walk_model_matches_pinocchio_on_its_exported_urdf() {
-    let take = load_take(&common::repo("data/demo_walk.bvh"), &TakeOptions::default()).unwrap();
+    let take = load_take(&common::repo("data/demo_walk.bvh"), &fractions()).unwrap();
     check(
         &take.model,
         &common::repo("tests/fixtures/pinocchio/take_demo_walk"),
@@ -126,7 +136,7 @@ fn demo_walk_model_matches_pinocchio_on_its_exported_urdf() {
 #[ignore = "real takes: ARTICULA_REAL_TAKES=../shared/data/bvh cargo test -- --ignored"]
 fn real_take_cmu_01_01_matches_pinocchio_on_its_exported_urdf() {
     let path = common::real_take("cmu_01_01.bvh");
-    let take = load_take(&path, &TakeOptions::default()).unwrap();
+    let take = load_take(&path, &fractions()).unwrap();
     assert_eq!(take.model.nv, 96);
     check(
         &take.model,

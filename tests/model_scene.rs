@@ -7,6 +7,7 @@ mod common;
 use articula::io::bvh::{LengthUnit, PositionMode, UpAxis, resolve_position_modes};
 use articula::io::generate::{WalkParams, walk};
 use articula::io::scene::{self, PerJoint};
+use articula::model::anthropometry::SegmentTable;
 use articula::model::bvh::{BvhModelOptions, build_bvh_model};
 
 #[test]
@@ -34,4 +35,19 @@ fn the_scene_example_builds_the_model_it_describes() {
     assert!((model.total_mass() - 72.0).abs() < 1e-9);
     let thigh = model.body_index("LeftUpLeg.Yrotation").unwrap();
     assert_eq!(model.inertia[thigh].mass, 10.0);
+    // its segment table (the regression) reaches the body; `segments = "fractions"` changes
+    // the other links' masses
+    assert_eq!(opts.body.segments, SegmentTable::Regression);
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("segments = \"regression\"", "segments = \"fractions\"");
+    let f = scene::parse_str(&text, &path).unwrap();
+    let fopts = BvhModelOptions::new("walk", scale, UpAxis::Y, opts.positions.clone())
+        .with_scene(&f)
+        .unwrap();
+    assert_eq!(fopts.body.segments, SegmentTable::Fractions);
+    let (fmodel, _) = build_bvh_model(&take, &fopts).unwrap();
+    assert!((fmodel.total_mass() - 72.0).abs() < 1e-9);
+    let head = model.body_index("Head.Yrotation").unwrap();
+    assert!((fmodel.inertia[head].mass - model.inertia[head].mass).abs() > 1e-3);
 }

@@ -25,7 +25,9 @@ expect peak LeftLeg.Xrotation torque between 1 400
 expect max LeftLeg.Xrotation angle between 0.5rad 1.5rad
 export csv torques.csv
 expect message contains torques.csv
+set body.segments fractions
 compare weights 60,100 joint LeftLeg.Xrotation knee.csv
+set body.segments regression
 compare weights 60,80,100 joint LeftLeg.Xrotation knee.svg
 export svg knee_angle_torque.svg
 set motor.gear 30
@@ -69,7 +71,8 @@ fn a_study_replays_and_writes_its_outputs_deterministically() {
     assert!(header.contains(",tau:LeftLeg.Xrotation"));
     assert_eq!(csv.lines().count(), 481);
     assert_eq!(header.split(',').count(), 1 + 4 * 66);
-    // the knee torque scales with body mass (the masses scale every link alike)
+    // with de Leva's fractions the knee torque scales with body mass (the masses scale every
+    // link alike)
     let knee = std::fs::read_to_string(out1.join("knee.csv")).unwrap();
     assert!(knee.starts_with("t_s,tau_60kg_Nm,tau_100kg_Nm\n"), "{knee}");
     for row in knee.lines().skip(1).step_by(37) {

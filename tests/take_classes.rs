@@ -99,7 +99,7 @@ fn a_rest_pose_lying_along_x_loads_as_the_upright_one() {
         hi - lo
     };
     assert!(ext(0) > 2.0 * ext(1), "{} {}", ext(0), ext(1));
-    let (a, b) = (load(up, &ball()), load(lying, &ball()));
+    let (a, b) = (load(up.clone(), &ball()), load(lying.clone(), &ball()));
     assert_eq!(b.up, UpAxis::Y);
     // every joint where the upright file puts it
     for k in [0, a.bvh.frames / 2, a.bvh.frames - 1] {
@@ -117,7 +117,20 @@ fn a_rest_pose_lying_along_x_loads_as_the_upright_one() {
         a.stature_m,
         b.stature_m
     );
-    same_loads(&root_loads(&a), &root_loads(&b), 1e-6);
+    // the segment masses follow the stature measured (the regression's second variable),
+    // which the two writings measure differently (the lying one from its frames: 1.680 m
+    // against the upright rest pose's 1.700 m): with de Leva's fixed fractions the loads are
+    // the same to 1e-6, with the regression the root moment differs by up to about 1 %
+    let fractions = TakeOptions {
+        body: articula::model::anthropometry::BodyParams {
+            segments: articula::model::anthropometry::SegmentTable::Fractions,
+            ..ball().body
+        },
+        ..ball()
+    };
+    let (af, bf) = (load(up, &fractions), load(lying, &fractions));
+    same_loads(&root_loads(&af), &root_loads(&bf), 1e-6);
+    same_loads(&root_loads(&a), &root_loads(&b), 3e-2);
     // and --stature wins on it (it used to fail the check against the rest pose's height)
     let o = TakeOptions {
         stature_m: Some(1.7),

@@ -132,7 +132,7 @@ fn tab_completes_commands_and_joint_names() {
     assert_eq!(ui.completions, ["set", "select"]);
     press(&mut ui, &mut wb, "t<Tab>bo<Tab>");
     assert_eq!(ui.cmdline.as_deref(), Some("set body."));
-    assert_eq!(ui.completions, ["body.mass", "body.sex"]);
+    assert_eq!(ui.completions, ["body.mass", "body.sex", "body.segments"]);
     // any other key makes the hint stale (it stayed while typing and browsing history)
     press(&mut ui, &mut wb, "m");
     assert!(ui.completions.is_empty());

@@ -8,6 +8,8 @@
 # Writes tests/fixtures/pinocchio/take_<name>/{states,rnea,crba,aba}.csv: 6 seeded random states
 # (Pinocchio's own `template`), then Pinocchio 4.1's RNEA, CRBA and ABA (τ = the RNEA result,
 # so ABA must give back a) on the exported URDF with the take's gravity (Y-up: 0,-9.81,0).
+# The take is exported with de Leva's fixed fractions (--segments fractions), as the committed
+# fixtures were: the check is of the model, URDF and algorithms, whatever the segment table.
 # The URDF itself is not committed for real takes (it is re-exported by the real-take suite
 # from ../shared/data/bvh); for the project's own demo walk it is committed as model.urdf.
 set -euo pipefail
@@ -17,7 +19,7 @@ ORACLE="$(dirname "$0")/../../shared/oracle/pin_ref.py"
 OUT="tests/fixtures/pinocchio/take_$NAME"
 mkdir -p "$OUT"
 TMP="$(mktemp -d)"; trap 'rm -rf "$TMP"' EXIT
-cargo run -q --release -- export urdf "$TAKE" -o "$TMP/model.urdf"
+cargo run -q --release -- export urdf "$TAKE" --segments fractions -o "$TMP/model.urdf"
 G=0,-9.81,0
 "$PY" "$ORACLE" template --urdf "$TMP/model.urdf" --gravity "$G" --rows 6 --seed 7 --out "$OUT/states.csv"
 "$PY" "$ORACLE" rnea --urdf "$TMP/model.urdf" --gravity "$G" --states "$OUT/states.csv" --out "$OUT/rnea.csv"

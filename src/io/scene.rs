@@ -6,6 +6,7 @@
 //! takes = ["walk.bvh"]            # relative to the scene file
 //! mass = 72.0                     # kg
 //! sex = "female"
+//! segments = "regression"         # or "fractions" (de Leva's fixed fractions of body mass)
 //! unit = "cm"                     # or "auto", m, dm, mm, in, cmu, or metres per unit (0.0254)
 //! up = "y"                        # or "auto"
 //! joints = "euler"                # or "ball"
@@ -164,6 +165,10 @@ pub struct Scene {
     /// `"female"` or `"male"` (de Leva's tables). Default male.
     #[serde(default = "default_sex", deserialize_with = "sex")]
     pub sex: String,
+    /// Segment masses: `"regression"` (default: Zatsiorsky–Seluyanov, on body mass and the
+    /// skeleton's stature) or `"fractions"` (de Leva's fixed fractions of body mass).
+    #[serde(default = "default_segments", deserialize_with = "segments")]
+    pub segments: String,
     /// Length unit of the takes; `None` (`"auto"` or absent): detected from the stature.
     #[serde(default, deserialize_with = "unit")]
     pub unit: Option<LengthUnit>,
@@ -217,6 +222,9 @@ fn default_mass() -> f64 {
 }
 fn default_sex() -> String {
     "male".into()
+}
+fn default_segments() -> String {
+    "regression".into()
 }
 fn default_joints() -> String {
     "euler".into()
@@ -276,6 +284,14 @@ fn sex<'de, D: Deserializer<'de>>(d: D) -> Result<String, D::Error> {
             ("male", "male"),
             ("m", "male"),
         ],
+    )
+}
+
+fn segments<'de, D: Deserializer<'de>>(d: D) -> Result<String, D::Error> {
+    choice(
+        d,
+        "segment table",
+        &[("regression", "regression"), ("fractions", "fractions")],
     )
 }
 
@@ -400,6 +416,7 @@ mod tests {
         let s = parse("takes = [\"a.bvh\"]\n").unwrap();
         assert_eq!(s.mass, 75.0);
         assert_eq!(s.sex, "male");
+        assert_eq!(s.segments, "regression");
         assert_eq!(s.joints, "euler");
         assert_eq!(s.contact, "none");
         assert_eq!(s.position, PositionMode::Auto);
@@ -407,10 +424,14 @@ mod tests {
         assert_eq!((s.unit, s.up, s.stature), (None, None, None));
         let s = parse("takes = [\"a.bvh\"]\njoint_translations = \"keep\"\n").unwrap();
         assert_eq!(s.joint_translations, JointTranslations::Keep);
-        let s = parse("takes = [\"a.bvh\"]\nunit = 0.0254\nup = \"Z\"\nsex = \"F\"\n").unwrap();
+        let s = parse(
+            "takes = [\"a.bvh\"]\nunit = 0.0254\nup = \"Z\"\nsex = \"F\"\nsegments = \"Fractions\"\n",
+        )
+        .unwrap();
         assert_eq!(s.unit, Some(LengthUnit::Custom(0.0254)));
         assert_eq!(s.up, Some(UpAxis::Z));
         assert_eq!(s.sex, "female");
+        assert_eq!(s.segments, "fractions");
     }
 
     #[test]
@@ -430,6 +451,7 @@ mod tests {
             ("takes = []\n", 1),
             ("takes = [\"a.bvh\"]\nmass = -3\n", 2),
             ("takes = [\"a.bvh\"]\n\nsex = \"other\"\n", 3),
+            ("takes = [\"a.bvh\"]\nsegments = \"dempster\"\n", 2),
             ("takes = [\"a.bvh\"]\nunit = \"furlong\"\n", 2),
             ("takes = [\"a.bvh\"]\nstature = -3.1\n", 2),
             ("takes = [\"a.bvh\"]\nup = \"w\"\n", 2),

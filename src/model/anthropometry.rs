@@ -1,9 +1,18 @@
 //! Link masses, centres of mass, inertias and drawing shapes of a human skeleton from total body
-//! mass and sex, after de Leva (1996).
+//! mass, stature and sex, after Zatsiorsky & Seluyanov (1983) and de Leva (1996).
 //!
-//! Source: P. de Leva, "Adjustments to Zatsiorsky-Seluyanov's segment inertia parameters",
+//! Sources: P. de Leva, "Adjustments to Zatsiorsky-Seluyanov's segment inertia parameters",
 //! *J. Biomechanics* 29(9):1223–1230, 1996, Table 4 (the numbers of
-//! `../shared/reference/de_leva_1996.csv`, embedded in [`DE_LEVA_1996`]).
+//! `../shared/reference/de_leva_1996.csv`, embedded in [`DE_LEVA_1996`]); V. M. Zatsiorsky &
+//! V. N. Seluyanov, "The mass and inertia characteristics of the main segments of the human
+//! body", *Biomechanics VIII-B*, 1983, pp. 1152–1159, the regression of segment mass on body
+//! mass and stature as Zatsiorsky (2002, *Kinetics of Human Motion*) reproduces it (the numbers
+//! of `data/reference/zatsiorsky_seluyanov_1983_mass_regression.csv`, embedded in
+//! [`ZATSIORSKY_SELUYANOV`]; `tools/check_segment_regression.py` checks both). Segment masses
+//! come from the regression by default and from de Leva's fixed fractions with
+//! [`SegmentTable::Fractions`] ([`segment_masses`], module `masses`); centres of mass and radii
+//! of gyration are de Leva's fractions of the bone either way, so they scale with the
+//! skeleton's own bone lengths.
 //!
 //! How a skeleton gets its masses ([`distribute`]):
 //! 1. every joint is classified by name into a de Leva segment and a side ([`classify`]: CMU,
@@ -12,7 +21,8 @@
 //!    head); joints above every classified joint (`joint_Root`, MakeHuman's `Root`) stay
 //!    unclassified and massless;
 //! 2. each segment instance (head, trunk, left/right upper arm, forearm, hand, thigh, shank,
-//!    foot) gets its de Leva fraction of the body mass; a segment missing from the skeleton gives
+//!    foot) gets its mass from [`segment_masses`] (the regression on body mass and stature, or
+//!    de Leva's fraction of the body mass); a segment missing from the skeleton gives
 //!    its mass to the next segment towards the trunk (hand → forearm → upper arm → trunk);
 //! 3. a segment's mass is shared among its joints in proportion to their bone lengths (the bone
 //!    of a joint is the mean of its non-zero child offsets, End Sites included), shoulder-girdle
@@ -73,19 +83,28 @@ impl std::fmt::Display for Sex {
 pub struct BodyParams {
     /// Total body mass (kg), > 0.
     pub mass_kg: f64,
-    /// Selects de Leva's table.
+    /// Selects de Leva's male or female table (and, with the regression, the female ratios).
     pub sex: Sex,
+    /// Which table gives the segment masses ([`segment_masses`]).
+    pub segments: SegmentTable,
+    /// Stature (m), which the regression needs: the skeleton's, set by the pipeline and by
+    /// `model::bvh::build_bvh_model` from the scaled rest pose (`--stature` scales the skeleton
+    /// to it); `None` until then.
+    pub height_m: Option<f64>,
     /// Per-link mass overrides (kg) by BVH joint name; the other links are rescaled so that the
     /// total stays `mass_kg`.
     pub link_mass: BTreeMap<String, f64>,
 }
 
 impl BodyParams {
-    /// A body of `mass_kg` kg without overrides.
+    /// A body of `mass_kg` kg without overrides, segment masses by regression (stature not yet
+    /// known).
     pub fn new(mass_kg: f64, sex: Sex) -> Self {
         Self {
             mass_kg,
             sex,
+            segments: SegmentTable::default(),
+            height_m: None,
             link_mass: BTreeMap::new(),
         }
     }
@@ -152,80 +171,11 @@ pub enum Side {
     Center,
 }
 
-/// One row of de Leva (1996) Table 4.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SegmentParams {
-    pub segment: Segment,
-    pub sex: Sex,
-    /// Mass, % of body mass.
-    pub mass_pct: f64,
-    /// Centre of mass, % of segment length from the proximal endpoint of de Leva's definition
-    /// (head: vertex; trunk: C7; limbs: the proximal joint; foot: heel).
-    pub com_pct: f64,
-    /// Radii of gyration, % of segment length: sagittal, transverse, longitudinal axes.
-    pub r_sag_pct: f64,
-    pub r_trans_pct: f64,
-    pub r_long_pct: f64,
-}
+mod masses;
+mod tables;
 
-const fn row(
-    segment: Segment,
-    sex: Sex,
-    mass_pct: f64,
-    com_pct: f64,
-    r_sag_pct: f64,
-    r_trans_pct: f64,
-    r_long_pct: f64,
-) -> SegmentParams {
-    SegmentParams {
-        segment,
-        sex,
-        mass_pct,
-        com_pct,
-        r_sag_pct,
-        r_trans_pct,
-        r_long_pct,
-    }
-}
-
-/// de Leva (1996), Table 4: head (vertex–C7), trunk (C7–mid-hip), upper arm, forearm, hand
-/// (wrist–3rd metacarpale), thigh, shank (knee–lateral malleolus), foot (heel–toe tip).
-/// The female foot's longitudinal radius is 13.9 (cross-checked; one implementation copies the
-/// male 12.4). Each sex sums to 100 % of body mass.
-pub const DE_LEVA_1996: [SegmentParams; 16] = [
-    row(Segment::Head, Sex::Male, 6.94, 50.02, 30.3, 31.5, 26.1),
-    row(Segment::Head, Sex::Female, 6.68, 48.41, 27.1, 29.5, 26.1),
-    row(Segment::Trunk, Sex::Male, 43.46, 51.38, 32.8, 30.6, 16.9),
-    row(Segment::Trunk, Sex::Female, 42.57, 49.64, 30.7, 29.2, 14.7),
-    row(Segment::UpperArm, Sex::Male, 2.71, 57.72, 28.5, 26.9, 15.8),
-    row(
-        Segment::UpperArm,
-        Sex::Female,
-        2.55,
-        57.54,
-        27.8,
-        26.0,
-        14.8,
-    ),
-    row(Segment::Forearm, Sex::Male, 1.62, 45.74, 27.6, 26.5, 12.1),
-    row(Segment::Forearm, Sex::Female, 1.38, 45.59, 26.1, 25.7, 9.4),
-    row(Segment::Hand, Sex::Male, 0.61, 79.00, 62.8, 51.3, 40.1),
-    row(Segment::Hand, Sex::Female, 0.56, 74.74, 53.1, 45.4, 33.5),
-    row(Segment::Thigh, Sex::Male, 14.16, 40.95, 32.9, 32.9, 14.9),
-    row(Segment::Thigh, Sex::Female, 14.78, 36.12, 36.9, 36.4, 16.2),
-    row(Segment::Shank, Sex::Male, 4.33, 44.59, 25.5, 24.9, 10.3),
-    row(Segment::Shank, Sex::Female, 4.81, 44.16, 27.1, 26.7, 9.3),
-    row(Segment::Foot, Sex::Male, 1.37, 44.15, 25.7, 24.5, 12.4),
-    row(Segment::Foot, Sex::Female, 1.29, 40.14, 29.9, 27.9, 13.9),
-];
-
-/// The de Leva row of `segment` for `sex`.
-pub fn de_leva(segment: Segment, sex: Sex) -> &'static SegmentParams {
-    DE_LEVA_1996
-        .iter()
-        .find(|r| r.segment == segment && r.sex == sex)
-        .expect("DE_LEVA_1996 has every segment for both sexes")
-}
+pub use masses::{SegmentMasses, SegmentTable, segment_masses};
+pub use tables::{DE_LEVA_1996, MassRegression, SegmentParams, ZATSIORSKY_SELUYANOV, de_leva};
 
 /// Splits a joint name into side and the rest (lowercase): `LeftUpLeg` → (Left, `upleg`),
 /// `lThigh` → (Left, `thigh`), `UpperLeg_L` → (Left, `upperleg`), `thigh.L` → (Left, `thigh`),
@@ -519,8 +469,11 @@ fn frame_with_z(u: &Vector3<f64>) -> Matrix3<f64> {
 /// Link masses, centres of mass, inertias and shapes of a skeleton (see the module doc for the
 /// rules). Returns one [`LinkMass`] per bone; the masses sum to `body.mass_kg`.
 ///
-/// Errors: a non-positive body mass, an override naming no joint, negative overrides, or
-/// overrides that exceed the body mass.
+/// Errors: a non-positive body mass, a regression ([`SegmentTable::Regression`]) on a human
+/// skeleton without a positive `body.height_m`, an override naming no joint, negative
+/// overrides, or overrides that exceed the body mass. Notes on the segment masses (a
+/// regression row held at its floor) come from [`segment_masses`], which the pipeline calls
+/// for them.
 pub fn distribute(bones: &[Bone], body: &BodyParams) -> Result<Vec<LinkMass>, Error> {
     distribute_classes(bones, body, &classes_by_name(bones))
 }
@@ -590,22 +543,20 @@ pub fn distribute_classes(
     let mut mass = vec![0.0; n];
     let mut unit: Vec<UnitLink> = Vec::with_capacity(n);
     if has_trunk {
-        // 2. segment instances and their de Leva masses; missing ones go proximal
+        // 2. segment instances and their masses; missing ones go proximal
+        let seg_kg = segment_masses(body)?;
         let mut instance_mass: BTreeMap<(Segment, Side), f64> = BTreeMap::new();
         let present: std::collections::BTreeSet<(Segment, Side)> =
             class.iter().flatten().copied().collect();
-        let expected = DE_LEVA_1996
-            .iter()
-            .filter(|r| r.sex == body.sex)
-            .flat_map(|r| {
-                let sides: &[Side] = if r.segment.is_limb() {
-                    &[Side::Left, Side::Right]
-                } else {
-                    &[Side::Center]
-                };
-                sides.iter().map(move |s| (r.segment, *s, r.mass_pct))
-            });
-        for (seg, side, pct) in expected {
+        let expected = seg_kg.kg.iter().flat_map(|(&seg, &kg)| {
+            let sides: &[Side] = if seg.is_limb() {
+                &[Side::Left, Side::Right]
+            } else {
+                &[Side::Center]
+            };
+            sides.iter().map(move |s| (seg, *s, kg))
+        });
+        for (seg, side, kg) in expected {
             let mut key = (seg, side);
             while !present.contains(&key) {
                 key = match key.0.proximal() {
@@ -614,13 +565,12 @@ pub fn distribute_classes(
                     None => break,
                 };
             }
-            *instance_mass.entry(key).or_insert(0.0) += pct / 100.0 * total;
+            *instance_mass.entry(key).or_insert(0.0) += kg;
         }
         // unsided limb joints (`thigh` without L/R) get one limb's share
         for key in &present {
             if key.1 == Side::Center && key.0.is_limb() {
-                *instance_mass.entry(*key).or_insert(0.0) +=
-                    de_leva(key.0, body.sex).mass_pct / 100.0 * total;
+                *instance_mass.entry(*key).or_insert(0.0) += seg_kg.kg(key.0);
             }
         }
         // 3. share each instance among its joints by bone length (equally if all are zero);
@@ -753,6 +703,22 @@ pub fn distribute_classes(
 mod tests {
     use super::*;
 
+    /// A body whose segment masses are de Leva's fixed fractions.
+    fn fractions(mass_kg: f64, sex: Sex) -> BodyParams {
+        BodyParams {
+            segments: SegmentTable::Fractions,
+            ..BodyParams::new(mass_kg, sex)
+        }
+    }
+
+    /// A body whose segment masses come from the regression, 1.75 m tall.
+    fn regression(mass_kg: f64, sex: Sex) -> BodyParams {
+        BodyParams {
+            height_m: Some(1.75),
+            ..BodyParams::new(mass_kg, sex)
+        }
+    }
+
     #[test]
     fn each_sex_sums_to_the_whole_body() {
         for sex in [Sex::Male, Sex::Female] {
@@ -842,7 +808,7 @@ mod tests {
 
     #[test]
     fn masses_sum_to_the_body_and_missing_segments_go_proximal() {
-        let links = distribute(&chain(), &BodyParams::new(80.0, Sex::Female)).unwrap();
+        let links = distribute(&chain(), &fractions(80.0, Sex::Female)).unwrap();
         let sum: f64 = links.iter().map(|l| l.mass).sum();
         assert_eq!(sum, 80.0);
         // the left foot is missing: its mass joins the left shank (the female table sums to
@@ -861,6 +827,25 @@ mod tests {
     }
 
     #[test]
+    fn regression_masses_reach_the_links_and_shift_with_mass_at_one_height() {
+        // the left thigh's share of the body: the regression's grows with mass at 1.75 m, de
+        // Leva's fractions are the same at every mass
+        let share = |body: BodyParams| distribute(&chain(), &body).unwrap()[2].mass / body.mass_kg;
+        let (light, heavy) = (
+            share(regression(60.0, Sex::Male)),
+            share(regression(100.0, Sex::Male)),
+        );
+        assert!(heavy > light * 1.005, "{light} → {heavy}");
+        let (light, heavy) = (
+            share(fractions(60.0, Sex::Male)),
+            share(fractions(100.0, Sex::Male)),
+        );
+        assert!((heavy - light).abs() < 1e-15, "{light} → {heavy}");
+        // a human skeleton needs a stature for the regression; bone volume needs none
+        assert!(distribute(&chain(), &BodyParams::new(70.0, Sex::Male)).is_err());
+    }
+
+    #[test]
     fn a_clavicle_weighs_less_than_a_spine_segment_of_the_same_length() {
         let v = Vector3::new;
         let bone = |name: &str, parent, end| Bone {
@@ -873,7 +858,7 @@ mod tests {
             bone("Spine", Some(0), v(0.0, 0.2, 0.0)),
             bone("LeftShoulder", Some(1), v(0.2, 0.0, 0.0)),
         ];
-        let links = distribute(&bones, &BodyParams::default()).unwrap();
+        let links = distribute(&bones, &regression(75.0, Sex::Male)).unwrap();
         let ratio = links[2].mass / links[1].mass;
         assert!(ratio < 2.0 * GIRDLE_WEIGHT, "{ratio}");
         let w = shares(&[0.2, 0.2, GIRDLE_WEIGHT * 0.2]);
@@ -895,7 +880,7 @@ mod tests {
         });
         bones[3].ends = vec![Vector3::new(0.0, -0.4, 0.0)];
         bones[4].ends = vec![Vector3::new(0.0, -0.05, 0.15)];
-        let links = distribute(&bones, &BodyParams::default()).unwrap();
+        let links = distribute(&bones, &regression(75.0, Sex::Male)).unwrap();
         let toe = &links[5];
         assert!(
             toe.mass > 0.0 && toe.mass < 0.1 * links[4].mass,
@@ -909,7 +894,7 @@ mod tests {
 
     #[test]
     fn overrides_are_kept_and_the_rest_rescaled() {
-        let mut body = BodyParams::new(70.0, Sex::Male);
+        let mut body = regression(70.0, Sex::Male);
         body.link_mass.insert("LeftLeg".into(), 10.0);
         let links = distribute(&chain(), &body).unwrap();
         assert_eq!(links[3].mass, 10.0);
@@ -927,14 +912,14 @@ mod tests {
         // MakeHuman: `Root` above `Hips` (the legs) and `Spine` at one point
         let mut bones = chain();
         bones[0].name = "Root".into();
-        let links = distribute(&bones, &BodyParams::new(75.0, Sex::Male)).unwrap();
+        let links = distribute(&bones, &regression(75.0, Sex::Male)).unwrap();
         assert!(links[0].mass > 0.5, "{}", links[0].mass);
         // a helper root with one child stays massless (the pipeline folds it)
         let mut helper = chain();
         helper[0].name = "joint_Root".into();
         helper[0].ends.truncate(1);
         helper[2].parent = Some(1); // the thigh hangs from the spine: the root has one child
-        let links = distribute(&helper, &BodyParams::new(75.0, Sex::Male)).unwrap();
+        let links = distribute(&helper, &regression(75.0, Sex::Male)).unwrap();
         assert_eq!(links[0].mass, 0.0);
     }
 
@@ -944,6 +929,7 @@ mod tests {
         for (i, b) in bones.iter_mut().enumerate() {
             b.name = format!("link{i}");
         }
+        // (no stature given: bone volume needs none)
         let links = distribute(&bones, &BodyParams::new(50.0, Sex::Male)).unwrap();
         let sum: f64 = links.iter().map(|l| l.mass).sum();
         assert!((sum - 50.0).abs() < 1e-12);

@@ -27,7 +27,7 @@
 
 use crate::error::Error;
 use crate::io::bvh::{Bvh, Channel};
-use crate::model::anthropometry::{self, BodyParams, Bone};
+use crate::model::anthropometry::{self, BodyParams, Bone, SegmentTable};
 use crate::model::simplify;
 use crate::model::{JointKind, Model, ModelBuilder};
 use crate::spatial::{SpatialInertia, SpatialTransform};
@@ -86,7 +86,8 @@ pub struct BvhModelOptions {
     /// Position-channel semantics per BVH joint (from `resolve_position_modes`); empty means
     /// `Add` for every joint with position channels.
     pub positions: Vec<ResolvedPosition>,
-    /// Body mass, sex, link mass overrides.
+    /// Body mass, sex, segment table, stature (`None`: the skeleton's rest-pose stature, scaled),
+    /// link mass overrides.
     pub body: BodyParams,
     /// BVH joints (all their channels) or single coordinates (`LeftLeg.Yrotation`) to lock at
     /// rest.
@@ -127,14 +128,16 @@ impl BvhModelOptions {
 }
 
 impl BvhModelOptions {
-    /// These options with the model choices of a scene: joint model, body mass and sex, link
-    /// mass overrides, locked joints and subtree. (Units, axes and position modes are resolved
-    /// from the take by the caller, since they need it.)
+    /// These options with the model choices of a scene: joint model, body mass, sex and segment
+    /// table, link mass overrides, locked joints and subtree. (Units, axes and position modes
+    /// are resolved from the take by the caller, since they need it.)
     pub fn with_scene(mut self, scene: &crate::io::scene::Scene) -> Result<Self, Error> {
         self.joints = scene.joints.parse()?;
         self.body = BodyParams {
             mass_kg: scene.mass,
             sex: scene.sex.parse()?,
+            segments: scene.segments.parse()?,
+            height_m: None,
             link_mass: scene.link_mass.clone(),
         };
         self.lock = scene.lock.clone();
@@ -243,10 +246,15 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
             bvh.joints.len()
         )));
     }
+    // the regression needs the stature: the caller's (the pipeline's), else the skeleton's
+    let mut body = opts.body.clone();
+    if body.segments == SegmentTable::Regression && body.height_m.is_none() {
+        body.height_m = Some(crate::io::bvh::stature(bvh, opts.up) * scale);
+    }
     let bones = bones(bvh, scale);
     let links = match &opts.segments {
-        Some(c) => anthropometry::distribute_classes(&bones, &opts.body, c)?,
-        None => anthropometry::distribute(&bones, &opts.body)?,
+        Some(c) => anthropometry::distribute_classes(&bones, &body, c)?,
+        None => anthropometry::distribute(&bones, &body)?,
     };
     let mut gravity = Vector3::zeros();
     gravity[opts.up.index()] = -STANDARD_GRAVITY;

@@ -15,7 +15,8 @@
 //!   plausible shank length above the ankle ([`SHANK_SHARE`]); the **hip** is the most proximal
 //!   joint from which the chain runs straight to the knee (twist helpers along a femur lie on
 //!   that line; a pelvis bone such as CMU's `LHipJoint` does not);
-//! - the **head** is the highest end outside the legs; the spine is the path to it from the
+//! - the **head** is the highest end outside the legs without a mirror image (hands and eyes
+//!   come in pairs of ends equally far from the pelvis); the spine is the path to it from the
 //!   pelvis's branch, its first joint the **lumbar** joint; **arms** are the two longest
 //!   branches that leave the spine (one trunk joint may carry them all), their branching joint the
 //!   **thorax**, their **wrist** the common joint of the branch's ends (fingers, props), the
@@ -95,6 +96,12 @@ pub struct Human {
     /// Median angle (rad) of the pelvis-to-head line from the vertical over the frames (π/2
     /// without a trunk): how upright the body stands about the up axis given.
     pub lean: f64,
+    /// The body's standing height from its own dimensions, whatever its pose or rest pose
+    /// (m if the poses are): the ankle's height over the floor where the foot is lowest (the
+    /// 5th percentile over the frames), plus the leg (ankle to knee to hip centre), plus the
+    /// longest reach from the mid-hip point to the head's end over the frames (a head without
+    /// an End Site above its joint is given [`HEAD_ABOVE_JOINT`] of the stature above it).
+    pub standing_height: f64,
 }
 
 /// A skeleton as parent links and names (names are hints only).
@@ -413,14 +420,63 @@ pub fn find_human(topo: &Topology, poses: &[Pose], up: usize) -> Result<Human, S
             ));
         }
     }
+    let standing_height = standing_height(poses, up, &legs, spine.as_ref().map(|s| s.head));
     Ok(Human {
         pelvis,
         legs,
         spine,
         sides_from_names,
         lean: lean_median,
+        standing_height,
     })
 }
+
+/// See [`Human::standing_height`] (without a head, up to the pelvis's highest point).
+fn standing_height(poses: &[Pose], up: usize, legs: &[Leg; 2], head: Option<usize>) -> f64 {
+    let floor = poses
+        .iter()
+        .flat_map(|p| {
+            legs.iter()
+                .map(move |l| tip(p, l.end)[up].min(p.joints[l.ankle][up]))
+        })
+        .fold(f64::INFINITY, f64::min);
+    let mut ankle: Vec<f64> = poses
+        .iter()
+        .flat_map(|p| legs.iter().map(move |l| p.joints[l.ankle][up] - floor))
+        .collect();
+    ankle.sort_by(f64::total_cmp);
+    let ankle = ankle[ankle.len() / 20];
+    let leg = legs
+        .iter()
+        .map(|l| {
+            median(poses, |p| {
+                (p.joints[l.hip] - p.joints[l.knee]).norm()
+                    + (p.joints[l.knee] - p.joints[l.ankle]).norm()
+            })
+        })
+        .sum::<f64>()
+        / 2.0;
+    let trunk = poses
+        .iter()
+        .map(|p| {
+            let mid = 0.5 * (p.joints[legs[0].hip] + p.joints[legs[1].hip]);
+            head.map_or(0.0, |h| (tip(p, h) - mid).norm())
+        })
+        .fold(0.0, f64::max);
+    // a head that ends at its joint (no End Site above it, Bandai's at zero) stops at the
+    // skull's base, about 11 % of the stature below the vertex (Drillis & Contini 1966)
+    let topped =
+        head.is_some_and(|h| median(poses, |p| (tip(p, h) - p.joints[h]).norm()) > 0.05 * leg);
+    let base = ankle + leg + trunk;
+    if topped {
+        base
+    } else {
+        base / (1.0 - HEAD_ABOVE_JOINT)
+    }
+}
+
+/// The share of the stature between a head joint at the skull's base and the vertex.
+pub const HEAD_ABOVE_JOINT: f64 = 0.11;
 
 /// The trunk, head and arms above the pelvis (`None` if the skeleton has no end above it).
 fn find_spine(
@@ -437,11 +493,32 @@ fn find_spine(
             .is_some_and(|c| c.contains(&legs[0].hip) || c.contains(&legs[1].hip))
     };
     let height = |j: usize| median(poses, |p| tip(p, j)[up]);
-    let head = ends
-        .iter()
-        .copied()
-        .filter(|&e| !in_leg(e))
-        .max_by(|&a, &b| height(a).total_cmp(&height(b)))?;
+    // the head: the highest end outside the legs that has no mirror image (hands, fingers and
+    // eyes come in pairs of ends equally far from the pelvis; a hand waved above the head is
+    // still a hand)
+    let upper: Vec<usize> = ends.iter().copied().filter(|&e| !in_leg(e)).collect();
+    let reach = |e: usize| {
+        topo.path_to_root(e)
+            .windows(2)
+            .take_while(|w| w[0] != pelvis)
+            .map(|w| median(poses, |p| (p.joints[w[0]] - p.joints[w[1]]).norm()))
+            .sum::<f64>()
+            + median(poses, |p| (tip(p, e) - p.joints[e]).norm())
+    };
+    let reaches: Vec<f64> = upper.iter().map(|&e| reach(e)).collect();
+    let mirrored = |i: usize| {
+        (0..upper.len()).any(|k| {
+            let l = topo.lca(upper[i], upper[k]);
+            k != i
+                && l != upper[i]
+                && l != upper[k]
+                && (reaches[i] - reaches[k]).abs() <= 0.02 * reaches[i].max(reaches[k])
+        })
+    };
+    let highest =
+        |c: &mut dyn Iterator<Item = usize>| c.max_by(|&a, &b| height(a).total_cmp(&height(b)));
+    let head = highest(&mut (0..upper.len()).filter(|&i| !mirrored(i)).map(|i| upper[i]))
+        .or_else(|| highest(&mut upper.iter().copied()))?;
     let base = topo.lca(pelvis, head);
     let spine = topo.chain(base, head)?;
     let lumbar = *spine.first()?;

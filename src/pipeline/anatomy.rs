@@ -735,9 +735,16 @@ pub fn knee_cycles(a: &Anatomy) -> Vec<KneeCycles> {
             let Some(off) = (s0..s1).find(|&k| !on[k]) else {
                 continue;
             };
-            swing.push(flex[off..s1].iter().copied().fold(f64::NEG_INFINITY, f64::max));
+            swing.push(
+                flex[off..s1]
+                    .iter()
+                    .copied()
+                    .fold(f64::NEG_INFINITY, f64::max),
+            );
             let end = s0 + ((off - s0) / 5).max(1);
-            let k = (s0..end).max_by(|&x, &y| moment[x].total_cmp(&moment[y])).unwrap_or(s0);
+            let k = (s0..end)
+                .max_by(|&x, &y| moment[x].total_cmp(&moment[y]))
+                .unwrap_or(s0);
             load.push(moment[k]);
             load_flex.push(flex[k]);
         }

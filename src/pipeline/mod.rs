@@ -33,7 +33,7 @@ use crate::io::bvh::{
     self, Bvh, JointTranslations, LengthUnit, PositionMode, ResolvedPosition, UpAxis,
 };
 pub use crate::io::scene::{Damping, PerJoint};
-use crate::model::anthropometry::{BodyParams, Sex};
+use crate::model::anthropometry::{BodyParams, SegmentTable, Sex};
 use crate::model::bvh::{BvhMap, BvhModelOptions, JointModel, build_bvh_model};
 use crate::model::{JointKind, Model};
 use crate::motion::smooth::{SmoothSpec, Smoother};
@@ -55,7 +55,8 @@ pub struct TakeOptions {
     pub positions: PositionMode,
     /// Joint model.
     pub joints: JointModel,
-    /// Body mass, sex and link-mass overrides.
+    /// Body mass, sex, segment table and link-mass overrides (`body.height_m` is set from the
+    /// take's stature when the model is built).
     pub body: BodyParams,
     /// Low-pass applied to q before differentiation; `None`: the default that fits the take
     /// ([`default_smoothing`]: `butterworth:6hz`, or none on a keyframed or low-rate take).
@@ -129,6 +130,8 @@ pub struct Flags<'a> {
     pub joints: Option<&'a str>,
     pub mass_kg: Option<f64>,
     pub sex: Option<&'a str>,
+    /// `regression` or `fractions`.
+    pub segments: Option<&'a str>,
     pub link_mass: &'a [String],
     pub smooth: Option<&'a str>,
     pub lock: &'a [String],
@@ -229,6 +232,8 @@ impl TakeOptions {
         o.body = BodyParams {
             mass_kg: scene.mass,
             sex: scene.sex.parse()?,
+            segments: scene.segments.parse()?,
+            height_m: None,
             link_mass: scene.link_mass.clone(),
         };
         if let Some(sm) = &scene.smooth {
@@ -274,6 +279,9 @@ impl TakeOptions {
         }
         if let Some(s) = f.sex {
             self.body.sex = parse_flag("sex", s)?;
+        }
+        if let Some(s) = f.segments {
+            self.body.segments = parse_flag("segments", s)?;
         }
         for lm in f.link_mass {
             let (name, kg) = lm.split_once('=').ok_or_else(|| {
@@ -443,6 +451,9 @@ pub struct Take {
     pub scale_to_m: f64,
     /// Rest-pose stature (m) after scaling.
     pub stature_m: f64,
+    /// The table that gave the segment masses (with `stature_m` for the regression); `None`:
+    /// no trunk among the joint names, link masses by bone volume.
+    pub segments: Option<SegmentTable>,
     pub positions: Vec<ResolvedPosition>,
     pub model: Model,
     pub map: BvhMap,
@@ -570,7 +581,17 @@ pub fn take_from_bvh_with(
                 .into(),
         );
     }
-    let (unit, scale_to_m, stature_m) = (scale.unit, scale.scale_to_m, scale.stature_m);
+    let (unit, scale_to_m, mut stature_m) = (scale.unit, scale.scale_to_m, scale.stature_m);
+    // a human's stature from its own dimensions, the same whatever its rest pose, so that the
+    // same body written another way gets the same masses; a given stature always wins
+    // (one scaled to a stature, given or fitted, keeps it)
+    if opts.stature_m.is_none()
+        && unit != "stature"
+        && let Ok(h) = &landmarks
+        && h.standing_height > 0.0
+    {
+        stature_m = h.standing_height;
+    }
     notes.extend(scale.note);
     if bvh.frame_time < MIN_PLAUSIBLE_FRAME_TIME_S {
         notes.push(format!(
@@ -599,13 +620,26 @@ pub fn take_from_bvh_with(
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "take".into());
+    // the body at the take's stature (the regression's second variable)
+    let body = BodyParams {
+        height_m: Some(stature_m),
+        ..opts.body.clone()
+    };
+    let segments = if trunk || landmarks.is_ok() {
+        let masses =
+            crate::model::anthropometry::segment_masses(&body).map_err(|e| at_file(path, e))?;
+        notes.extend(masses.notes);
+        Some(masses.table)
+    } else {
+        None
+    };
     let mut mopts = BvhModelOptions {
         name,
         joints: opts.joints,
         scale_to_m,
         up,
         positions: positions.clone(),
-        body: opts.body.clone(),
+        body,
         lock: opts.lock.clone(),
         subtree: opts.subtree.clone(),
         segments: None,
@@ -695,6 +729,7 @@ pub fn take_from_bvh_with(
         unit,
         scale_to_m,
         stature_m,
+        segments,
         positions,
         model,
         map,
@@ -1488,10 +1523,13 @@ pub fn info(take: &Take) -> Info<'_> {
 
 impl Info<'_> {
     /// The `--json` summary: the keys joints, frames, frame_time, nq, nv, scale_to_m,
-    /// stature_m, up, gravity, mass_kg, unit, smooth (the smoothing applied) and notes (a list
-    /// of strings: what the pipeline assumed, changed or found, as `info` prints them).
+    /// stature_m, up, gravity, mass_kg, unit, smooth (the smoothing applied), segments (the
+    /// table of segment masses: `regression`, `fractions`, or `bone_volume` when no trunk is
+    /// named), segments_stature_m (the stature the regression used, else null) and notes (a
+    /// list of strings: what the pipeline assumed, changed or found, as `info` prints them).
     pub fn json(&self) -> serde_json::Value {
         let t = self.take;
+        let regression = t.segments == Some(SegmentTable::Regression);
         serde_json::json!({
             "joints": t.bvh.joints.len(),
             "frames": t.bvh.frames,
@@ -1505,6 +1543,8 @@ impl Info<'_> {
             "mass_kg": t.model.total_mass(),
             "unit": t.unit,
             "smooth": t.smooth.to_string(),
+            "segments": t.segments.map_or("bone_volume".into(), |s| s.to_string()),
+            "segments_stature_m": regression.then_some(t.stature_m),
             "notes": t.notes,
         })
     }
@@ -1549,6 +1589,26 @@ impl Info<'_> {
             t.model.total_mass(),
             t.smooth
         );
+        let _ = match t.segments {
+            Some(SegmentTable::Regression) => writeln!(
+                s,
+                "masses      segments: {} ({} kg, stature {:.3} m), rescaled to the body \
+                 mass; centres of mass and radii of gyration: de Leva (1996)",
+                SegmentTable::Regression.source(),
+                t.options.body.mass_kg,
+                t.stature_m
+            ),
+            Some(table) => writeln!(
+                s,
+                "masses      segments: {}; centres of mass and radii of gyration: de Leva \
+                 (1996)",
+                table.source()
+            ),
+            None => writeln!(
+                s,
+                "masses      by bone volume (no joint name reads as a trunk)"
+            ),
+        };
         let _ = writeln!(
             s,
             "joints      (name: channels [rotation order] position channels)"

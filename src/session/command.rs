@@ -196,6 +196,7 @@ pub const COMMAND_WORDS: &[&str] = &[
 pub const SET_KEYS: &[&str] = &[
     "body.mass",
     "body.sex",
+    "body.segments",
     "unit",
     "stature",
     "up",

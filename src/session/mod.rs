@@ -51,7 +51,9 @@
 //! | `quit` | leave the TUI (ends a replay) |
 //!
 //! `set` keys of a BVH take (the pipeline's `TakeOptions`, with the CLI flags' syntax):
-//! `body.mass KG`, `body.sex male|female`, `unit auto|m|dm|cm|mm|in|cmu|METRES`,
+//! `body.mass KG`, `body.sex male|female`, `body.segments regression|fractions` (segment masses
+//! by Zatsiorsky–Seluyanov's regression on body mass and the take's stature, the default, or
+//! de Leva's fixed fractions: `--segments`), `unit auto|m|dm|cm|mm|in|cmu|METRES`,
 //! `stature auto|M`, `up auto|x|y|z`, `positions auto|add|replace`, `subtree none|JOINT`,
 //! `joints euler|ball`, `smooth none|gaussian:W|butterworth:F[hz][:ORDER]` (W in s, F in Hz),
 //! `contact none|feet`, `link.<joint>.mass KG`, `lock J1,J2,…` (or `none`),

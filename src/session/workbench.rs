@@ -1219,6 +1219,7 @@ impl Workbench {
                 p.take.body.mass_kg = positive(Some(Kind::Mass), "a positive mass in kg")?
             }
             "body.sex" => p.take.body.sex = parsed(key, value)?,
+            "body.segments" => p.take.body.segments = parsed(key, value)?,
             "unit" => {
                 p.take.unit = if auto {
                     None
