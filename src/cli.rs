@@ -37,7 +37,8 @@ pub enum Cmd {
         opts: TakeArgs,
         /// Machine-readable summary with the keys joints, frames, frame_time, nq, nv,
         /// scale_to_m, stature_m, up, gravity, mass_kg, unit, smooth, segments,
-        /// segments_stature_m, notes.
+        /// segments_stature_m, human (the joints the skeleton's shape makes its pelvis, hips,
+        /// knees, ankles, trunk and arms, or why it is not a human's), notes.
         #[arg(long)]
         json: bool,
     },

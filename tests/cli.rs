@@ -59,6 +59,7 @@ fn info_json_has_exactly_the_documented_keys() {
             "frame_time",
             "frames",
             "gravity",
+            "human",
             "joints",
             "mass_kg",
             "notes",

@@ -38,6 +38,9 @@ pub const SHANK_SHARE: (f64, f64) = (0.3, 0.62);
 /// (de Leva: forearm 0.27 m, upper arm 0.28 m, clavicle about 0.15 m).
 pub const FOREARM_SHARE: (f64, f64) = (0.25, 0.55);
 
+/// Why a skeleton with a third limb on the floor is not a biped (a quadruped, a crab).
+pub const MANY_LIMBS: &str = "more than two limbs stand on the floor, not a biped";
+
 /// Joint positions (m, world) at one sampled frame.
 #[derive(Debug, Clone)]
 pub struct Pose {
@@ -334,7 +337,7 @@ pub fn find_human(topo: &Topology, poses: &[Pose], up: usize) -> Result<Human, S
             path_length(poses, &c, 0) + span_from(poses, top, c[0])
         })
     };
-    let mut best: Option<(f64, usize, usize)> = None;
+    let mut best: Option<(usize, f64, usize, usize)> = None;
     for (i, &a) in low.iter().enumerate() {
         for &b in &low[i + 1..] {
             let l = topo.lca(a, b);
@@ -343,12 +346,14 @@ pub fn find_human(topo: &Topology, poses: &[Pose], up: usize) -> Result<Human, S
             }
             let (la, lb) = (reach(l, a), reach(l, b));
             let unlike = (la - lb).abs() / la.max(lb).max(1e-12);
-            if best.is_none_or(|(u, _, _)| unlike < u) {
-                best = Some((unlike, a, b));
+            // legs branch nearest the root (hands on the floor branch from the chest)
+            let depth = topo.path_to_root(l).len();
+            if best.is_none_or(|(d, u, _, _)| (depth, unlike) < (d, u)) {
+                best = Some((depth, unlike, a, b));
             }
         }
     }
-    let (_, e1, e2) =
+    let (_, _, e1, e2) =
         best.ok_or("no two legs: no two ends near the floor branch from high enough above it")?;
     let pelvis = topo.lca(e1, e2);
     let mut legs = vec![];
@@ -368,6 +373,26 @@ pub fn find_human(topo: &Topology, poses: &[Pose], up: usize) -> Result<Human, S
             toe: next_distinct(poses, &chain, ankle),
             end: e,
         });
+    }
+
+    // a biped has two limbs below its knees: a third (a quadruped's, a crab's legs) is not one
+    let knees = 0.5
+        * (median(poses, |p| p.joints[legs[0].knee][up])
+            + median(poses, |p| p.joints[legs[1].knee][up]));
+    let in_legs = |e: usize| {
+        let path = topo.path_to_root(e);
+        path.contains(&legs[0].hip) || path.contains(&legs[1].hip)
+    };
+    // (by the end joints, not their End Sites: a cane's tip reaches the floor from a hand)
+    let joint_height = |j: usize| median(poses, |p| p.joints[j][up]);
+    if let Some(&other) = ends
+        .iter()
+        .find(|&&e| !in_legs(e) && joint_height(e) < knees)
+    {
+        return Err(format!(
+            "`{}` reaches below the knees too: {MANY_LIMBS}",
+            topo.names[other]
+        ));
     }
 
     // sides: names if both legs have one and they differ, else forward × up

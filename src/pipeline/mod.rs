@@ -551,6 +551,9 @@ pub fn take_from_bvh_with(
                     .ok()
                     .map(|h| (a, h))
             })
+            // about another axis than the detected one, only a body that stands (its trunk
+            // within 30° of the vertical in the median frame): an animal on its side does not
+            .filter(|(a, h)| *a == up || h.lean < 30f64.to_radians())
             .min_by(|a, b| a.1.lean.total_cmp(&b.1.lean))
         {
             human = true;
@@ -1525,7 +1528,8 @@ impl Info<'_> {
     /// The `--json` summary: the keys joints, frames, frame_time, nq, nv, scale_to_m,
     /// stature_m, up, gravity, mass_kg, unit, smooth (the smoothing applied), segments (the
     /// table of segment masses: `regression`, `fractions`, or `bone_volume` when no trunk is
-    /// named), segments_stature_m (the stature the regression used, else null) and notes (a
+    /// named), segments_stature_m (the stature the regression used, else null), human
+    /// ([`Info::landmarks`]) and notes (a
     /// list of strings: what the pipeline assumed, changed or found, as `info` prints them).
     pub fn json(&self) -> serde_json::Value {
         let t = self.take;
@@ -1545,11 +1549,55 @@ impl Info<'_> {
             "smooth": t.smooth.to_string(),
             "segments": t.segments.map_or("bone_volume".into(), |s| s.to_string()),
             "segments_stature_m": regression.then_some(t.stature_m),
+            "human": self.landmarks(),
             "notes": t.notes,
         })
     }
 
     /// The human-readable description.
+    /// Which joints the skeleton's shape makes the pelvis, the legs' hip, knee and ankle, the
+    /// lumbar joint, thorax and head, and the arms' shoulder, elbow and wrist; or why it is not
+    /// a human's.
+    pub fn landmarks(&self) -> String {
+        let t = self.take;
+        let name = |j: usize| t.bvh.joints[j].name.as_str();
+        let h = match &t.human {
+            Ok(h) => h,
+            Err(why) => return format!("no ({why})"),
+        };
+        let mut s = format!("pelvis {}", name(h.pelvis));
+        for (side, l) in ["left", "right"].iter().zip(&h.legs) {
+            s += &format!(
+                "; {side} leg {} / {} / {}",
+                name(l.hip),
+                name(l.knee),
+                name(l.ankle)
+            );
+        }
+        if let Some(sp) = &h.spine {
+            s += &format!(
+                "; lumbar {}, thorax {}, head {}",
+                name(sp.lumbar),
+                name(sp.thorax),
+                name(sp.head)
+            );
+            for (side, a) in ["left", "right"].iter().zip(sp.arms.iter().flatten()) {
+                s += &format!(
+                    "; {side} arm {} / {} / {}",
+                    name(a.shoulder),
+                    name(a.elbow),
+                    name(a.wrist)
+                );
+            }
+        }
+        s += if h.sides_from_names {
+            " (sides from the names)"
+        } else {
+            " (sides from forward × up)"
+        };
+        s
+    }
+
     pub fn text(&self) -> String {
         use std::fmt::Write;
         let t = self.take;
@@ -1580,6 +1628,7 @@ impl Info<'_> {
         );
         let g = t.model.gravity;
         let _ = writeln!(s, "gravity     [{}, {}, {}] m/s²", g.x, g.y, g.z);
+        let _ = writeln!(s, "human       {}", self.landmarks());
         let _ = writeln!(
             s,
             "model       {} joints, nq {}, nv {}, mass {:.3} kg, smoothing {}",
