@@ -41,6 +41,13 @@ fn the_demo_screen_shows_tree_sparklines_timeline_and_status() {
     // after loading, inverse dynamics ran and, the take being a human's, its left knee's
     // anatomical flexion is selected
     assert_eq!(wb.selection.as_deref(), Some("knee_l:flexion"));
+    // ← and → step through the anatomical joint's axes
+    press(&mut ui, &mut wb, "l");
+    assert_eq!(wb.selection.as_deref(), Some("knee_l:adduction"));
+    press(&mut ui, &mut wb, "hh");
+    assert_eq!(wb.selection.as_deref(), Some("knee_l:rotation"));
+    press(&mut ui, &mut wb, "l");
+    assert_eq!(wb.selection.as_deref(), Some("knee_l:flexion"));
     // down the tree to LeftUpLeg's child LeftLeg: select it from the command line
     // a joint selects its coordinate with the largest range of motion: knee flexion
     press(&mut ui, &mut wb, ":select LeftLeg<Enter>");

@@ -1384,6 +1384,23 @@ impl Workbench {
     }
 
     /// The coordinates of a joint (a BVH joint, or a robot joint) in the latest results.
+    /// The anatomical axes of the joint of `sel` when `sel` is one (`knee_l:flexion` →
+    /// `knee_l:flexion`, `knee_l:adduction`, `knee_l:rotation`), for ←/→ in the TUI.
+    pub fn anatomical_axes(&self, sel: &str) -> Option<Vec<String>> {
+        let r = self.latest_results()?;
+        if !is_anatomical(r, sel) {
+            return None;
+        }
+        let joint = sel.split(':').next()?;
+        Some(
+            ["flexion", "adduction", "rotation"]
+                .iter()
+                .map(|a| format!("{joint}:{a}"))
+                .filter(|c| is_anatomical(r, c))
+                .collect(),
+        )
+    }
+
     pub fn joint_coords(&self, joint: &str) -> Vec<String> {
         match self.latest_results() {
             Some(r) => coords_of_joint(&r.model, joint),

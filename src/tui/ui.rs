@@ -525,12 +525,15 @@ impl Ui {
                         self.exec(wb, &Command::Select(tree[n].0.clone()));
                     }
                     _ => {
-                        // ←/→: the previous / next coordinate of the joint
-                        let coords = wb.joint_coords(&tree[cur].0);
+                        // ←/→: the previous / next coordinate of the joint (of an
+                        // anatomical joint: its flexion, adduction and rotation axes)
+                        let sel = wb.selection.clone().unwrap_or_default();
+                        let coords = wb
+                            .anatomical_axes(&sel)
+                            .unwrap_or_else(|| wb.joint_coords(&tree[cur].0));
                         if coords.is_empty() {
                             return;
                         }
-                        let sel = wb.selection.clone().unwrap_or_default();
                         let at = coords.iter().position(|c| *c == sel).unwrap_or(0);
                         let n = if code == KeyCode::Left {
                             (at + coords.len() - 1) % coords.len()
