@@ -188,8 +188,9 @@ pub struct BvhMap {
     pub joints: Vec<JointMap>,
 }
 
-/// The pose of each End Site of each BVH joint in the joint frame, scaled to metres.
-fn bones(bvh: &Bvh, scale: f64) -> Vec<Bone> {
+/// What `anthropometry::distribute` needs of each BVH joint: its name, parent and the offsets of
+/// its children and End Sites in its frame, scaled to metres.
+pub fn bones(bvh: &Bvh, scale: f64) -> Vec<Bone> {
     bvh.joints
         .iter()
         .enumerate()

@@ -1,0 +1,109 @@
+//! What the terminal says of an [`Anatomy`]: each joint's range, and each knee's figures over
+//! the gait cycles (a stride: foot strike, stance, toe-off, swing, the next strike).
+
+use super::Anatomy;
+
+/// One knee over the gait cycles of a take (medians over its strides).
+#[derive(Debug, Clone, PartialEq)]
+pub struct KneeCycles {
+    /// `knee_l`, `knee_r`.
+    pub knee: String,
+    /// Foot strikes followed by a whole stance and swing before the next.
+    pub strides: usize,
+    /// Largest flexion in swing (deg).
+    pub swing_flexion_deg: f64,
+    /// Largest extensor moment in loading response, the first fifth of stance (N·m/kg).
+    pub loading_extensor_nm_kg: f64,
+    /// Knee flexion at that moment's peak (deg).
+    pub loading_flexion_deg: f64,
+}
+
+/// The gait-cycle figures of each knee from its foot's contact phases (a stride: foot strike,
+/// stance, toe-off, swing, the next strike); empty without contact or a whole stride.
+pub fn knee_cycles(a: &Anatomy) -> Vec<KneeCycles> {
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+    };
+    let mut out = vec![];
+    for (foot, on) in &a.contact {
+        let knee = if foot == "left" { "knee_l" } else { "knee_r" };
+        let (Some(flex), Some(moment)) = (
+            a.column(&format!("{knee}:flexion:angle")),
+            a.column(&format!("{knee}:flexion:moment_per_kg")),
+        ) else {
+            continue;
+        };
+        let strikes: Vec<usize> = (1..on.len()).filter(|&k| on[k] && !on[k - 1]).collect();
+        let (mut swing, mut load, mut load_flex) = (vec![], vec![], vec![]);
+        for w in strikes.windows(2) {
+            let (s0, s1) = (w[0], w[1]);
+            let Some(off) = (s0..s1).find(|&k| !on[k]) else {
+                continue;
+            };
+            swing.push(
+                flex[off..s1]
+                    .iter()
+                    .copied()
+                    .fold(f64::NEG_INFINITY, f64::max),
+            );
+            let end = s0 + ((off - s0) / 5).max(1);
+            let k = (s0..end)
+                .max_by(|&x, &y| moment[x].total_cmp(&moment[y]))
+                .unwrap_or(s0);
+            load.push(moment[k]);
+            load_flex.push(flex[k]);
+        }
+        if swing.is_empty() {
+            continue;
+        }
+        out.push(KneeCycles {
+            knee: knee.into(),
+            strides: swing.len(),
+            swing_flexion_deg: median(swing),
+            loading_extensor_nm_kg: median(load),
+            loading_flexion_deg: median(load_flex),
+        });
+    }
+    out
+}
+
+/// A few lines for the terminal: per joint, the flexion range (deg) and the largest extensor
+/// and flexor moments (N·m/kg) over the take.
+pub fn summary(a: &Anatomy) -> String {
+    let mut out = format!(
+        "{:<12} {:>22} {:>30}\n",
+        "joint", "flexion min..max (deg)", "flexion moment min..max (N·m/kg)"
+    );
+    let range = |c: &[f64]| {
+        c.iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                (lo.min(*x), hi.max(*x))
+            })
+    };
+    for name in a.names.iter().filter(|n| n.ends_with(":flexion:angle")) {
+        let joint = name.trim_end_matches(":flexion:angle");
+        let (lo, hi) = range(a.column(name).unwrap_or(&[]));
+        let m = a
+            .column(&format!("{joint}:flexion:moment_per_kg"))
+            .map(|c| {
+                let (l, h) = range(c);
+                format!("{l:.2}..{h:.2}")
+            })
+            .unwrap_or_else(|| "-".into());
+        out += &format!("{joint:<12} {:>22} {m:>30}\n", format!("{lo:.1}..{hi:.1}"));
+    }
+    for c in knee_cycles(a) {
+        out += &format!(
+            "{}: {} strides (medians): swing flexion peak {:.1}°, loading-response extensor \
+             moment {:.2} N·m/kg at {:.1}° flexion ({:.0} kg body)\n",
+            c.knee,
+            c.strides,
+            c.swing_flexion_deg,
+            c.loading_extensor_nm_kg,
+            c.loading_flexion_deg,
+            a.mass_kg
+        );
+    }
+    out
+}
