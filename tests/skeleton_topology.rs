@@ -113,3 +113,42 @@ fn a_prop_in_a_hand_is_massless_welded_and_named() {
     assert_eq!(segments[hand].class, Some((Segment::Hand, Side::Right)));
     assert_eq!(segments[t.bvh.joints.len() - 1].class, None);
 }
+
+/// On the shared takes, whose joint names are plain, the shape finds the joints the names say:
+/// the names are the oracle here, the shape's own test (a take of one pose, a T-pose whose
+/// clavicle lies in line with the arm, is left out: without motion nothing tells them apart).
+#[test]
+#[ignore = "real takes: ARTICULA_REAL_TAKES=../shared/data/bvh cargo test -- --ignored"]
+fn the_shape_finds_the_joints_the_names_say_on_every_shared_take() {
+    use Segment::*;
+    use articula::model::anthropometry::classify;
+    for path in common::real_takes() {
+        let t = pipeline::load_take(&path, &TakeOptions::default()).unwrap();
+        let Ok(h) = &t.human else {
+            panic!("{}: not found to be a human", path.display());
+        };
+        if t.bvh.frames < 3 {
+            continue;
+        }
+        let name = |j: usize| t.bvh.joints[j].name.as_str();
+        let is = |j: usize, seg: Segment, side: Side| {
+            assert_eq!(
+                classify(name(j)),
+                Some((seg, side)),
+                "{}: {} found as a {seg:?} joint",
+                path.display(),
+                name(j)
+            );
+        };
+        for l in &h.legs {
+            is(l.hip, Thigh, l.side);
+            is(l.knee, Shank, l.side);
+            is(l.ankle, Foot, l.side);
+        }
+        for a in h.spine.iter().flat_map(|s| s.arms.iter().flatten()) {
+            is(a.shoulder, UpperArm, a.side);
+            is(a.elbow, Forearm, a.side);
+            is(a.wrist, Hand, a.side);
+        }
+    }
+}

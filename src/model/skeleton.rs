@@ -30,12 +30,13 @@ use nalgebra::Vector3;
 
 /// Fraction of the body's height within which the foot (ankle to the end of the chain) lies.
 pub const FOOT_REACH: f64 = 0.2;
-/// Range of the shank's share of the pelvis-to-ankle chain length searched for the knee (the
-/// forearm's share of the arm for the elbow); de Leva's (1996) segment lengths put it at 0.45
-/// (shank 0.25, thigh 0.24 and pelvis half-width 0.06 of the stature).
+/// Range of the shank's share of the leg chain's length (from its first joint below the
+/// pelvis to the ankle) searched for the knee; de Leva's (1996) segment lengths put it at
+/// 0.45–0.5 (shank 0.25, thigh 0.24 and a pelvis bone up to 0.06 of the stature).
 pub const SHANK_SHARE: (f64, f64) = (0.3, 0.62);
-/// Range of the forearm's share of the clavicle-to-wrist chain length searched for the elbow
-/// (de Leva: forearm 0.27 m, upper arm 0.28 m, clavicle about 0.15 m).
+/// Range of the forearm's share of the arm chain's length (from its first joint off the
+/// spine to the wrist) searched for the elbow (de Leva: forearm 0.27 m, upper arm 0.28 m,
+/// clavicle about 0.15 m).
 pub const FOREARM_SHARE: (f64, f64) = (0.25, 0.55);
 
 /// Why a skeleton with a third limb on the floor is not a biped (a quadruped, a crab).
@@ -226,12 +227,13 @@ fn middle_joint(
     distal: usize,
     share: (f64, f64),
 ) -> Option<usize> {
+    // the chain's own length (not the step onto it from the trunk: a spine joint low in the
+    // back makes that step long)
     let total = median(poses, |p| {
-        let mut s = (p.joints[chain[0]] - p.joints[top]).norm();
-        for w in chain[..=distal].windows(2) {
-            s += (p.joints[w[1]] - p.joints[w[0]]).norm();
-        }
-        s
+        chain[..=distal]
+            .windows(2)
+            .map(|w| (p.joints[w[1]] - p.joints[w[0]]).norm())
+            .sum::<f64>()
     });
     if total <= 0.0 {
         return None;
