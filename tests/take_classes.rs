@@ -397,7 +397,7 @@ fn a_biped_rigs_names_on_an_animal_say_which_masses_it_gets() {
     assert!(
         t.notes
             .iter()
-            .any(|n| n.contains("de Leva's human segment table")),
+            .any(|n| n.contains("human segment table (--segments")),
         "{:?}",
         t.notes
     );

@@ -579,8 +579,9 @@ pub fn take_from_bvh_with(
     } else if landmarks.is_err() {
         // a biped rig's names on an animal (3ds Max `Bip01_Pelvis` on an elephant)
         notes.push(
-            "not a human skeleton, but a joint name reads as a trunk: link masses follow de \
-             Leva's human segment table, the missing segments' mass given to the trunk"
+            "not a human skeleton, but a joint name reads as a trunk: link masses follow the \
+             human segment table (--segments: regression on mass and stature, or de Leva's \
+             fractions) by the joint names, the missing segments' mass given to the trunk"
                 .into(),
         );
     }
