@@ -51,6 +51,16 @@ pub struct Pose {
     pub ends: Vec<Option<Vector3<f64>>>,
 }
 
+impl Pose {
+    /// The same pose with every length multiplied by `s` (file units to metres).
+    pub fn scaled(&self, s: f64) -> Pose {
+        Pose {
+            joints: self.joints.iter().map(|p| p * s).collect(),
+            ends: self.ends.iter().map(|e| e.map(|p| p * s)).collect(),
+        }
+    }
+}
+
 /// A leg: the joints at the hip, knee and ankle centres, and the toe joint if the foot has one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Leg {
@@ -122,6 +132,10 @@ impl Topology<'_> {
             j = q;
         }
         p
+    }
+    /// Whether `j` is `ancestor` or lies below it.
+    fn descends(&self, j: usize, ancestor: usize) -> bool {
+        self.path_to_root(j).contains(&ancestor)
     }
     /// Lowest common ancestor.
     fn lca(&self, a: usize, b: usize) -> usize {
@@ -381,10 +395,7 @@ pub fn find_human(topo: &Topology, poses: &[Pose], up: usize) -> Result<Human, S
     let knees = 0.5
         * (median(poses, |p| p.joints[legs[0].knee][up])
             + median(poses, |p| p.joints[legs[1].knee][up]));
-    let in_legs = |e: usize| {
-        let path = topo.path_to_root(e);
-        path.contains(&legs[0].hip) || path.contains(&legs[1].hip)
-    };
+    let in_legs = |e: usize| topo.descends(e, legs[0].hip) || topo.descends(e, legs[1].hip);
     // (by the end joints, not their End Sites: a cane's tip reaches the floor from a hand)
     let joint_height = |j: usize| median(poses, |p| p.joints[j][up]);
     if let Some(&other) = ends
@@ -515,10 +526,7 @@ fn find_spine(
     ends: &[usize],
     body: f64,
 ) -> Option<Spine> {
-    let in_leg = |e: usize| {
-        topo.chain(pelvis, e)
-            .is_some_and(|c| c.contains(&legs[0].hip) || c.contains(&legs[1].hip))
-    };
+    let in_leg = |e: usize| topo.descends(e, legs[0].hip) || topo.descends(e, legs[1].hip);
     let height = |j: usize| median(poses, |p| tip(p, j)[up]);
     // the head: the highest end outside the legs that has no mirror image (hands, fingers and
     // eyes come in pairs of ends equally far from the pelvis; a hand waved above the head is
@@ -694,7 +702,7 @@ pub fn segment_classes(topo: &Topology, human: &Human) -> Vec<SegmentOf> {
     }
     // the rest inherit (in file order, parents first)
     let below_hub = |mut j: usize| loop {
-        if j == human.pelvis || out_has(&out, j) {
+        if j == human.pelvis || out[j].is_some() {
             return true;
         }
         match topo.parent[j] {
@@ -717,8 +725,4 @@ pub fn segment_classes(topo: &Topology, human: &Human) -> Vec<SegmentOf> {
         };
     }
     result
-}
-
-fn out_has(out: &[Option<SegmentOf>], j: usize) -> bool {
-    out[j].is_some()
 }

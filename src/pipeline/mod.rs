@@ -539,6 +539,7 @@ pub fn take_from_bvh_with(
     let mut up = up;
     let mut human = named_human;
     // (about the axis along which its trunk stands most upright)
+    let sampled = anatomy::sample_bvh_poses(&bvh, &positions);
     if !named_human {
         let axes = match opts.up {
             Some(u) => vec![u],
@@ -547,7 +548,7 @@ pub fn take_from_bvh_with(
         if let Some((axis, h)) = axes
             .into_iter()
             .filter_map(|a| {
-                anatomy::human_of_bvh(&bvh, &positions, 1.0, a)
+                anatomy::human_of_bvh(&bvh, &sampled, a)
                     .ok()
                     .map(|h| (a, h))
             })
@@ -568,7 +569,8 @@ pub fn take_from_bvh_with(
     let scale = bvh::choose_scale(&bvh, up, opts.unit, opts.stature_m, human)
         .map_err(|e| at_file(path, e))?;
     // a human's segments by topology and geometry (names only as hints)
-    let landmarks = anatomy::human_of_bvh(&bvh, &positions, scale.scale_to_m, up);
+    let in_metres: Vec<_> = sampled.iter().map(|p| p.scaled(scale.scale_to_m)).collect();
+    let landmarks = anatomy::human_of_bvh(&bvh, &in_metres, up);
     let trunk = crate::model::anthropometry::has_trunk(bvh.joints.iter().map(|j| j.name.as_str()));
     if landmarks.is_err() && !trunk {
         notes.push(

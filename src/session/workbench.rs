@@ -1664,22 +1664,12 @@ pub fn statistic(stat: Statistic, x: &[f64]) -> f64 {
     }
 }
 
-/// BVH channel names: the suffix of an euler-model coordinate.
-const CHANNELS: [&str; 6] = [
-    "Xposition",
-    "Yposition",
-    "Zposition",
-    "Xrotation",
-    "Yrotation",
-    "Zrotation",
-];
-
 /// The BVH (or robot) joint that velocity coordinate `k` belongs to: the joint name of its
 /// body, without the `.Xrotation` of an euler-model channel body.
 fn joint_of(model: &Model, k: usize) -> &str {
     let name = model.joint_names[model.body_of_v(k)].as_str();
     match name.rsplit_once('.') {
-        Some((j, c)) if CHANNELS.contains(&c) => j,
+        Some((j, c)) if crate::io::bvh::Channel::ALL.iter().any(|ch| ch.name() == c) => j,
         _ => name,
     }
 }

@@ -60,7 +60,7 @@ pub mod write;
 pub use parse::{parse_bytes, parse_str, read};
 pub use semantics::{
     JointTranslations, LengthUnit, PositionMode, ResolvedPosition, STANDARD_STATURE_M,
-    STATURE_RANGE_M, Scale, UpAxis, bvh_end_site_positions, bvh_world_positions,
+    STATURE_RANGE_M, Scale, UpAxis, bvh_end_site_positions, bvh_world_poses, bvh_world_positions,
     check_given_stature, check_stature, choose_scale, detect_unit, detect_up, detect_up_by_feet,
     detect_up_by_legs, joint_rotation, joint_translation, resolve_position_modes, rest_points,
     rest_stature, scale_for_stature, stature,
@@ -101,17 +101,19 @@ impl Channel {
             Channel::Zposition | Channel::Zrotation => 2,
         }
     }
+    /// The six channels.
+    pub const ALL: [Channel; 6] = [
+        Channel::Xposition,
+        Channel::Yposition,
+        Channel::Zposition,
+        Channel::Xrotation,
+        Channel::Yrotation,
+        Channel::Zrotation,
+    ];
     /// The channel called `name` (`Xrotation`, ...; ASCII case ignored).
     pub fn from_name(name: &str) -> Option<Channel> {
-        const ALL: [Channel; 6] = [
-            Channel::Xposition,
-            Channel::Yposition,
-            Channel::Zposition,
-            Channel::Xrotation,
-            Channel::Yrotation,
-            Channel::Zrotation,
-        ];
-        ALL.into_iter()
+        Self::ALL
+            .into_iter()
             .find(|c| c.name().eq_ignore_ascii_case(name))
     }
     /// True for `Xrotation`, `Yrotation`, `Zrotation`.

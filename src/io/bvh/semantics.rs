@@ -254,7 +254,7 @@ pub fn bvh_world_positions(
     modes: &[ResolvedPosition],
     frame: usize,
 ) -> Vec<Vector3<f64>> {
-    world_poses(bvh, modes, frame).0
+    bvh_world_poses(bvh, modes, frame).0
 }
 
 /// World position of every End Site at frame `frame`, in joint order and, within a joint, in
@@ -264,7 +264,7 @@ pub fn bvh_end_site_positions(
     modes: &[ResolvedPosition],
     frame: usize,
 ) -> Vec<Vector3<f64>> {
-    let (p, r) = world_poses(bvh, modes, frame);
+    let (p, r) = bvh_world_poses(bvh, modes, frame);
     bvh.joints
         .iter()
         .enumerate()
@@ -273,7 +273,9 @@ pub fn bvh_end_site_positions(
         .collect()
 }
 
-fn world_poses(
+/// World position and orientation (file units, the file's axes) of every joint at frame
+/// `frame`, as [`bvh_world_positions`] computes them.
+pub fn bvh_world_poses(
     bvh: &Bvh,
     modes: &[ResolvedPosition],
     frame: usize,
@@ -458,7 +460,7 @@ pub fn detect_up_by_feet(bvh: &Bvh) -> Option<UpAxis> {
         .collect();
     let mut counts: [Vec<usize>; 3] = Default::default();
     for k in sampled_frames(bvh) {
-        let (p, r) = world_poses(bvh, &modes, k);
+        let (p, r) = bvh_world_poses(bvh, &modes, k);
         let body = body_points(bvh, &points_of(bvh, &p, &r));
         let near = 0.05 * extents(&body).iter().copied().fold(0.0, f64::max);
         for (axis, c) in counts.iter_mut().enumerate() {
@@ -500,7 +502,7 @@ fn by_extent(ext: [f64; 3]) -> [usize; 3] {
 
 /// Joints then End Sites (the order of [`rest_points`]) at frame `frame`.
 fn pose_points(bvh: &Bvh, modes: &[ResolvedPosition], frame: usize) -> Vec<Vector3<f64>> {
-    let (p, r) = world_poses(bvh, modes, frame);
+    let (p, r) = bvh_world_poses(bvh, modes, frame);
     points_of(bvh, &p, &r)
 }
 

@@ -210,38 +210,29 @@ pub fn find_take_human(take: &Take) -> Result<Human, Error> {
     })
 }
 
-/// The human landmarks of a BVH skeleton (`model::skeleton::find_human`) from the file's own
-/// forward kinematics at up to 64 evenly spaced frames, in metres.
-pub(crate) fn human_of_bvh(
-    bvh: &Bvh,
-    modes: &[ResolvedPosition],
-    scale_to_m: f64,
-    up: UpAxis,
-) -> Result<Human, String> {
+/// Joint positions and first End Sites of up to 64 evenly spaced frames of a BVH skeleton,
+/// from the file's own forward kinematics, in file units (scale them with
+/// [`Pose::scaled`]).
+pub(crate) fn sample_bvh_poses(bvh: &Bvh, modes: &[ResolvedPosition]) -> Vec<Pose> {
     let n = bvh.frames;
-    let poses: Vec<Pose> = (0..n)
+    (0..n)
         .step_by(n.div_ceil(64).max(1))
         .map(|k| {
-            let joints: Vec<Vector3<f64>> = bvh::bvh_world_positions(bvh, modes, k)
-                .into_iter()
-                .map(|p| p * scale_to_m)
-                .collect();
-            let mut sites = bvh::bvh_end_site_positions(bvh, modes, k).into_iter();
+            let (joints, rot) = bvh::bvh_world_poses(bvh, modes, k);
             let ends = bvh
                 .joints
                 .iter()
-                .map(|j| {
-                    let mut first = None;
-                    for _ in &j.end_sites {
-                        let p = sites.next().map(|p| p * scale_to_m);
-                        first = first.or(p);
-                    }
-                    first
-                })
+                .enumerate()
+                .map(|(j, joint)| joint.end_sites.first().map(|e| joints[j] + rot[j] * e))
                 .collect();
             Pose { joints, ends }
         })
-        .collect();
+        .collect()
+}
+
+/// The human landmarks of a BVH skeleton (`model::skeleton::find_human`) in `poses`
+/// ([`sample_bvh_poses`]) about the up axis `up`.
+pub(crate) fn human_of_bvh(bvh: &Bvh, poses: &[Pose], up: UpAxis) -> Result<Human, String> {
     let names: Vec<&str> = bvh.joints.iter().map(|j| j.name.as_str()).collect();
     let parent: Vec<Option<usize>> = bvh.joints.iter().map(|j| j.parent).collect();
     find_human(
@@ -249,7 +240,7 @@ pub(crate) fn human_of_bvh(
             names: &names,
             parent: &parent,
         },
-        &poses,
+        poses,
         up.index(),
     )
 }
