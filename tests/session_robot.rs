@@ -5,27 +5,7 @@
 
 mod common;
 
-use articula::session::{Command, Workbench, parse_line};
-use std::path::Path;
-
-fn wb_in(out: &Path) -> Workbench {
-    Workbench::new(
-        std::sync::Arc::new(articula::session::Builtin),
-        common::repo("."),
-        out,
-    )
-}
-
-fn apply(wb: &mut Workbench, line: &str) -> Result<String, String> {
-    let cmd: Command = parse_line(line, 1)
-        .map_err(|e| e.to_string())?
-        .expect("a command");
-    wb.apply(&cmd).map(|o| o.message).map_err(|e| e.to_string())
-}
-
-fn ok(wb: &mut Workbench, line: &str) -> String {
-    apply(wb, line).unwrap_or_else(|e| panic!("{line}: {e}"))
-}
+use common::workbench::{apply, ok, wb_in};
 
 fn rows(path: &str) -> Vec<Vec<f64>> {
     let text = std::fs::read_to_string(common::repo(path)).unwrap();

@@ -8,34 +8,10 @@
 mod common;
 
 use articula::session::units::{self, Kind, UNITS};
-use articula::session::{Command, Workbench, parse_line, run_session};
+use articula::session::{Workbench, run_session};
 use std::path::Path;
 
-fn wb_in(out: &Path) -> Workbench {
-    Workbench::new(
-        std::sync::Arc::new(articula::session::Builtin),
-        common::repo("."),
-        out,
-    )
-}
-
-fn apply(wb: &mut Workbench, line: &str) -> Result<String, String> {
-    let cmd: Command = parse_line(line, 1)
-        .map_err(|e| e.to_string())?
-        .expect("a command");
-    wb.apply(&cmd).map(|o| o.message).map_err(|e| e.to_string())
-}
-
-fn ok(wb: &mut Workbench, line: &str) -> String {
-    apply(wb, line).unwrap_or_else(|e| panic!("{line}: {e}"))
-}
-
-fn fails(wb: &mut Workbench, line: &str) -> String {
-    match apply(wb, line) {
-        Ok(m) => panic!("{line}: passed ({m})"),
-        Err(e) => e,
-    }
-}
+use common::workbench::{apply, fails, ok, wb_in};
 
 /// The demo walk with the knee-load study's settings (sessions/knee_load.session).
 fn walk(out: &Path) -> Workbench {

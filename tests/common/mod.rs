@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod variants;
+pub mod workbench;
 
 use std::path::PathBuf;
 
