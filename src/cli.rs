@@ -79,8 +79,8 @@ pub enum Cmd {
     /// pelvis, lumbar, hips, knees, ankles, shoulders, elbows, in the joint coordinate system
     /// (Grood & Suntay 1983; ISB, Wu et al. 2002). Flexion, adduction and internal rotation
     /// positive; extensor (ankle: plantarflexor), abductor and external-rotator moments
-    /// positive. Here ground contact defaults to feet (none on a take of fewer than 3 frames)
-    /// and the joint model to ball (no gimbal lock; rotations smoothed as rotations).
+    /// positive. Ground contact is auto as everywhere (feet when the take stands on a floor);
+    /// the joint model defaults to ball here (no gimbal lock; rotations smoothed as rotations).
     Anatomy {
         take: PathBuf,
         #[command(flatten)]
@@ -272,7 +272,9 @@ pub struct TakeArgs {
     /// Keep only the subtree below this joint.
     #[arg(long)]
     pub subtree: Option<String>,
-    /// Ground contact: none (default), or feet (estimate ground reaction forces).
+    /// Ground contact: auto (the default: feet when the take stands on a floor, none when it
+    /// never touches one; the notes say which), feet (estimate ground reaction forces; an
+    /// error on a take whose feet never touch a floor), or none.
     #[arg(long)]
     pub contact: Option<String>,
     /// Keep frame 0 even when it is a rest pose before the motion (dropped by default).
@@ -580,7 +582,8 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
     };
     match cmd {
         Cmd::Info { take, opts, json } => {
-            let take = pipeline::load_take(&take, &opts.options_for("info")?)?;
+            let mut take = pipeline::load_take(&take, &opts.options_for("info")?)?;
+            pipeline::resolve_contact(&mut take);
             let info = pipeline::info(&take);
             if json {
                 println!("{}", serde_json::to_string_pretty(&info.json())?);
@@ -618,11 +621,14 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             wrote(&output);
         }
         Cmd::Id { src, opts, output } => {
-            let job = pipeline::load_source(
+            let mut job = pipeline::load_source(
                 &src.source()?,
                 src.states.as_deref(),
                 &opts.options_for_source("id", &src)?,
             )?;
+            if let Some(t) = job.take.as_mut() {
+                pipeline::resolve_contact(t);
+            }
             let quality = pipeline::write_inverse_dynamics(&job, &output)?;
             print_notes(job.take.as_ref());
             if let Some(q) = quality {
@@ -632,23 +638,12 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         }
         Cmd::Anatomy { take, opts, output } => {
             let mut o = opts.options_for("anatomy")?;
-            if opts.scene.is_none() {
-                // joint moments without the ground's forces are not a standing body's
-                if opts.contact.is_none() {
-                    o.contact = pipeline::Contact::Feet;
-                }
-                // no gimbal lock, and smoothing on rotations, not on one Euler order's angles
-                if opts.joints.is_none() {
-                    o.joints = articula::model::bvh::JointModel::Ball;
-                }
+            // no gimbal lock, and smoothing on rotations, not on one Euler order's angles
+            if opts.scene.is_none() && opts.joints.is_none() {
+                o.joints = articula::model::bvh::JointModel::Ball;
             }
             let mut take = pipeline::load_take(&take, &o)?;
-            if opts.contact.is_none() && opts.scene.is_none() && take.states.len() < 3 {
-                take.options.contact = pipeline::Contact::None;
-                take.notes.push(
-                    "contact none: a take of fewer than 3 frames has no contact phases".into(),
-                );
-            }
+            pipeline::resolve_contact(&mut take);
             let a = pipeline::anatomy::anatomy(&take)?;
             pipeline::anatomy::write_anatomy(&a, &output)?;
             print_notes(Some(&take));

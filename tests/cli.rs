@@ -56,6 +56,7 @@ fn info_json_has_exactly_the_documented_keys() {
     assert_eq!(
         keys,
         [
+            "contact",
             "frame_time",
             "frames",
             "gravity",
@@ -74,7 +75,17 @@ fn info_json_has_exactly_the_documented_keys() {
             "up",
         ]
     );
-    assert_eq!(v["notes"], serde_json::json!([]));
+    // the one note: what contact auto chose on this walk, and why
+    assert_eq!(v["contact"], "feet");
+    let notes = v["notes"].as_array().unwrap();
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    assert!(
+        notes[0]
+            .as_str()
+            .unwrap()
+            .starts_with("contact auto: feet: the feet stand on a floor"),
+        "{notes:?}"
+    );
     assert_eq!(v["smooth"], "butterworth:6hz");
     // the segment masses: the regression, at the take's stature
     assert_eq!(v["segments"], "regression");
@@ -196,10 +207,12 @@ fn export_states_then_fd_of_id_gives_back_the_accelerations() {
         .arg(&states)
         .assert()
         .success();
+    // fd has no contact model: the torques that give the motion back are those without
+    // ground reactions
     articula()
         .arg("id")
         .arg(&take)
-        .arg("-o")
+        .args(["--contact", "none", "-o"])
         .arg(&tau)
         .assert()
         .success();
@@ -742,7 +755,9 @@ fn damping_adds_exactly_b_times_the_joint_rate_to_the_torques() {
         .success();
     let (hs, s) = read_columns(&states).unwrap();
     let mut checked = 0;
-    for (k, name) in h0.iter().enumerate().skip(1) {
+    // the coordinates' torques (with contact auto the ground reactions' columns follow them)
+    let coords = h0.iter().enumerate().skip(1);
+    for (k, name) in coords.filter(|(_, n)| hs.contains(&format!("v:{n}"))) {
         let v = column(&hs, &s, &format!("v:{name}"));
         let root = name.starts_with("Hips.");
         let b = if root {
@@ -944,7 +959,13 @@ fn fd_needs_no_acceleration_columns_and_id_names_the_first_missing_one() {
         .arg(&states)
         .assert()
         .success();
-    id_to(dir.path(), &take, &tau);
+    articula()
+        .arg("id")
+        .arg(&take)
+        .args(["--contact", "none", "-o"])
+        .arg(&tau)
+        .assert()
+        .success();
     let (h, c) = read_columns(&states).unwrap();
     let keep: Vec<usize> = (0..h.len()).filter(|&i| !h[i].starts_with("a:")).collect();
     let qv = dir.path().join("qv.csv");
@@ -1103,4 +1124,28 @@ fn a_flag_that_means_nothing_for_the_source_is_refused() {
         assert!(err.contains(message), "{args:?}: {err}");
     }
     assert!(!dir.path().join("out.csv").exists());
+}
+
+#[test]
+fn fd_refuses_torques_computed_with_ground_reactions() {
+    // `id` on a take that stands estimates ground reactions (contact auto); fd has no contact
+    // model, so those torques would not give the motion back: said, not silently run
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.5);
+    let tau = dir.path().join("t.csv");
+    id_to(dir.path(), &take, &tau);
+    let out = articula()
+        .arg("fd")
+        .arg(&take)
+        .arg("--torques")
+        .arg(&tau)
+        .arg("-o")
+        .arg(dir.path().join("a.csv"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(e.contains("computed with ground reactions"), "{e}");
+    assert!(e.contains("articula id --contact none"), "{e}");
+    assert!(!dir.path().join("a.csv").exists());
 }

@@ -161,8 +161,8 @@ fn passages_near_gimbal_lock_and_capture_glitches_are_noted() {
             );
             assert!(
                 // the other passage, and that this skeleton, not a human's, has de Leva's
-                // masses through its `Hips`
-                msg.contains("(+2 more; `articula info` lists every note)"),
+                // masses through its `Hips`, and what contact auto chose
+                msg.contains("(+3 more; `articula info` lists every note)"),
                 "{msg}"
             );
         }

@@ -83,8 +83,11 @@ fn ground_reactions_report_every_64_frames_of_both_passes_and_stop_when_told() {
     assert!(matches!(e, Error::Cancelled), "{e}");
     assert_eq!(calls, per_pass + 2);
     // with `contact none` there is nothing to estimate and nothing is reported
-    let none = pipeline::take_from_bvh(Path::new("demo.bvh"), demo_bvh(), &TakeOptions::default())
-        .unwrap();
+    let opts = TakeOptions {
+        contact: articula::pipeline::Contact::None,
+        ..TakeOptions::default()
+    };
+    let none = pipeline::take_from_bvh(Path::new("demo.bvh"), demo_bvh(), &opts).unwrap();
     let mut called = false;
     assert!(
         pipeline::ground_reactions_with(&none, &mut |_| {

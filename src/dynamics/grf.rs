@@ -26,8 +26,11 @@
 //!    force keeps a direction of its own (the trailing one pushing off, the leading one
 //!    braking; a share of `W` would give both the direction of the sum, and the trailing knee
 //!    an extensor moment it does not have in pre-swing); double supports that are not a step
-//!    (standing, landing on both feet) share by the lever rule, in proportion to how close `p`
-//!    lies to each ankle; in flight the feet carry nothing, except within the estimator's
+//!    (standing, landing on both feet, the take's first and last double supports) share by
+//!    the lever rule, in proportion to how close `p` lies to each ankle, entered from the
+//!    single support before them and left to the one after over a ramp as long as the take's
+//!    median step transition (wrenches interpolated, [`transitions`]), so that no foot's load
+//!    jumps where a double support begins or ends; in flight the feet carry nothing, except within the estimator's
 //!    spread of a contact (below);
 //! 4. each foot's force acts at `p` shifted by the foot's offset from the load-weighted ankle
 //!    centre (so the shares together still reproduce `W`), kept inside the foot's support
@@ -65,6 +68,7 @@ use crate::error::Error;
 use crate::model::{JointKind, Model};
 use crate::motion::contact::{
     ContactParams, Foot, FootPoints, contact_phases, fit_heel_points, floor_height, foot_bodies,
+    why_no_contact,
 };
 use crate::spatial::{ForceVec, SpatialTransform};
 use nalgebra::Vector3;
@@ -325,11 +329,18 @@ pub fn estimate_ground_reactions_progress(
     let mut feet = feet.to_vec();
     let points = foot_paths(model, &mut ws, &mut feet, q, up);
     let by_foot = contact_phases(&points, up, dt, params);
+    if by_foot.iter().flatten().all(|c| !c) {
+        return Err(Error::Invalid(format!(
+            "model {}: {}; use --contact none (`set contact none` in the workbench)",
+            model.name,
+            why_no_contact(&points, up, dt, params)
+        )));
+    }
     let floor = floor_height(&points, up);
     let contact: Vec<Vec<bool>> = (0..n)
         .map(|k| by_foot.iter().map(|c| c[k]).collect())
         .collect();
-    let steps = step_transitions(&contact, time);
+    let shares = transitions(&contact, time);
 
     // the whole-body wrench each frame needs (world axes, about the world origin)
     let mut needed = Vec::with_capacity(n);
@@ -363,7 +374,7 @@ pub fn estimate_ground_reactions_progress(
     };
     let mut f_ext = vec![ForceVec::ZERO; model.nbodies()];
     let mut loads = vec![FootLoad::default(); nf];
-    let mut share = vec![0.0; nf];
+    let mut scratch = Scratch::new(nf);
     let mut support = vec![Support::default(); nf];
     let mut last_single: Vec<Option<FootLoad>> = vec![None; nf];
     let e_up = Vector3::ith(up, 1.0);
@@ -382,17 +393,18 @@ pub fn estimate_ground_reactions_progress(
             *s = Support::new(f, &ws.o_x_i, up, floor);
         }
         let c = &out.loaded[k];
-        match (steps[k], steps[k].and_then(|s| last_single[s.trailing])) {
-            (Some(step), Some(last)) => {
-                let toe = support[step.trailing].toe;
-                assign_step(
-                    &w, &support, step, &last, toe, up, floor, params, &mut loads,
-                )
-            }
-            _ => assign_to_feet(
-                &w, &support, c, steps[k], up, floor, params, &mut share, &mut loads,
-            ),
-        }
+        let floor_at = Floor { up, height: floor };
+        assign(
+            &w,
+            &support,
+            c,
+            shares[k],
+            &last_single,
+            floor_at,
+            params,
+            &mut scratch,
+            &mut loads,
+        );
         // a foot alone on the floor: what it carries now is where its next step starts from
         // (its centre of pressure kept relative to its toe, about which it rolls off)
         if c.iter().filter(|c| **c).count() == 1 {
@@ -424,6 +436,35 @@ pub fn estimate_ground_reactions_progress(
         out.residual[k] = about(&root_wrench(model, &ws), &pelvis);
     }
     Ok(out)
+}
+
+/// The contact phases (`[foot][frame]`) of `feet` over samples `time` of `q` (the first step
+/// of [`estimate_ground_reactions_with_feet`]), or, when no foot is ever planted on a floor,
+/// why not ([`why_no_contact`]): what `--contact auto` decides by.
+pub fn stance(
+    model: &Model,
+    feet: &[Foot],
+    time: &[f64],
+    q: &[Vec<f64>],
+    up: usize,
+    params: &ContactParams,
+) -> Result<Vec<Vec<bool>>, String> {
+    let n = time.len();
+    if n < 2 || q.len() != n || feet.is_empty() {
+        return Err(format!(
+            "{n} frames and {} feet: no contact phases",
+            feet.len()
+        ));
+    }
+    let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
+    let mut ws = Workspace::new(model);
+    let mut feet = feet.to_vec();
+    let points = foot_paths(model, &mut ws, &mut feet, q, up);
+    let by_foot = contact_phases(&points, up, dt, params);
+    if by_foot.iter().flatten().all(|c| !c) {
+        return Err(why_no_contact(&points, up, dt, params));
+    }
+    Ok(by_foot)
 }
 
 fn check_inputs(
@@ -483,7 +524,7 @@ fn check_inputs(
 /// The last body of the floating root chain: bodies `1..=r` form a chain from the world whose
 /// joints give three translations and three rotations (one free joint, or prismatic and
 /// revolute/spherical joints), owning velocity coordinates `0..6`.
-fn floating_root(model: &Model) -> Option<usize> {
+pub fn floating_root(model: &Model) -> Option<usize> {
     if model.nv < 6 {
         return None;
     }
@@ -553,18 +594,56 @@ struct Step {
     trailing_share: f64,
 }
 
-/// For every frame of double support that lies between a single support of one foot and a
-/// single support of the other, the smooth transition of the load (Ren et al. 2008):
-/// `u` runs from 0 at the trailing foot's last single-support frame to 1 at the leading foot's
-/// first, and the trailing share is `1 − (10u³ − 15u⁴ + 6u⁵)`.
-fn step_transitions(contact: &[Vec<bool>], time: &[f64]) -> Vec<Option<Step>> {
+/// How a frame of double support shares the needed wrench between the feet.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Transition {
+    /// Between a single support of one foot and a single support of the other: Ren et al.'s
+    /// ramp ([`assign_step`]).
+    Step(Step),
+    /// Any other double support (at the take's start or end, standing, a foot tapping, before
+    /// or after flight): the lever rule, entered and left without a jump. Within
+    /// [`Transition::Open::ramp_s`] of the single support of `from` before it, the loads blend
+    /// from that support's (`from` keeping what it carried alone, the other foot taking the
+    /// rest) with weight `entry`; within that of the single support of `to` after it, towards
+    /// that support's (`to` carrying all) with weight `exit`.
+    Open {
+        from: Option<usize>,
+        to: Option<usize>,
+        entry: f64,
+        exit: f64,
+    },
+}
+
+impl Transition {
+    /// The double support a step's transition lasts when the take has no step to measure it
+    /// by (s): about 10 % of a walking stride (Winter 2009, ch. 1; Perry & Burnfield 2010).
+    const DEFAULT_RAMP_S: f64 = 0.1;
+}
+
+/// The C² ramp `10u³ − 15u⁴ + 6u⁵` from 0 at `u ≤ 0` to 1 at `u ≥ 1`.
+fn smoothstep(u: f64) -> f64 {
+    let u = u.clamp(0.0, 1.0);
+    u * u * u * (10.0 - 15.0 * u + 6.0 * u * u)
+}
+
+/// For every frame of double support, how the load is shared ([`Transition`]): a double
+/// support between a single support of one foot and one of the other is a step (Ren et al.
+/// 2008), `u` running from 0 at the trailing foot's last single-support frame to 1 at the
+/// leading foot's first, and the trailing share `1 − (10u³ − 15u⁴ + 6u⁵)`. Every other double
+/// support is [`Transition::Open`], its entry and exit ramps as long as the take's median
+/// step transition ([`Transition::DEFAULT_RAMP_S`] without a step), at most half the double
+/// support each: so no foot's load jumps where a double support begins or ends, at the take's
+/// first or last contact included (the demo walk's right foot went 0 → 332 N in one frame at
+/// its last heel strike, the knee −15 → −115 N·m).
+fn transitions(contact: &[Vec<bool>], time: &[f64]) -> Vec<Option<Transition>> {
     let n = contact.len();
-    let mut steps = vec![None; n];
     let only = |k: usize| {
         let on: Vec<usize> = (0..contact[k].len()).filter(|&j| contact[k][j]).collect();
         (on.len() == 1).then(|| on[0])
     };
     let double = |k: usize| contact[k].iter().filter(|c| **c).count() == 2;
+    // the double supports: (first frame, end frame, foot alone before, foot alone after)
+    let mut spans = vec![];
     let mut k = 0;
     while k < n {
         if !double(k) {
@@ -575,25 +654,50 @@ fn step_transitions(contact: &[Vec<bool>], time: &[f64]) -> Vec<Option<Step>> {
         while k < n && double(k) {
             k += 1;
         }
-        // frames s..k are double support
         let before = if s > 0 { only(s - 1) } else { None };
         let after = if k < n { only(k) } else { None };
+        spans.push((s, k, before, after));
+    }
+    let mut step_lengths: Vec<f64> = spans
+        .iter()
+        .filter(|(_, _, b, a)| matches!((b, a), (Some(b), Some(a)) if b != a))
+        .map(|&(s, e, _, _)| time[e] - time[s - 1])
+        .collect();
+    step_lengths.sort_by(f64::total_cmp);
+    let ramp = step_lengths
+        .get(step_lengths.len() / 2)
+        .copied()
+        .unwrap_or(Transition::DEFAULT_RAMP_S);
+
+    let mut out = vec![None; n];
+    for (s, e, before, after) in spans {
         if let (Some(trailing), Some(leading)) = (before, after)
             && trailing != leading
         {
-            let (t0, t1) = (time[s - 1], time[k]);
-            for (m, step) in steps.iter_mut().enumerate().take(k).skip(s) {
-                let u = ((time[m] - t0) / (t1 - t0)).clamp(0.0, 1.0);
-                let ramp = u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
-                *step = Some(Step {
+            let (t0, t1) = (time[s - 1], time[e]);
+            for (m, step) in out.iter_mut().enumerate().take(e).skip(s) {
+                *step = Some(Transition::Step(Step {
                     trailing,
                     leading,
-                    trailing_share: 1.0 - ramp,
-                });
+                    trailing_share: 1.0 - smoothstep((time[m] - t0) / (t1 - t0)),
+                }));
             }
+            continue;
+        }
+        // the ramps are measured from the single supports either side (or the take's ends)
+        let t0 = if s > 0 { time[s - 1] } else { time[0] };
+        let t1 = if e < n { time[e] } else { time[n - 1] };
+        let r = ramp.min(0.5 * (t1 - t0)).max(f64::MIN_POSITIVE);
+        for (m, t) in out.iter_mut().enumerate().take(e).skip(s) {
+            *t = Some(Transition::Open {
+                from: before,
+                to: after,
+                entry: before.map_or(0.0, |_| 1.0 - smoothstep((time[m] - t0) / r)),
+                exit: after.map_or(0.0, |_| 1.0 - smoothstep((t1 - time[m]) / r)),
+            });
         }
     }
-    steps
+    out
 }
 
 /// Which feet carry the needed wrench in each frame: the feet in contact; and in a frame of
@@ -727,6 +831,137 @@ fn centre_of_pressure(w: &ForceVec, up: usize, floor: f64) -> Option<(Vector3<f6
     p[j] = (floor * f[j] + w.ang[i]) / f[up];
     let free = (w.ang - p.cross(f))[up];
     Some((p, free))
+}
+
+/// The floor: its up axis (0, 1, 2) and height along it (m).
+#[derive(Debug, Clone, Copy)]
+struct Floor {
+    up: usize,
+    height: f64,
+}
+
+/// Work buffers of [`assign`], allocated once per take.
+struct Scratch {
+    share: Vec<f64>,
+    other: Vec<FootLoad>,
+    alone: Vec<bool>,
+}
+
+impl Scratch {
+    fn new(feet: usize) -> Self {
+        Self {
+            share: vec![0.0; feet],
+            other: vec![FootLoad::default(); feet],
+            alone: vec![false; feet],
+        }
+    }
+}
+
+/// Shares the needed wrench `w` among the feet loaded in this frame (`c`), writing `loads`:
+/// a step by [`assign_step`] (from the trailing foot's last single-support load in
+/// `last_single`), an open double support by the lever rule blended with the single supports
+/// either side ([`Transition::Open`]), anything else by [`assign_to_feet`].
+#[allow(clippy::too_many_arguments)]
+fn assign(
+    w: &ForceVec,
+    support: &[Support],
+    c: &[bool],
+    transition: Option<Transition>,
+    last_single: &[Option<FootLoad>],
+    floor: Floor,
+    params: &ContactParams,
+    scratch: &mut Scratch,
+    loads: &mut [FootLoad],
+) {
+    let (up, h) = (floor.up, floor.height);
+    let step = match transition {
+        Some(Transition::Step(step)) => Some(step),
+        _ => None,
+    };
+    if let Some(step) = step
+        && let Some(last) = last_single[step.trailing]
+    {
+        let toe = support[step.trailing].toe;
+        return assign_step(w, support, step, &last, toe, up, h, params, loads);
+    }
+    assign_to_feet(
+        w,
+        support,
+        c,
+        step,
+        up,
+        h,
+        params,
+        &mut scratch.share,
+        loads,
+    );
+    let Some(Transition::Open {
+        from,
+        to,
+        entry,
+        exit,
+    }) = transition
+    else {
+        return;
+    };
+    // entering from a single support: that foot keeps what it carried alone
+    let other = |a: usize| (0..c.len()).find(|&j| c[j] && j != a);
+    if let Some(a) = from
+        && entry > 0.0
+        && let (Some(last), Some(leading)) = (last_single[a], other(a))
+    {
+        let step = Step {
+            trailing: a,
+            leading,
+            trailing_share: 1.0,
+        };
+        let toe = support[a].toe;
+        assign_step(
+            w,
+            support,
+            step,
+            &last,
+            toe,
+            up,
+            h,
+            params,
+            &mut scratch.other,
+        );
+        blend(loads, &scratch.other, entry, support, floor);
+    }
+    // leaving to a single support: that foot carries all
+    if let Some(b) = to
+        && exit > 0.0
+    {
+        scratch.alone.fill(false);
+        scratch.alone[b] = true;
+        let (alone, share, other) = (&scratch.alone, &mut scratch.share, &mut scratch.other);
+        assign_to_feet(w, support, alone, None, up, h, params, share, other);
+        blend(loads, &scratch.other, exit, support, floor);
+    }
+}
+
+/// `loads` ← `(1 − α)·loads + α·other`, foot by foot as wrenches: the force and the moment
+/// interpolate, and the centre of pressure is the vertical-force-weighted mean of the two (so
+/// it stays in the foot's support, which is convex), the free moment what the interpolated
+/// moment leaves about it.
+fn blend(loads: &mut [FootLoad], other: &[FootLoad], alpha: f64, support: &[Support], f: Floor) {
+    let e_up = Vector3::ith(f.up, 1.0);
+    for ((l, o), s) in loads.iter_mut().zip(other).zip(support) {
+        let w = l.wrench(&e_up) * (1.0 - alpha) + o.wrench(&e_up) * alpha;
+        *l = match centre_of_pressure(&w, f.up, f.height) {
+            Some((cop, free_moment)) => FootLoad {
+                force: w.lin,
+                cop,
+                free_moment,
+            },
+            None => FootLoad {
+                force: Vector3::zeros(),
+                cop: s.heel,
+                free_moment: 0.0,
+            },
+        };
+    }
 }
 
 /// Shares `w` among the feet in contact (see the module documentation), writing `loads`.
@@ -935,7 +1170,13 @@ mod tests {
             c(false, true),
         ];
         let time: Vec<f64> = (0..6).map(|k| k as f64 * 0.1).collect();
-        let steps = step_transitions(&contact, &time);
+        let steps: Vec<Option<Step>> = transitions(&contact, &time)
+            .into_iter()
+            .map(|t| match t {
+                Some(Transition::Step(s)) => Some(s),
+                _ => None,
+            })
+            .collect();
         assert!(steps[0].is_none() && steps[5].is_none());
         let shares: Vec<f64> = steps[1..5]
             .iter()
@@ -946,6 +1187,76 @@ mod tests {
         // symmetric about the middle of the double support
         assert!((shares[0] + shares[3] - 1.0).abs() < 1e-12);
         assert!(shares[0] > 0.8 && shares[3] < 0.2);
+    }
+
+    #[test]
+    fn double_support_that_is_not_a_step_is_entered_and_left_without_a_jump() {
+        // both feet from the start, then left alone, a step to the right, then both feet to
+        // the end of the take (standing after a walk): 10 frames at 0.05 s
+        let c = |l, r| vec![l, r];
+        let mut contact = vec![c(true, true); 3];
+        contact.extend([c(true, false), c(true, false)]);
+        contact.extend([c(true, true), c(false, true)]);
+        contact.extend(vec![c(true, true); 6]);
+        let time: Vec<f64> = (0..contact.len()).map(|k| k as f64 * 0.05).collect();
+        let t = transitions(&contact, &time);
+        // the step (frame 5) is Ren's; its 0.1 s sets the open supports' ramps
+        assert!(matches!(t[5], Some(Transition::Step(_))), "{:?}", t[5]);
+        let open = |k: usize| match t[k] {
+            Some(Transition::Open {
+                from,
+                to,
+                entry,
+                exit,
+            }) => (from, to, entry, exit),
+            other => panic!("frame {k}: {other:?}"),
+        };
+        // the take starts in double support: the lever rule, leaving towards the left foot alone
+        let (from, to, entry, exit) = open(0);
+        assert_eq!((from, to, entry), (None, Some(0), 0.0));
+        assert_eq!(exit, 0.0, "frame 0 is more than the ramp away from frame 3");
+        let exits: Vec<f64> = (0..3).map(|k| open(k).3).collect();
+        assert!(exits.windows(2).all(|w| w[1] >= w[0]), "{exits:?}");
+        assert!(exits[2] > 0.0 && exits[2] < 1.0, "{exits:?}");
+        // the take ends in double support: entered from the right foot alone, lever afterwards
+        let (from, to, entry, exit) = open(7);
+        assert_eq!((from, to, exit), (Some(1), None, 0.0));
+        assert!(entry > 0.5 && entry < 1.0, "frame 7: {entry}");
+        assert_eq!(open(12).2, 0.0);
+        let entries: Vec<f64> = (7..13).map(|k| open(k).2).collect();
+        assert!(entries.windows(2).all(|w| w[1] <= w[0]), "{entries:?}");
+    }
+
+    #[test]
+    fn a_blend_of_two_loads_is_their_wrenches_interpolated() {
+        let up = 2;
+        let support = [Support {
+            heel: Vector3::new(0.0, 0.0, 0.0),
+            toe: Vector3::new(0.2, 0.0, 0.0),
+        }];
+        let a = FootLoad {
+            force: Vector3::new(50.0, 0.0, 600.0),
+            cop: Vector3::new(0.02, 0.01, 0.0),
+            free_moment: 1.0,
+        };
+        let b = FootLoad {
+            force: Vector3::new(-30.0, 5.0, 200.0),
+            cop: Vector3::new(0.18, -0.02, 0.0),
+            free_moment: -2.0,
+        };
+        let mut loads = [a];
+        blend(&mut loads, &[b], 0.25, &support, Floor { up, height: 0.0 });
+        let e = Vector3::z();
+        let want = a.wrench(&e) * 0.75 + b.wrench(&e) * 0.25;
+        let got = loads[0].wrench(&e);
+        assert!((got.lin - want.lin).norm() < 1e-9 && (got.ang - want.ang).norm() < 1e-9);
+        // the centre of pressure lies between the two, weighted by vertical force
+        let p = (a.cop * 0.75 * 600.0 + b.cop * 0.25 * 200.0) / (0.75 * 600.0 + 0.25 * 200.0);
+        assert!(
+            (loads[0].cop - p).norm() < 1e-12,
+            "{:?} vs {p}",
+            loads[0].cop
+        );
     }
 
     #[test]

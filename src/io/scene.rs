@@ -13,7 +13,7 @@
 //! lock = ["LeftHand", "RightHand"]
 //! subtree = "RightUpLeg"
 //! smooth = "butterworth:6hz"
-//! contact = "feet"                # or "none"
+//! contact = "feet"                # or "none", "auto" (the default)
 //! keep_first_frame = false        # true keeps a rest pose stored as frame 0
 //! joint_translations = "weld"     # or "keep": position channels below the root as coordinates
 //! damping = 0.5                   # N·m·s/rad, every joint coordinate (or a table by joint)
@@ -188,7 +188,8 @@ pub struct Scene {
     /// `gaussian:0.02`, `butterworth:6hz`); `None`: the default.
     #[serde(default)]
     pub smooth: Option<String>,
-    /// Ground contact: `"none"` (default: the avatar hangs from its root) or `"feet"`.
+    /// Ground contact: `"auto"` (default: feet when the take stands on a floor, none when it
+    /// never touches one), `"feet"` or `"none"` (the avatar hangs from its root).
     #[serde(default = "default_contact", deserialize_with = "contact")]
     pub contact: String,
     /// Keep frame 0 of the takes even when it is a rest pose before the motion (default
@@ -230,7 +231,7 @@ fn default_joints() -> String {
     "euler".into()
 }
 fn default_contact() -> String {
-    "none".into()
+    "auto".into()
 }
 
 fn positive<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
@@ -300,7 +301,11 @@ fn joints<'de, D: Deserializer<'de>>(d: D) -> Result<String, D::Error> {
 }
 
 fn contact<'de, D: Deserializer<'de>>(d: D) -> Result<String, D::Error> {
-    choice(d, "contact model", &[("none", "none"), ("feet", "feet")])
+    choice(
+        d,
+        "contact model",
+        &[("auto", "auto"), ("none", "none"), ("feet", "feet")],
+    )
 }
 
 fn from_str<'de, D: Deserializer<'de>, T: FromStr<Err = Error>>(d: D) -> Result<T, D::Error> {
@@ -418,7 +423,7 @@ mod tests {
         assert_eq!(s.sex, "male");
         assert_eq!(s.segments, "regression");
         assert_eq!(s.joints, "euler");
-        assert_eq!(s.contact, "none");
+        assert_eq!(s.contact, "auto");
         assert_eq!(s.position, PositionMode::Auto);
         assert_eq!(s.joint_translations, JointTranslations::Weld);
         assert_eq!((s.unit, s.up, s.stature), (None, None, None));

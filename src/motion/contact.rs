@@ -136,27 +136,21 @@ pub fn floor_height(feet: &[FootPoints], up: usize) -> f64 {
 /// A point is planted while it is within `height_on` of its floor level and slower than
 /// `speed_on`, and stays planted until it rises above `height_off` or moves faster than
 /// `speed_off`; a foot is in contact while its heel or its toe is planted. Speeds are central
-/// differences (one-sided at the ends).
+/// differences (one-sided at the ends), measured against the floor, which moves under a take
+/// walked in place ([`belt_velocity`]).
 pub fn contact_phases(
     feet: &[FootPoints],
     up: usize,
     dt: f64,
     params: &ContactParams,
 ) -> Vec<Vec<bool>> {
-    // floor level of each kind of point, over all feet
-    let level = |pick: fn(&FootPoints) -> &Vec<Vector3<f64>>| {
-        let h: Vec<f64> = feet
-            .iter()
-            .flat_map(|f| pick(f).iter().map(|p| p[up]))
-            .collect();
-        detect_floor(&h)
-    };
-    let (heel_level, toe_level) = (level(|f| &f.heel), level(|f| &f.toe));
+    let levels = point_levels(feet, up);
+    let belt = belt_velocity(feet, up, dt, params);
     let min_frames = (params.min_phase_s / dt).ceil().max(1.0) as usize;
     feet.iter()
         .map(|f| {
-            let heel = planted(&f.heel, up, heel_level, dt, params);
-            let toe = planted(&f.toe, up, toe_level, dt, params);
+            let heel = planted(&f.heel, up, levels.0, dt, belt, params);
+            let toe = planted(&f.toe, up, levels.1, dt, belt, params);
             let mut c: Vec<bool> = heel.iter().zip(&toe).map(|(h, t)| *h || *t).collect();
             absorb_short_phases(&mut c, min_frames);
             c
@@ -164,8 +158,118 @@ pub fn contact_phases(
         .collect()
 }
 
-/// The planted state of one point over time: hysteresis on height above `level` and speed,
-/// run forward and backward in time and the two results joined.
+/// The floor levels of the heel points and of the toe points, over all feet (m along `up`).
+fn point_levels(feet: &[FootPoints], up: usize) -> (f64, f64) {
+    let level = |pick: fn(&FootPoints) -> &Vec<Vector3<f64>>| {
+        let h: Vec<f64> = feet
+            .iter()
+            .flat_map(|f| pick(f).iter().map(|p| p[up]))
+            .collect();
+        detect_floor(&h)
+    };
+    (level(|f| &f.heel), level(|f| &f.toe))
+}
+
+/// The central-difference velocity of point path `p` at frame `k` (one-sided at the ends; zero
+/// for a path of one frame).
+fn velocity(p: &[Vector3<f64>], k: usize, dt: f64) -> Vector3<f64> {
+    let (a, b) = (k.saturating_sub(1), (k + 1).min(p.len() - 1));
+    if b > a {
+        (p[b] - p[a]) / ((b - a) as f64 * dt)
+    } else {
+        Vector3::zeros()
+    }
+}
+
+/// The velocity of the floor under the feet (m/s, horizontal): zero over ground. A take walked
+/// in place (a treadmill; a game's in-place cycle, whose root stays while the planted foot
+/// slides back at the walking speed) has its feet, while at the floor, move together at the
+/// belt's velocity; a floor moving at a constant velocity is an inertial frame, so the
+/// dynamics are the same and only the contact test must measure speeds against it.
+///
+/// Estimated from the horizontal velocities of the heel and toe points over the frames where
+/// they are within `height_on` of their floor level (stance dominates those: a walk's swing
+/// foot clears the floor). Over ground a fifth or more of them are still (slower than
+/// `speed_on`): the floor is still. Otherwise their component-wise median is taken as a belt
+/// when it exceeds `speed_on` / 2 and at least half of them lie within `speed_on` of it (the
+/// Bandai run, whose swing feet pass low and fast, keeps a still floor by the first test).
+pub fn belt_velocity(
+    feet: &[FootPoints],
+    up: usize,
+    dt: f64,
+    params: &ContactParams,
+) -> Vector3<f64> {
+    let (heel_level, toe_level) = point_levels(feet, up);
+    let mut near: Vec<Vector3<f64>> = vec![];
+    for f in feet {
+        for (path, level) in [(&f.heel, heel_level), (&f.toe, toe_level)] {
+            for k in 0..path.len() {
+                if path[k][up] - level < params.height_on {
+                    let mut v = velocity(path, k, dt);
+                    v[up] = 0.0;
+                    near.push(v);
+                }
+            }
+        }
+    }
+    let still = near.iter().filter(|v| v.norm() < params.speed_on).count();
+    if near.is_empty() || 5 * still >= near.len() {
+        return Vector3::zeros();
+    }
+    let mut belt = Vector3::zeros();
+    for i in (0..3).filter(|&i| i != up) {
+        let mut c: Vec<f64> = near.iter().map(|v| v[i]).collect();
+        c.sort_by(f64::total_cmp);
+        belt[i] = c[c.len() / 2];
+    }
+    let together = near
+        .iter()
+        .filter(|v| (*v - belt).norm() < params.speed_on)
+        .count();
+    if belt.norm() > 0.5 * params.speed_on && 2 * together >= near.len() {
+        belt
+    } else {
+        Vector3::zeros()
+    }
+}
+
+/// Why no foot of a take is ever planted ([`contact_phases`] all false), for a user: how close
+/// each kind of point comes to its floor level while slow enough, and how slow it is there.
+pub fn why_no_contact(feet: &[FootPoints], up: usize, dt: f64, params: &ContactParams) -> String {
+    let (heel_level, toe_level) = point_levels(feet, up);
+    let belt = belt_velocity(feet, up, dt, params);
+    let mut slowest_near = f64::INFINITY;
+    for f in feet {
+        for (path, level) in [(&f.heel, heel_level), (&f.toe, toe_level)] {
+            for k in 0..path.len() {
+                if path[k][up] - level < params.height_on {
+                    slowest_near = slowest_near.min((velocity(path, k, dt) - belt).norm());
+                }
+            }
+        }
+    }
+    let frames = feet.first().map_or(0, |f| f.heel.len());
+    if slowest_near.is_finite() {
+        format!(
+            "no foot is ever planted on a floor: within {:.0} cm of the floor the feet never \
+             move slower than {:.2} m/s (planted feet move below {:.1} m/s) over {frames} \
+             frames; a foot sliding over the floor, a take in the air or in water",
+            100.0 * params.height_on,
+            slowest_near,
+            params.speed_on
+        )
+    } else {
+        format!(
+            "no foot is ever planted on a floor: no foot comes within {:.0} cm of its lowest \
+             level over {frames} frames",
+            100.0 * params.height_on
+        )
+    }
+}
+
+/// The planted state of one point over time: hysteresis on height above `level` and speed
+/// (against the floor's velocity `belt`), run forward and backward in time and the two results
+/// joined.
 ///
 /// A Schmitt trigger run forward enters late and leaves late: a landing foot still moving at
 /// `speed_on` when it touches down (a heel strike, a landing from a run or a jump, sampled at
@@ -180,16 +284,12 @@ fn planted(
     up: usize,
     level: f64,
     dt: f64,
+    belt: Vector3<f64>,
     params: &ContactParams,
 ) -> Vec<bool> {
     let n = p.len();
     let test = |k: usize| {
-        let (a, b) = (k.saturating_sub(1), (k + 1).min(n - 1));
-        let speed = if b > a {
-            (p[b] - p[a]).norm() / ((b - a) as f64 * dt)
-        } else {
-            0.0
-        };
+        let speed = (velocity(p, k, dt) - belt).norm();
         let h = p[k][up] - level;
         (
             h < params.height_on && speed < params.speed_on,
@@ -751,13 +851,20 @@ mod tests {
         let p: Vec<Vector3<f64>> = (0..20)
             .map(|k| Vector3::new(0.0, (10.0 - k as f64).max(0.0) * 2.0 * dt, 0.0))
             .collect();
-        let c = planted(&p, 1, 0.0, dt, &ContactParams::default());
+        let c = planted(&p, 1, 0.0, dt, Vector3::zeros(), &ContactParams::default());
         let first = c.iter().position(|x| *x).unwrap();
         assert_eq!(first, 10, "{c:?}");
         assert!(c[first..].iter().all(|x| *x));
         // and the mirror image, a lift-off, leaves symmetrically
         let rev: Vec<Vector3<f64>> = p.iter().rev().copied().collect();
-        let r = planted(&rev, 1, 0.0, dt, &ContactParams::default());
+        let r = planted(
+            &rev,
+            1,
+            0.0,
+            dt,
+            Vector3::zeros(),
+            &ContactParams::default(),
+        );
         let back: Vec<bool> = c.iter().rev().copied().collect();
         assert_eq!(r, back);
     }

@@ -83,20 +83,45 @@ pub struct TakeOptions {
 pub enum Contact {
     /// No contact: a floating avatar hangs from its root residual.
     None,
-    /// Feet on a detected floor: ground reaction forces estimated.
+    /// Feet on a detected floor: ground reaction forces estimated. A take on which no foot is
+    /// ever planted on a floor is an error.
     Feet,
+    /// Feet when the take stands on a floor, none when it never touches one (the default;
+    /// [`contact_choice`] decides and says why).
+    Auto,
+}
+
+impl Contact {
+    /// The names `none`, `feet`, `auto` and their variants: the one table parsing and printing
+    /// read.
+    const NAMES: [(&'static str, Contact); 3] = [
+        ("none", Contact::None),
+        ("feet", Contact::Feet),
+        ("auto", Contact::Auto),
+    ];
 }
 
 impl FromStr for Contact {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self, Error> {
-        match s.trim() {
-            "none" => Ok(Contact::None),
-            "feet" => Ok(Contact::Feet),
-            other => Err(Error::Invalid(format!(
-                "contact `{other}`: expected `none` or `feet`"
-            ))),
-        }
+        let s = s.trim();
+        Contact::NAMES
+            .iter()
+            .find(|(n, _)| *n == s)
+            .map(|(_, c)| *c)
+            .ok_or_else(|| {
+                Error::Invalid(format!("contact `{s}`: expected `auto`, `feet` or `none`"))
+            })
+    }
+}
+
+impl std::fmt::Display for Contact {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        let name = Contact::NAMES
+            .iter()
+            .find(|(_, c)| c == self)
+            .map(|(n, _)| *n);
+        f.write_str(name.unwrap_or("?"))
     }
 }
 
@@ -112,7 +137,7 @@ impl Default for TakeOptions {
             smooth: None,
             lock: vec![],
             subtree: None,
-            contact: Contact::None,
+            contact: Contact::Auto,
             keep_first_frame: false,
             damping: Damping::default(),
             joint_translations: JointTranslations::Weld,
@@ -1287,7 +1312,70 @@ pub fn inverse_dynamics_with(
     }
 }
 
-/// Ground reactions of a take with `--contact feet` (`None` with `--contact none`).
+/// What `--contact auto` gives on `take` ([`Contact::Feet`] or [`Contact::None`]) and why, for
+/// a user: feet when the take is a floating body with feet of which at least one is planted on
+/// a floor some of the time ([`stance`](crate::dynamics::grf::stance)); otherwise none, and
+/// the reason (too few frames, no floating root, no feet, no foot ever planted).
+pub fn contact_choice(take: &Take) -> (Contact, String) {
+    use crate::motion::contact::ContactParams;
+    let s = &take.states;
+    if s.len() < 3 {
+        return (
+            Contact::None,
+            format!("a take of {} frame(s) has no contact phases", s.len()),
+        );
+    }
+    if crate::dynamics::grf::floating_root(&take.model).is_none() {
+        return (
+            Contact::None,
+            "the model has no floating root: nothing of it stands on a floor".into(),
+        );
+    }
+    let feet = contact_feet(take);
+    if feet.is_empty() {
+        return (Contact::None, "no feet found on the skeleton".into());
+    }
+    let params = match ContactParams::for_take(&take.smooth, take.bvh.frame_time) {
+        Ok(p) => p,
+        Err(e) => return (Contact::None, e.to_string()),
+    };
+    let up = take.up.index();
+    match crate::dynamics::grf::stance(&take.model, &feet, &s.time, &s.q, up, &params) {
+        Ok(by_foot) => {
+            let share = |c: &Vec<bool>| {
+                100.0 * c.iter().filter(|x| **x).count() as f64 / c.len().max(1) as f64
+            };
+            let on: Vec<String> = feet
+                .iter()
+                .zip(&by_foot)
+                .map(|(f, c)| format!("{} {:.0} %", f.name, share(c)))
+                .collect();
+            (
+                Contact::Feet,
+                format!(
+                    "the feet stand on a floor (frames on it: {})",
+                    on.join(", ")
+                ),
+            )
+        }
+        Err(why) => (Contact::None, why),
+    }
+}
+
+/// Settles `--contact auto` on a loaded take: sets [`TakeOptions::contact`] to what
+/// [`contact_choice`] gives and notes the choice (`info`, the commands' notes, the workbench's
+/// status line); any other setting is left as it is.
+pub fn resolve_contact(take: &mut Take) {
+    if take.options.contact != Contact::Auto {
+        return;
+    }
+    let (contact, why) = contact_choice(take);
+    take.options.contact = contact;
+    take.notes.push(format!("contact auto: {contact}: {why}"));
+}
+
+/// Ground reactions of a take with `--contact feet` (`None` with `--contact none`; with
+/// `auto`, as [`contact_choice`] decides).
 pub fn ground_reactions(
     take: &Take,
 ) -> Result<Option<crate::dynamics::grf::GroundReactions>, Error> {
@@ -1300,7 +1388,11 @@ pub fn ground_reactions_with(
     take: &Take,
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<Option<crate::dynamics::grf::GroundReactions>, Error> {
-    if take.options.contact == Contact::None {
+    let contact = match take.options.contact {
+        Contact::Auto => contact_choice(take).0,
+        c => c,
+    };
+    if contact == Contact::None {
         return Ok(None);
     }
     estimate_take_ground_reactions_with(take, keep_going).map(Some)
@@ -1326,15 +1418,9 @@ pub fn estimate_take_ground_reactions_with(
     let s = &take.states;
     let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)
         .map_err(|e| at_file(&take.path, e))?;
-    let mut feet = take_feet(take);
-    if feet.is_empty() {
-        // no feet by name (an animal; a rig whose names no scheme knows): the limb ends that
-        // come down to the floor
-        feet = limb_ends_on_floor(take);
-    }
     crate::dynamics::grf::estimate_ground_reactions_progress(
         &take.model,
-        &feet,
+        &contact_feet(take),
         &s.time,
         &s.q,
         &s.v,
@@ -1344,6 +1430,17 @@ pub fn estimate_take_ground_reactions_with(
         keep_going,
     )
     .map_err(|e| at_file(&take.path, e))
+}
+
+/// The feet ground reactions act on: a human's ([`take_feet`]), else the limb ends that come
+/// down to the floor (an animal; a rig whose names no scheme knows).
+fn contact_feet(take: &Take) -> Vec<crate::motion::contact::Foot> {
+    let feet = take_feet(take);
+    if feet.is_empty() {
+        limb_ends_on_floor(take)
+    } else {
+        feet
+    }
 }
 
 /// A human's feet at the ankles and toes its topology found (`model::skeleton`), else the
@@ -1442,6 +1539,15 @@ fn check_finite(rows: &[Vec<f64>], names: &[String], what: &str) -> Result<(), E
 pub fn write_forward_dynamics(job: &Job, torques: &Path, path: &Path) -> Result<(), Error> {
     let m = &job.model;
     let (header, cols) = read_columns(torques)?;
+    if header.iter().any(|h| h.starts_with("grf:")) {
+        return Err(Error::Invalid(format!(
+            "{}: these torques were computed with ground reactions (its `grf:` columns: \
+             `articula id` with contact feet, the default on a take that stands); fd has no \
+             contact model, so they would not give the motion back; write them with \
+             `articula id --contact none`",
+            torques.display()
+        )));
+    }
     let mut idx = Vec::with_capacity(m.nv);
     for n in &m.v_names {
         idx.push(header.iter().position(|h| h == n).ok_or_else(|| {
@@ -1532,7 +1638,8 @@ impl Info<'_> {
     /// stature_m, up, gravity, mass_kg, unit, smooth (the smoothing applied), segments (the
     /// table of segment masses: `regression`, `fractions`, or `bone_volume` when no trunk is
     /// named), segments_stature_m (the stature the regression used, else null), human
-    /// ([`Info::landmarks`]) and notes (a
+    /// ([`Info::landmarks`]), contact (`feet` or `none`: what `--contact` gives the take,
+    /// `auto` settled by [`resolve_contact`]) and notes (a
     /// list of strings: what the pipeline assumed, changed or found, as `info` prints them).
     pub fn json(&self) -> serde_json::Value {
         let t = self.take;
@@ -1553,6 +1660,7 @@ impl Info<'_> {
             "segments": t.segments.map_or("bone_volume".into(), |s| s.to_string()),
             "segments_stature_m": regression.then_some(t.stature_m),
             "human": self.landmarks(),
+            "contact": t.options.contact.to_string(),
             "notes": t.notes,
         })
     }
@@ -1641,6 +1749,7 @@ impl Info<'_> {
             t.model.total_mass(),
             t.smooth
         );
+        let _ = writeln!(s, "contact     {}", t.options.contact);
         let _ = match t.segments {
             Some(SegmentTable::Regression) => writeln!(
                 s,

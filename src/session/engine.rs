@@ -151,7 +151,7 @@ pub struct Params {
 impl Default for Params {
     fn default() -> Self {
         Self {
-            // the CLI's defaults: 75 kg male, euler joints, butterworth:6hz, no contact
+            // the CLI's defaults: 75 kg male, euler joints, butterworth:6hz, contact auto
             take: TakeOptions::default(),
             kp: PerJoint::all(400.0),
             kv: PerJoint::all(40.0),
@@ -521,7 +521,7 @@ impl Engine for Builtin {
                 // the pipeline's stages: axes and unit, model, q, unwrap, smooth, differentiate
                 // (progress: the smoothing per coordinate, then the ground reactions or RNEA
                 // per frame)
-                let t = pipeline::take_from_bvh_with(
+                let mut t = pipeline::take_from_bvh_with(
                     Path::new(&take.source),
                     (**bvh).clone(),
                     &params.take,
@@ -529,6 +529,7 @@ impl Engine for Builtin {
                 )?;
                 ctl.set_progress(0.2);
                 ctl.check()?;
+                pipeline::resolve_contact(&mut t);
                 let scale = t.scale_to_m;
                 note = summarize_notes(&t.notes);
                 // with `contact feet`: the torques with the estimated ground reactions
