@@ -726,3 +726,26 @@ pub fn segment_classes(topo: &Topology, human: &Human) -> Vec<SegmentOf> {
     }
     result
 }
+
+/// The joints inside a human's long bones: strictly between the hip and the knee, the knee and
+/// the ankle, the shoulder and the elbow, the elbow and the wrist, in file order. They carry no
+/// segment of their own (a segment runs from one landmark to the next): a skinning rig's twist
+/// helpers (MakeHuman's `upperleg02`, `lowerleg02`, `lowerarm02`, a `*Twist*` bone), which
+/// `motion::twist` folds into the next joint when they only turn the limb about the bone.
+pub fn inside_long_bones(topo: &Topology, human: &Human) -> Vec<usize> {
+    let mut bones: Vec<(usize, usize)> = vec![];
+    for l in &human.legs {
+        bones.extend([(l.hip, l.knee), (l.knee, l.ankle)]);
+    }
+    for a in human.spine.iter().flat_map(|s| s.arms.iter().flatten()) {
+        bones.extend([(a.shoulder, a.elbow), (a.elbow, a.wrist)]);
+    }
+    let mut inside: Vec<usize> = bones
+        .iter()
+        .filter_map(|&(top, end)| topo.chain(top, end))
+        .flat_map(|chain| chain[..chain.len().saturating_sub(1)].to_vec())
+        .collect();
+    inside.sort_unstable();
+    inside.dedup();
+    inside
+}

@@ -465,6 +465,9 @@ pub struct Take {
     /// The position channels held at their mean (`motion::weld`): `bvh` holds them so, as the
     /// model does.
     pub welded: Vec<crate::motion::weld::Welded>,
+    /// The joints inside a human's long bones and whether each was folded into the next joint
+    /// as a twist helper (`motion::twist`): `bvh` holds the folded motion, as the model does.
+    pub twists: Vec<crate::motion::twist::Twist>,
     /// q, v, a after unwrapping, smoothing and differentiation.
     pub states: States,
     /// What the loader changed on its own, for `info` (e.g. a folded helper root).
@@ -650,6 +653,7 @@ pub fn take_from_bvh_with(
         subtree: opts.subtree.clone(),
         segments: None,
         held_positions: vec![],
+        folded: vec![],
     };
     let human = landmarks;
     if let Ok(h) = &human {
@@ -705,7 +709,31 @@ pub fn take_from_bvh_with(
         JointTranslations::Keep => vec![],
     };
     notes.extend(crate::motion::weld::note(&bvh, &welded));
-    if fold.is_some() || !welded.is_empty() {
+
+    // twist helpers inside a long bone (no segment of their own) are folded into the next
+    // joint when they only turn the limb about the bone, and made massless (`motion::twist`);
+    // a helper whose translation is a coordinate (`--joint-translations keep`) stays
+    let twists = match &human {
+        Ok(h) => {
+            let names: Vec<&str> = bvh.joints.iter().map(|j| j.name.as_str()).collect();
+            let parent: Vec<Option<usize>> = bvh.joints.iter().map(|j| j.parent).collect();
+            let topo = crate::model::skeleton::Topology {
+                names: &names,
+                parent: &parent,
+            };
+            let held =
+                |j: usize| !bvh.joints[j].has_position() || welded.iter().any(|w| w.joint == j);
+            let inside: Vec<usize> = crate::model::skeleton::inside_long_bones(&topo, h)
+                .into_iter()
+                .filter(|&j| held(j) && !mopts.lock.contains(&bvh.joints[j].name))
+                .collect();
+            crate::motion::twist::fold_twists(&mut bvh, &positions, scale_to_m, &inside)
+        }
+        Err(_) => vec![],
+    };
+    notes.extend(crate::motion::twist::note(&bvh, &twists));
+    mopts.folded = crate::motion::twist::folded(&twists);
+    if fold.is_some() || !welded.is_empty() || !mopts.folded.is_empty() {
         mopts.held_positions = crate::motion::weld::held_positions(&welded, bvh.joints.len());
         (model, map) = build_bvh_model(&bvh, &mopts).map_err(|e| at_file(path, e))?;
     }
@@ -742,6 +770,7 @@ pub fn take_from_bvh_with(
         smooth,
         fold,
         welded,
+        twists,
         states,
         notes,
         human,
