@@ -638,6 +638,9 @@ pub fn take_from_bvh_with(
         let masses =
             crate::model::anthropometry::segment_masses(&body).map_err(|e| at_file(path, e))?;
         notes.extend(masses.notes);
+        let radii =
+            crate::model::anthropometry::segment_radii(&body).map_err(|e| at_file(path, e))?;
+        notes.extend(radii.notes);
         Some(masses.table)
     } else {
         None
@@ -1674,7 +1677,8 @@ impl Info<'_> {
             Some(SegmentTable::Regression) => writeln!(
                 s,
                 "masses      segments: {} ({} kg, stature {:.3} m), rescaled to the body \
-                 mass; centres of mass and radii of gyration: de Leva (1996)",
+                 mass; radii of gyration: de Leva (1996) changed as the same regression of the \
+                 moments of inertia changes them; centres of mass: de Leva (1996)",
                 SegmentTable::Regression.source(),
                 t.options.body.mass_kg,
                 t.stature_m
