@@ -225,3 +225,71 @@ fn makehumans_twist_helpers_are_folded_and_d_is_positive_definite() {
     let d = crba(&take.model, &mut ws, &take.states.q[0]).clone();
     assert!(nalgebra::Cholesky::new(d).is_some());
 }
+
+/// `b` with a leaf `<joint>Twist01` under `joint` (a game rig's twist bone, as Unreal's
+/// `thigh_twist_01_l` hangs from `thigh_l`): three rotation channels turning about the bone,
+/// an End Site a quarter of the way down it.
+fn with_twist_leaf(b: &Bvh, joint: &str) -> Bvh {
+    use articula::io::bvh::{BvhJoint, Channel};
+    let p = b.joint_index(joint).unwrap();
+    let child = (0..b.joints.len())
+        .find(|&c| b.joints[c].parent == Some(p))
+        .unwrap();
+    let bone = b.joints[child].offset;
+    let mut out = b.clone();
+    let first = b.channel_count;
+    out.joints.push(BvhJoint {
+        name: format!("{joint}Twist01"),
+        parent: Some(p),
+        offset: Vector3::zeros(),
+        channels: vec![Channel::Zrotation, Channel::Xrotation, Channel::Yrotation],
+        first_channel: first,
+        end_sites: vec![0.25 * bone],
+        line: 0,
+    });
+    out.channel_count = first + 3;
+    out.motion = Vec::with_capacity(b.frames * out.channel_count);
+    for k in 0..b.frames {
+        out.motion.extend_from_slice(b.frame(k));
+        // the bone points along −Y in the rest pose: a turn about Y
+        out.motion.extend_from_slice(&[0.0, 0.0, twist_deg(k)]);
+    }
+    out
+}
+
+#[test]
+fn a_twist_bone_branching_off_a_thigh_or_an_upper_arm_is_massless_and_changes_no_load() {
+    let b = demo();
+    let with = with_twist_leaf(&with_twist_leaf(&b, "LeftUpLeg"), "RightArm");
+    let (a, h) = (see(b, &opts()), see(with, &opts()));
+    assert!(
+        h.take
+            .notes
+            .iter()
+            .any(|n| n.contains("branch off a long bone")
+                && n.contains("LeftUpLegTwist01")
+                && n.contains("RightArmTwist01")),
+        "{:?}",
+        h.take.notes
+    );
+    assert_eq!(h.take.human, a.take.human, "the same landmarks");
+    assert_eq!(h.take.model.nv, a.take.model.nv);
+    let total = a.take.model.total_mass();
+    for (name, (m, c, i)) in &a.bodies {
+        let (m2, c2, i2) = &h.bodies[name];
+        assert!((m - m2).abs() <= 1e-9 * total, "{name}: mass {m} vs {m2}");
+        assert!((c - c2).norm() <= 1e-9, "{name}: com {c} vs {c2}");
+        assert!((i - i2).norm() <= 1e-9, "{name}: inertia {i} vs {i2}");
+    }
+    for (name, (ca, cb)) in
+        (a.anatomy.names.iter()).zip(a.anatomy.columns.iter().zip(&h.anatomy.columns))
+    {
+        let scale = ca.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+        for (k, (x, y)) in ca.iter().zip(cb).enumerate() {
+            assert!(
+                (x - y).abs() <= 1e-6 * scale,
+                "{name} at frame {k}: {x} vs {y}"
+            );
+        }
+    }
+}

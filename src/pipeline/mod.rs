@@ -660,8 +660,21 @@ pub fn take_from_bvh_with(
     };
     let human = landmarks;
     if let Ok(h) = &human {
-        let (segments, props) = anatomy::segments_of(&bvh, h);
+        let (segments, props, branches) = anatomy::segments_of(&bvh, h);
         mopts.segments = Some(segments);
+        if !branches.is_empty() {
+            notes.push(format!(
+                "massless and welded (they branch off a long bone between two joints of a limb: \
+                 twist or deformation helpers, no body part; the segment's mass stays on the \
+                 limb's own joints): {}",
+                branches.join(", ")
+            ));
+            for b in branches {
+                if !mopts.lock.contains(&b) {
+                    mopts.lock.push(b);
+                }
+            }
+        }
         if !props.is_empty() {
             notes.push(format!(
                 "massless and welded (they reach farther than half a thigh from a hand, foot or \
