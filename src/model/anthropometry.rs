@@ -8,11 +8,17 @@
 //! body", *Biomechanics VIII-B*, 1983, pp. 1152–1159, the regression of segment mass on body
 //! mass and stature as Zatsiorsky (2002, *Kinetics of Human Motion*) reproduces it (the numbers
 //! of `data/reference/zatsiorsky_seluyanov_1983_mass_regression.csv`, embedded in
-//! [`ZATSIORSKY_SELUYANOV`]; `tools/check_segment_regression.py` checks both). Segment masses
-//! come from the regression by default and from de Leva's fixed fractions with
-//! [`SegmentTable::Fractions`] ([`segment_masses`], module `masses`); centres of mass and radii
-//! of gyration are de Leva's fractions of the bone either way, so they scale with the
-//! skeleton's own bone lengths.
+//! [`ZATSIORSKY_SELUYANOV`]), and their regression of the segments' principal moments of
+//! inertia on the same two variables (Zatsiorsky 2002, Table A2.6:
+//! `data/reference/zatsiorsky_seluyanov_1983_inertia_regression.csv`, embedded in
+//! [`ZATSIORSKY_SELUYANOV_INERTIA`], the trunk's parts placed along it by
+//! `data/reference/de_leva_1996_trunk_parts.csv`, [`TRUNK_PARTS`]);
+//! `tools/check_segment_regression.py` checks them all. Segment masses and radii of gyration
+//! come from the regressions by default and from de Leva's fixed fractions with
+//! [`SegmentTable::Fractions`] ([`segment_masses`], module `masses`; [`segment_radii`], module
+//! `inertia`); radii of gyration are fractions of the bone either way, so they scale with the
+//! skeleton's own bone lengths, and centres of mass are de Leva's fractions of the bone with
+//! either table.
 //!
 //! How a skeleton gets its masses ([`distribute`]):
 //! 1. every joint is classified by name into a de Leva segment and a side ([`classify`]: CMU,
@@ -37,8 +43,9 @@
 //!
 //! Each link's centre of mass lies on its bone at de Leva's fraction (measured from the joint:
 //! de Leva measures the head and trunk from their upper end, so those are mirrored), and its
-//! inertia about the COM comes from the radii of gyration times the bone length, axisymmetric
-//! about the bone (the transverse radius is the mean of de Leva's sagittal and transverse ones,
+//! inertia about the COM comes from the segment's radii of gyration ([`segment_radii`]: by
+//! regression on body mass and stature, or de Leva's) times the bone length, axisymmetric
+//! about the bone (the transverse radius is the mean of the sagittal and transverse ones,
 //! because a BVH bone does not say which way is anterior).
 
 use crate::error::Error;
@@ -171,11 +178,16 @@ pub enum Side {
     Center,
 }
 
+mod inertia;
 mod masses;
 mod tables;
 
+pub use inertia::{SegmentRadii, segment_radii};
 pub use masses::{SegmentMasses, SegmentTable, segment_masses};
-pub use tables::{DE_LEVA_1996, MassRegression, SegmentParams, ZATSIORSKY_SELUYANOV, de_leva};
+pub use tables::{
+    DE_LEVA_1996, InertiaRegression, MassRegression, SegmentParams, TRUNK_PARTS, TrunkPart,
+    ZATSIORSKY_SELUYANOV, ZATSIORSKY_SELUYANOV_INERTIA, de_leva,
+};
 
 /// Splits a joint name into side and the rest (lowercase): `LeftUpLeg` → (Left, `upleg`),
 /// `lThigh` → (Left, `thigh`), `UpperLeg_L` → (Left, `upperleg`), `thigh.L` → (Left, `thigh`),
@@ -589,6 +601,7 @@ pub fn distribute_classes(
                 mass[j] += m * share;
             }
         }
+        let radii = segment_radii(body)?;
         for j in 0..n {
             let (b, l) = &geom[j];
             unit.push(match class[j] {
@@ -599,8 +612,9 @@ pub fn distribute_classes(
                         Segment::Head | Segment::Trunk => 1.0 - p.com_pct / 100.0,
                         _ => p.com_pct / 100.0,
                     };
-                    let r_trans = 0.5 * (p.r_sag_pct + p.r_trans_pct) / 100.0;
-                    unit_link(b, *l, com_frac, r_trans, p.r_long_pct / 100.0)
+                    let [r_sag, r_trans, r_long] = radii.pct(seg);
+                    let r_trans = 0.5 * (r_sag + r_trans) / 100.0;
+                    unit_link(b, *l, com_frac, r_trans, r_long / 100.0)
                 }
                 None => unit_link(b, *l, 0.5, FALLBACK_R_TRANS, FALLBACK_R_LONG),
             });
@@ -843,6 +857,33 @@ mod tests {
         assert!((heavy - light).abs() < 1e-15, "{light} → {heavy}");
         // a human skeleton needs a stature for the regression; bone volume needs none
         assert!(distribute(&chain(), &BodyParams::new(70.0, Sex::Male)).is_err());
+    }
+
+    #[test]
+    fn a_heavier_body_of_the_same_height_gets_larger_radii_of_gyration_not_a_rescale() {
+        // the left thigh (0.4 m bone along −y): its radii of gyration as fractions of the bone,
+        // across (x) and about it (y), from its link's inertia
+        let radii = |body: BodyParams| {
+            let l = &distribute(&chain(), &body).unwrap()[2];
+            let r = |i: f64| (i / l.mass).sqrt() / 0.4;
+            (r(l.inertia_com[(0, 0)]), r(l.inertia_com[(1, 1)]))
+        };
+        let (light, heavy) = (
+            radii(regression(60.0, Sex::Male)),
+            radii(regression(100.0, Sex::Male)),
+        );
+        assert!(heavy.0 > light.0 * 1.02, "across: {light:?} → {heavy:?}");
+        assert!(
+            heavy.1 > light.1 * 1.1,
+            "about the bone: {light:?} → {heavy:?}"
+        );
+        // de Leva's fractions: his radii exactly, the same at every mass
+        let p = de_leva(Segment::Thigh, Sex::Male);
+        for m in [60.0, 100.0] {
+            let (across, along) = radii(fractions(m, Sex::Male));
+            assert!((across - 0.5 * (p.r_sag_pct + p.r_trans_pct) / 100.0).abs() < 1e-12);
+            assert!((along - p.r_long_pct / 100.0).abs() < 1e-12);
+        }
     }
 
     #[test]

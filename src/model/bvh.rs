@@ -102,6 +102,11 @@ pub struct BvhModelOptions {
     /// position channels at the values `v` (file units, by axis) mean under its position mode,
     /// and gives them no coordinate; `None` (or an empty list): each is a coordinate.
     pub held_positions: Vec<Option<Vector3<f64>>>,
+    /// Twist helpers folded into their only child (`motion::twist`, BVH joint indices): each is
+    /// welded to its parent at rest (its rotation is in the child's channels), massless, and its
+    /// bone is part of its parent's (the parent's end at the helper becomes the helper's child:
+    /// one link with the whole bone's centre of mass and inertia). Empty: none.
+    pub folded: Vec<usize>,
 }
 
 impl BvhModelOptions {
@@ -123,6 +128,7 @@ impl BvhModelOptions {
             subtree: None,
             segments: None,
             held_positions: vec![],
+            folded: vec![],
         }
     }
 }
@@ -208,6 +214,30 @@ pub fn bones(bvh: &Bvh, scale: f64) -> Vec<Bone> {
         .collect()
 }
 
+/// Makes each folded helper's bone part of its parent's ([`BvhModelOptions::folded`]): the
+/// parent's end at the helper becomes the helper's own end (`o_H + o_C`, the helper holding
+/// still at rest), the helper keeps no bone. Deepest helpers first, so a chain of helpers
+/// composes into one bone.
+fn fold_helper_bones(bvh: &Bvh, bones: &mut [Bone], folded: &[usize]) {
+    let mut order = folded.to_vec();
+    order.sort_unstable_by(|a, b| b.cmp(a));
+    order.dedup();
+    for h in order {
+        let (Some(p), [end]) = (bvh.joints[h].parent, bones[h].ends.as_slice()) else {
+            continue;
+        };
+        let end = *end;
+        // the helper's place among its parent's ends (children in file order, then End Sites)
+        let slot = (0..bvh.joints.len())
+            .filter(|&c| bvh.joints[c].parent == Some(p))
+            .position(|c| c == h);
+        if let Some(e) = slot.and_then(|i| bones[p].ends.get_mut(i)) {
+            *e += end;
+        }
+        bones[h].ends.clear();
+    }
+}
+
 /// True when `name` is `<joint>.<position channel>` of a joint whose position channels are
 /// held ([`BvhModelOptions::held_positions`]).
 fn is_held(bvh: &Bvh, opts: &BvhModelOptions, name: &str) -> bool {
@@ -252,10 +282,25 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
     if body.segments == SegmentTable::Regression && body.height_m.is_none() {
         body.height_m = Some(crate::io::bvh::stature(bvh, opts.up) * scale);
     }
-    let bones = bones(bvh, scale);
-    let links = match &opts.segments {
-        Some(c) => anthropometry::distribute_classes(&bones, &body, c)?,
-        None => anthropometry::distribute(&bones, &body)?,
+    let mut bones = bones(bvh, scale);
+    let links = if opts.folded.is_empty() {
+        match &opts.segments {
+            Some(c) => anthropometry::distribute_classes(&bones, &body, c)?,
+            None => anthropometry::distribute(&bones, &body)?,
+        }
+    } else {
+        // folded helpers: massless, their bone their parent's
+        let mut classes = match &opts.segments {
+            Some(c) => c.clone(),
+            None => anthropometry::classes_by_name(&bones),
+        };
+        for &h in &opts.folded {
+            if let Some(c) = classes.get_mut(h) {
+                *c = anthropometry::SegmentOf::default();
+            }
+        }
+        fold_helper_bones(bvh, &mut bones, &opts.folded);
+        anthropometry::distribute_classes(&bones, &body, &classes)?
     };
     let mut gravity = Vector3::zeros();
     gravity[opts.up.index()] = -STANDARD_GRAVITY;
@@ -396,8 +441,12 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
     }
     let full = b.build();
 
-    // what to weld: channel-less joints, locked joints, branches outside the subtree
+    // what to weld: channel-less joints, locked joints, folded helpers, branches outside the
+    // subtree
     let mut lock = weld;
+    for &j in opts.folded.iter().filter(|&&j| j < bvh.joints.len()) {
+        lock[first_body[j]..=maps[j].body].fill(true);
+    }
     for name in &opts.lock {
         if let Some(j) = bvh.joint_index(name) {
             lock[first_body[j]..=maps[j].body].fill(true);

@@ -19,7 +19,8 @@
 //!   come in pairs of ends equally far from the pelvis); the spine is the path to it from the
 //!   pelvis's branch, its first joint the **lumbar** joint; **arms** are the two longest
 //!   branches that leave the spine (one trunk joint may carry them all), their branching joint the
-//!   **thorax**, their **wrist** the common joint of the branch's ends (fingers, props), the
+//!   **thorax**, their **wrist** the common joint of the branch's ends that reach at least
+//!   half as far as its farthest (fingers, props; not a twist bone halfway down the arm), the
 //!   elbow and shoulder found as the knee and the hip are.
 //!
 //! Sides come from the names when both legs carry a side in their names, otherwise from the
@@ -581,7 +582,13 @@ fn find_spine(
     groups.sort_by(|a, b| reach(b).total_cmp(&reach(a)));
     let arms = (groups.len() >= 2 && reach(&groups[1]) > 0.2 * body).then(|| {
         let arm = |g: &(usize, Vec<usize>)| -> Option<Arm> {
-            let wrist = g.1[1..].iter().fold(g.1[0], |a, &e| topo.lca(a, e));
+            // the wrist: the common joint of the ends that reach at least half as far as the
+            // farthest (fingers, a held prop; not a twist bone's end halfway down the arm)
+            let far = |e: usize| median(poses, |p| (tip(p, e) - p.joints[g.0]).norm());
+            let most = reach(g);
+            let mut ends = g.1.iter().copied().filter(|&e| far(e) >= 0.5 * most);
+            let first = ends.next()?;
+            let wrist = ends.fold(first, |a, e| topo.lca(a, e));
             let top = topo.parent[g.0]?;
             let chain = topo.chain(top, wrist)?;
             let w = chain.len() - 1;
@@ -725,4 +732,46 @@ pub fn segment_classes(topo: &Topology, human: &Human) -> Vec<SegmentOf> {
         };
     }
     result
+}
+
+/// The joints on a human's long bones, landmarks included: each leg's chain from the hip to the
+/// ankle and each arm's from the shoulder to the wrist, in file order. A joint whose segment is
+/// a thigh, shank, upper arm or forearm but which is not among them branches off a long bone
+/// (`pipeline::anatomy::segments_of`: a twist or deformation bone, no body part).
+pub fn on_long_bones(topo: &Topology, human: &Human) -> Vec<usize> {
+    let mut on = vec![];
+    for l in &human.legs {
+        on.push(l.hip);
+        on.extend(topo.chain(l.hip, l.ankle).unwrap_or_default());
+    }
+    for a in human.spine.iter().flat_map(|s| s.arms.iter().flatten()) {
+        on.push(a.shoulder);
+        on.extend(topo.chain(a.shoulder, a.wrist).unwrap_or_default());
+    }
+    on.sort_unstable();
+    on.dedup();
+    on
+}
+
+/// The joints inside a human's long bones: strictly between the hip and the knee, the knee and
+/// the ankle, the shoulder and the elbow, the elbow and the wrist, in file order. They carry no
+/// segment of their own (a segment runs from one landmark to the next): a skinning rig's twist
+/// helpers (MakeHuman's `upperleg02`, `lowerleg02`, `lowerarm02`, a `*Twist*` bone), which
+/// `motion::twist` folds into the next joint when they only turn the limb about the bone.
+pub fn inside_long_bones(topo: &Topology, human: &Human) -> Vec<usize> {
+    let mut bones: Vec<(usize, usize)> = vec![];
+    for l in &human.legs {
+        bones.extend([(l.hip, l.knee), (l.knee, l.ankle)]);
+    }
+    for a in human.spine.iter().flat_map(|s| s.arms.iter().flatten()) {
+        bones.extend([(a.shoulder, a.elbow), (a.elbow, a.wrist)]);
+    }
+    let mut inside: Vec<usize> = bones
+        .iter()
+        .filter_map(|&(top, end)| topo.chain(top, end))
+        .flat_map(|chain| chain[..chain.len().saturating_sub(1)].to_vec())
+        .collect();
+    inside.sort_unstable();
+    inside.dedup();
+    inside
 }

@@ -1,6 +1,6 @@
 //! Joint-space motion: BVH channels → q (take), continuity (unwrap), smoothing, derivatives,
 //! C² ramps and blending/warping of takes, a helper root folded (fold) and bone translations
-//! welded (weld).
+//! welded (weld), twist helpers inside a long bone folded into the next joint (twist).
 
 pub mod blend;
 pub mod contact;
@@ -10,5 +10,6 @@ pub mod ramp;
 pub mod smooth;
 pub mod take;
 pub mod trim;
+pub mod twist;
 pub mod unwrap;
 pub mod weld;

@@ -490,6 +490,9 @@ pub struct Take {
     /// The position channels held at their mean (`motion::weld`): `bvh` holds them so, as the
     /// model does.
     pub welded: Vec<crate::motion::weld::Welded>,
+    /// The joints inside a human's long bones and whether each was folded into the next joint
+    /// as a twist helper (`motion::twist`): `bvh` holds the folded motion, as the model does.
+    pub twists: Vec<crate::motion::twist::Twist>,
     /// q, v, a after unwrapping, smoothing and differentiation.
     pub states: States,
     /// What the loader changed on its own, for `info` (e.g. a folded helper root).
@@ -660,6 +663,9 @@ pub fn take_from_bvh_with(
         let masses =
             crate::model::anthropometry::segment_masses(&body).map_err(|e| at_file(path, e))?;
         notes.extend(masses.notes);
+        let radii =
+            crate::model::anthropometry::segment_radii(&body).map_err(|e| at_file(path, e))?;
+        notes.extend(radii.notes);
         Some(masses.table)
     } else {
         None
@@ -675,11 +681,25 @@ pub fn take_from_bvh_with(
         subtree: opts.subtree.clone(),
         segments: None,
         held_positions: vec![],
+        folded: vec![],
     };
     let human = landmarks;
     if let Ok(h) = &human {
-        let (segments, props) = anatomy::segments_of(&bvh, h);
+        let (segments, props, branches) = anatomy::segments_of(&bvh, h);
         mopts.segments = Some(segments);
+        if !branches.is_empty() {
+            notes.push(format!(
+                "massless and welded (they branch off a long bone between two joints of a limb: \
+                 twist or deformation helpers, no body part; the segment's mass stays on the \
+                 limb's own joints): {}",
+                branches.join(", ")
+            ));
+            for b in branches {
+                if !mopts.lock.contains(&b) {
+                    mopts.lock.push(b);
+                }
+            }
+        }
         if !props.is_empty() {
             notes.push(format!(
                 "massless and welded (they reach farther than half a thigh from a hand, foot or \
@@ -730,7 +750,31 @@ pub fn take_from_bvh_with(
         JointTranslations::Keep => vec![],
     };
     notes.extend(crate::motion::weld::note(&bvh, &welded));
-    if fold.is_some() || !welded.is_empty() {
+
+    // twist helpers inside a long bone (no segment of their own) are folded into the next
+    // joint when they only turn the limb about the bone, and made massless (`motion::twist`);
+    // a helper whose translation is a coordinate (`--joint-translations keep`) stays
+    let twists = match &human {
+        Ok(h) => {
+            let names: Vec<&str> = bvh.joints.iter().map(|j| j.name.as_str()).collect();
+            let parent: Vec<Option<usize>> = bvh.joints.iter().map(|j| j.parent).collect();
+            let topo = crate::model::skeleton::Topology {
+                names: &names,
+                parent: &parent,
+            };
+            let held =
+                |j: usize| !bvh.joints[j].has_position() || welded.iter().any(|w| w.joint == j);
+            let inside: Vec<usize> = crate::model::skeleton::inside_long_bones(&topo, h)
+                .into_iter()
+                .filter(|&j| held(j) && !mopts.lock.contains(&bvh.joints[j].name))
+                .collect();
+            crate::motion::twist::fold_twists(&mut bvh, &positions, scale_to_m, &inside)
+        }
+        Err(_) => vec![],
+    };
+    notes.extend(crate::motion::twist::note(&bvh, &twists));
+    mopts.folded = crate::motion::twist::folded(&twists);
+    if fold.is_some() || !welded.is_empty() || !mopts.folded.is_empty() {
         mopts.held_positions = crate::motion::weld::held_positions(&welded, bvh.joints.len());
         (model, map) = build_bvh_model(&bvh, &mopts).map_err(|e| at_file(path, e))?;
     }
@@ -767,6 +811,7 @@ pub fn take_from_bvh_with(
         smooth,
         fold,
         welded,
+        twists,
         states,
         notes,
         human,
@@ -1754,7 +1799,8 @@ impl Info<'_> {
             Some(SegmentTable::Regression) => writeln!(
                 s,
                 "masses      segments: {} ({} kg, stature {:.3} m), rescaled to the body \
-                 mass; centres of mass and radii of gyration: de Leva (1996)",
+                 mass; radii of gyration: de Leva (1996) changed as the same regression of the \
+                 moments of inertia changes them; centres of mass: de Leva (1996)",
                 SegmentTable::Regression.source(),
                 t.options.body.mass_kg,
                 t.stature_m

@@ -164,3 +164,61 @@ pub fn renamed(b: &Bvh) -> Bvh {
     }
     out
 }
+
+/// (f) a twist helper inserted halfway down the bone of `joint` (which has one child joint),
+/// as skinning rigs have (MakeHuman's `upperleg02`): a joint `<joint>Twist` with three rotation
+/// channels in `joint`'s order, turning `twist_deg(frame)` about the bone, and the child's
+/// rotation written as `R_twistᵀ · R_child`, so that every joint of `b` moves exactly as it did.
+pub fn with_twist_helper(b: &Bvh, joint: &str, twist_deg: impl Fn(usize) -> f64) -> Bvh {
+    let p = b.joint_index(joint).expect("the joint");
+    let children: Vec<usize> = (0..b.joints.len())
+        .filter(|&c| b.joints[c].parent == Some(p))
+        .collect();
+    assert_eq!(children.len(), 1, "{joint} has one child joint");
+    let c = children[0];
+    let (_, order_p) = rotation_columns(b, p).expect("three rotation channels");
+    let (c_cols, order_c) = rotation_columns(b, c).expect("three rotation channels");
+    let bone = b.joints[c].offset;
+    let axis = nalgebra::Unit::new_normalize(bone);
+    // the joints: the helper right after `joint`, later indices and columns shifted
+    let at = p + 1;
+    let h_first = b.joints[p].first_channel + b.joints[p].channels.len();
+    let mut out = b.clone();
+    for j in out.joints.iter_mut() {
+        j.parent = j.parent.map(|q| if q >= at { q + 1 } else { q });
+        if j.first_channel >= h_first {
+            j.first_channel += 3;
+        }
+    }
+    out.joints[c].parent = Some(at);
+    out.joints[c].offset = 0.5 * bone;
+    let rot = [Channel::Xrotation, Channel::Yrotation, Channel::Zrotation];
+    out.joints.insert(
+        at,
+        articula::io::bvh::BvhJoint {
+            name: format!("{joint}Twist"),
+            parent: Some(p),
+            offset: 0.5 * bone,
+            channels: order_p.axes().map(|a| rot[a]).to_vec(),
+            first_channel: h_first,
+            end_sites: vec![],
+            line: 0,
+        },
+    );
+    out.channel_count = b.channel_count + 3;
+    out.motion = Vec::with_capacity(b.frames * out.channel_count);
+    for k in 0..b.frames {
+        let mut row = b.frame(k).to_vec();
+        let twist = Rotation3::from_axis_angle(&axis, twist_deg(k).to_radians()).into_inner();
+        let r_c = euler_to_matrix(order_c, c_cols.map(|col| row[col].to_radians()));
+        let a_c = matrix_to_euler(order_c, &(twist.transpose() * r_c));
+        for i in 0..3 {
+            row[c_cols[i]] = a_c[i].to_degrees();
+        }
+        let a_h = matrix_to_euler(order_p, &twist).map(f64::to_degrees);
+        out.motion.extend_from_slice(&row[..h_first]);
+        out.motion.extend_from_slice(&a_h);
+        out.motion.extend_from_slice(&row[h_first..]);
+    }
+    out
+}

@@ -22,8 +22,9 @@
 //! - **fractions**: de Leva's (1996) fixed fractions of body mass ([`DE_LEVA_1996`]): every
 //!   body's torques scale exactly with its mass.
 //!
-//! Centres of mass and radii of gyration are de Leva's fractions of the bone in both cases
-//! (`distribute`): they scale with the skeleton's own bone lengths.
+//! Radii of gyration follow the table too (module `inertia`); centres of mass are de Leva's
+//! fractions of the bone in both cases (`distribute`): they scale with the skeleton's own bone
+//! lengths.
 
 use super::tables::{
     DE_LEVA_1996, DE_LEVA_FEMALE_SUBJECT, REGRESSION_MEAN_SUBJECT, ZATSIORSKY_SELUYANOV, de_leva,
@@ -128,26 +129,11 @@ pub fn segment_masses(body: &BodyParams) -> Result<SegmentMasses, Error> {
             notes: vec![],
         });
     }
-    let h = match body.height_m {
-        Some(h) if h.is_finite() && h > 0.0 => h,
-        other => {
-            return Err(Error::Invalid(format!(
-                "segment masses by regression need the body's stature, found {other:?}: \
-                 give a positive height in m (the pipeline takes it from the skeleton), or use \
-                 --segments fractions"
-            )));
-        }
-    };
+    let h = regression_stature(body)?;
 
     // the man the regression is evaluated at: this body, or a woman's proportional counterpart
     let (m0, h0) = REGRESSION_MEAN_SUBJECT;
-    let (mr, hr) = match body.sex {
-        Sex::Male => (m, h),
-        Sex::Female => {
-            let (mf, hf) = DE_LEVA_FEMALE_SUBJECT;
-            (m * m0 / mf, h * h0 / hf)
-        }
-    };
+    let (mr, hr) = regression_man(body.sex, m, h);
     // each row there, held at no less than a quarter of its share at the mean subject:
     //   m_row = max(b0 + b1 M + b2 H, floor · m_row(M0, H0) / Σ m(M0, H0) · M)
     let total0: f64 = ZATSIORSKY_SELUYANOV
@@ -197,6 +183,32 @@ pub fn segment_masses(body: &BodyParams) -> Result<SegmentMasses, Error> {
         table: SegmentTable::Regression,
         notes,
     })
+}
+
+/// The body's stature (m), which the regressions need.
+pub(super) fn regression_stature(body: &BodyParams) -> Result<f64, Error> {
+    match body.height_m {
+        Some(h) if h.is_finite() && h > 0.0 => Ok(h),
+        other => Err(Error::Invalid(format!(
+            "segment parameters by regression need the body's stature, found {other:?}: give a \
+             positive height in m (the pipeline takes it from the skeleton), or use --segments \
+             fractions"
+        ))),
+    }
+}
+
+/// The man (kg, m) the regressions are evaluated at for a body of `sex`, `mass_kg` and
+/// `stature_m`: the body itself, or a woman's proportional counterpart, `M · 73.0/61.9` kg and
+/// `H · 1.741/1.735` m (see the module doc).
+pub(super) fn regression_man(sex: Sex, mass_kg: f64, stature_m: f64) -> (f64, f64) {
+    let (m0, h0) = REGRESSION_MEAN_SUBJECT;
+    match sex {
+        Sex::Male => (mass_kg, stature_m),
+        Sex::Female => {
+            let (mf, hf) = DE_LEVA_FEMALE_SUBJECT;
+            (mass_kg * m0 / mf, stature_m * h0 / hf)
+        }
+    }
 }
 
 #[cfg(test)]

@@ -258,9 +258,12 @@ pub fn segments_of_take(take: &Take) -> Vec<SegmentOf> {
 }
 
 /// The segment of every joint's link by the skeleton's landmarks, and the names of the bones
-/// that carry no body: a bone off the limbs' chains, under a hand, foot or head, that reaches
-/// farther than half a thigh (a prop held in a hand, a marker on a stick) is massless.
-pub(crate) fn segments_of(bvh: &Bvh, human: &Human) -> (Vec<SegmentOf>, Vec<String>) {
+/// that carry no body, which are massless: props, bones off the limbs' chains under a hand,
+/// foot or head that reach farther than half a thigh (a prop held in a hand, a marker on a
+/// stick); and branches, bones that leave a long bone (thigh, shank, upper arm, forearm) off
+/// its chain from one landmark to the next (a skinning rig's twist or deformation bone: no
+/// body part hangs from the middle of a long bone).
+pub(crate) fn segments_of(bvh: &Bvh, human: &Human) -> (Vec<SegmentOf>, Vec<String>, Vec<String>) {
     use crate::model::anthropometry::Segment;
     let names: Vec<&str> = bvh.joints.iter().map(|j| j.name.as_str()).collect();
     let parent: Vec<Option<usize>> = bvh.joints.iter().map(|j| j.parent).collect();
@@ -300,18 +303,29 @@ pub(crate) fn segments_of(bvh: &Bvh, human: &Human) -> (Vec<SegmentOf>, Vec<Stri
             marks.extend([a.shoulder, a.elbow, a.wrist]);
         }
     }
-    let mut props = vec![];
+    let long_bones = crate::model::skeleton::on_long_bones(&topo, human);
+    let (mut props, mut branches) = (vec![], vec![]);
     for (j, c) in classes.iter_mut().enumerate() {
         let distal = matches!(
             c.class,
             Some((Segment::Hand | Segment::Foot | Segment::Head, _))
         );
+        let long = matches!(
+            c.class,
+            Some((
+                Segment::Thigh | Segment::Shank | Segment::UpperArm | Segment::Forearm,
+                _
+            ))
+        );
         if distal && !marks.contains(&j) && reach(j) > 0.5 * thigh {
             *c = SegmentOf::default();
             props.push(bvh.joints[j].name.clone());
+        } else if long && !long_bones.contains(&j) {
+            *c = SegmentOf::default();
+            branches.push(bvh.joints[j].name.clone());
         }
     }
-    (classes, props)
+    (classes, props, branches)
 }
 
 /// Calibrates the segment frames of `human` on the take's frames (see the module doc).
