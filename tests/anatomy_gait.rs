@@ -137,9 +137,12 @@ fn the_demo_walk_flexes_its_knees_in_swing_and_extends_them_in_early_stance() {
 #[test]
 #[ignore = "real takes: ARTICULA_REAL_TAKES=../shared/data/bvh cargo test -- --ignored"]
 fn every_shared_walk_flexes_its_knees_in_swing_and_extends_them_in_early_stance() {
+    // makehuman_walk1 is a hand-keyed cycle walked in place: its stance is found against the
+    // floor's own velocity (contact_in_place.rs)
     for name in [
         "AV_8Walk_Meredith_HVHA_Rep1.bvh",
         "dataset-1_walk_normal_001.bvh",
+        "makehuman_walk1.bvh",
     ] {
         assert_gait(&common::real_take(name));
     }
