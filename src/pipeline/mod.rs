@@ -18,6 +18,7 @@
 //!    of v.
 
 pub mod anatomy;
+pub mod consistency;
 mod edit;
 mod sim;
 

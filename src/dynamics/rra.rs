@@ -1,0 +1,610 @@
+//! Residual reduction: the small changes of model and motion that make a take's ground
+//! reactions explain its motion, as OpenSim's Residual Reduction Algorithm does (Delp et al.
+//! 2007, "OpenSim: open-source software to create and analyze dynamic simulations of
+//! movement", *IEEE TBME* 54, 1940–1950; the OpenSim user's guide, "How RRA works") and
+//! AddBiomechanics (Werling et al. 2023, *PLoS ONE* 18, e0295152: mass centres and the root
+//! trajectory fitted to the ground reactions).
+//!
+//! What the feet cannot give stays at the root ([`super::grf`]): mostly a moment, the needed
+//! centre of pressure lying off the feet times the vertical force. Two adjustments move it:
+//!
+//! 1. **the trunk's mass centre**: a constant offset `δc` (m, in each trunk body's frame)
+//!    moves the whole-body centre of mass by `(m_trunk / M) δc` and the needed centre of
+//!    pressure with it (RRA's torso COM adjustment);
+//! 2. **the pelvis trajectory**: a smooth horizontal offset `δp(t)` of the root translation
+//!    (a cubic B-spline with knots every [`ReductionBounds::knot_spacing_s`], the whole body
+//!    moving with it, as in RRA), whose whole-body force `M δp̈` acting at the centre of mass
+//!    moves the needed centre of pressure by about `−h δp̈ / g`.
+//!
+//! The total mass is not adjusted: RRA finds it from the mean vertical residual force against
+//! measured force plates, but here the ground reactions are estimated from the same motion,
+//! so the feet carry the needed vertical force whatever the mass, and a mass change scales
+//! every force and moment alike: no residual percentage changes.
+//!
+//! Method: Gauss–Newton on the residuals of the counted frames
+//! ([`super::residual::counted_frames`]), `Σ |n|² + h² |f|²` (moment `n` about the pelvis,
+//! force `f`, `h` the mean COM height), with the exact change of the needed wrench (RNEA is
+//! linear in the inertial parameters; a rigid translation adds `M δp̈` at the centre of mass)
+//! passed to the residual where a clamp holds (the feet's centre of pressure at the edge of the
+//! support, a force at the friction cone, flight); a Tikhonov term keeps the adjustments
+//! within [`ReductionBounds`] (raised until they are), and each step is kept only if the
+//! re-estimated residuals fall (the clamps are not linear).
+
+use super::grf::{GroundReactions, about, estimate_ground_reactions_progress, floating_root};
+use super::residual::{centre_of_mass, with_trunk_offset};
+use super::{Workspace, forward_kinematics, rnea};
+use crate::error::Error;
+use crate::model::{JointKind, Model};
+use crate::motion::contact::{ContactParams, Foot};
+use crate::motion::spline::UniformBSpline;
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+
+/// How far residual reduction may change the model and the motion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReductionBounds {
+    /// Largest trunk mass-centre offset (m).
+    pub trunk_com_m: f64,
+    /// Largest horizontal pelvis offset (m) at any frame (OpenSim's guidelines for RRA: a
+    /// tracked translation within 2–5 cm at its largest, 2 cm RMS).
+    pub pelvis_peak_m: f64,
+    /// Largest RMS of the pelvis offset over the take (m): Hicks et al. 2015 ask that the
+    /// tracked kinematics stay within 2 cm.
+    pub pelvis_rms_m: f64,
+    /// Knot spacing of the pelvis offset (s): each basis function spans four intervals (0.6 s
+    /// at the default 0.15 s, about a step), the fastest change the offset makes. Measured on
+    /// the shared walks: 0.3 s removes a tenth of the residual moment, 0.15 s most of it.
+    pub knot_spacing_s: f64,
+    /// Gauss–Newton iterations at most.
+    pub iterations: usize,
+}
+
+impl Default for ReductionBounds {
+    fn default() -> Self {
+        Self {
+            trunk_com_m: 0.05,
+            pelvis_peak_m: 0.05,
+            pelvis_rms_m: 0.02,
+            knot_spacing_s: 0.15,
+            iterations: 12,
+        }
+    }
+}
+
+/// A take's motion: sample times (s) and q, v, a per sample.
+#[derive(Debug, Clone, Copy)]
+pub struct Motion<'a> {
+    pub time: &'a [f64],
+    pub q: &'a [Vec<f64>],
+    pub v: &'a [Vec<f64>],
+    pub a: &'a [Vec<f64>],
+}
+
+/// What residual reduction found: the adjusted model and motion and their ground reactions.
+#[derive(Debug, Clone)]
+pub struct Reduction {
+    /// The model with the trunk's mass centre moved.
+    pub model: Model,
+    /// The motion with the pelvis offset (nq, nv, nv per sample).
+    pub q: Vec<Vec<f64>>,
+    pub v: Vec<Vec<f64>>,
+    pub a: Vec<Vec<f64>>,
+    /// Ground reactions of the adjusted model and motion.
+    pub ground: GroundReactions,
+    /// The trunk's mass-centre offset (m, trunk bodies' frame).
+    pub trunk_offset: Vector3<f64>,
+    /// The trunk's mass (kg) and its share of the body's.
+    pub trunk_mass_kg: f64,
+    /// Per frame: the pelvis offset (m, world).
+    pub pelvis: Vec<Vector3<f64>>,
+    /// Which bounds held the adjustments back (`trunk`, `pelvis`).
+    pub bounded: Vec<&'static str>,
+    /// Gauss–Newton steps kept.
+    pub steps: usize,
+}
+
+impl Reduction {
+    /// Largest and RMS pelvis offset (m).
+    pub fn pelvis_peak_rms(&self) -> (f64, f64) {
+        peak_rms(&self.pelvis)
+    }
+}
+
+fn peak_rms(p: &[Vector3<f64>]) -> (f64, f64) {
+    let peak = p.iter().map(|x| x.norm()).fold(0.0, f64::max);
+    let ms = p.iter().map(|x| x.norm_squared()).sum::<f64>() / p.len().max(1) as f64;
+    (peak, ms.sqrt())
+}
+
+/// How the root's translation enters q, v, a: a free joint, or three prismatic joints from the
+/// world before any rotation (their world axes).
+#[derive(Debug, Clone, Copy)]
+enum RootTranslation {
+    Free {
+        placement: Matrix3<f64>,
+    },
+    Prismatic {
+        iq: [usize; 3],
+        iv: [usize; 3],
+        inverse: Matrix3<f64>,
+    },
+}
+
+fn root_translation(model: &Model) -> Option<RootTranslation> {
+    let root = floating_root(model)?;
+    if model.joints[1] == JointKind::Free {
+        return Some(RootTranslation::Free {
+            placement: model.placement[1].rot,
+        });
+    }
+    let mut ws = Workspace::new(model);
+    forward_kinematics(model, &mut ws, &model.neutral());
+    let (mut iq, mut iv, mut axes) = (vec![], vec![], vec![]);
+    for i in 1..=root {
+        match model.joints[i] {
+            JointKind::Prismatic { axis } => {
+                iq.push(model.idx_q[i]);
+                iv.push(model.idx_v[i]);
+                axes.push(ws.o_x_i[i].rot * axis);
+            }
+            JointKind::Fixed => {}
+            _ => break,
+        }
+    }
+    let [a0, a1, a2] = axes[..] else {
+        return None;
+    };
+    let inverse = Matrix3::from_columns(&[a0, a1, a2]).try_inverse()?;
+    Some(RootTranslation::Prismatic {
+        iq: iq.try_into().ok()?,
+        iv: iv.try_into().ok()?,
+        inverse,
+    })
+}
+
+/// Moves the root of one sample by the world offset `p` with rate `dp` and acceleration
+/// `ddp`, the whole body with it. For a free joint (v linear in the body frame,
+/// `R` its world rotation): `δv = Rᵀ δṗ`, `δa = Rᵀ δp̈ − ω × Rᵀ δṗ`.
+#[allow(clippy::too_many_arguments)]
+fn shift_root(
+    t: &RootTranslation,
+    rot: &Matrix3<f64>,
+    p: &Vector3<f64>,
+    dp: &Vector3<f64>,
+    ddp: &Vector3<f64>,
+    q: &mut [f64],
+    v: &mut [f64],
+    a: &mut [f64],
+) {
+    match t {
+        RootTranslation::Free { placement } => {
+            let dq = placement.transpose() * p;
+            let dv = rot.transpose() * dp;
+            let w = Vector3::new(v[3], v[4], v[5]);
+            let da = rot.transpose() * ddp - w.cross(&dv);
+            for k in 0..3 {
+                q[k] += dq[k];
+                v[k] += dv[k];
+                a[k] += da[k];
+            }
+        }
+        RootTranslation::Prismatic { iq, iv, inverse } => {
+            let (dq, dv, da) = (inverse * p, inverse * dp, inverse * ddp);
+            for k in 0..3 {
+                q[iq[k]] += dq[k];
+                v[iv[k]] += dv[k];
+                a[iv[k]] += da[k];
+            }
+        }
+    }
+}
+
+/// The problem residual reduction solves, fixed over its iterations.
+struct Problem<'a> {
+    model: &'a Model,
+    feet: &'a [Foot],
+    trunk: &'a [usize],
+    motion: Motion<'a>,
+    up: usize,
+    params: &'a ContactParams,
+    counted: &'a [bool],
+    spline: UniformBSpline,
+    translation: RootTranslation,
+    root: usize,
+    /// Weight of the residual force against the moment (m): the mean COM height.
+    height: f64,
+}
+
+/// One evaluation: the adjusted model, motion and their ground reactions.
+struct Evaluated {
+    model: Model,
+    q: Vec<Vec<f64>>,
+    v: Vec<Vec<f64>>,
+    a: Vec<Vec<f64>>,
+    ground: GroundReactions,
+    cost: f64,
+}
+
+impl Problem<'_> {
+    /// The two horizontal axes.
+    fn horizontal(&self) -> [usize; 2] {
+        [(self.up + 1) % 3, (self.up + 2) % 3]
+    }
+
+    /// The pelvis offset, its rate and acceleration at time `t` for parameters `x`.
+    fn pelvis_at(&self, x: &DVector<f64>, t: f64) -> [Vector3<f64>; 3] {
+        let nb = self.spline.len();
+        let (i, b) = self.spline.basis(t);
+        let mut out = [Vector3::zeros(); 3];
+        for (h, axis) in self.horizontal().into_iter().enumerate() {
+            let c = &x.as_slice()[3 + h * nb..3 + (h + 1) * nb];
+            for (order, o) in out.iter_mut().enumerate() {
+                o[axis] = (0..4).map(|j| b[order][j] * c[i + j]).sum();
+            }
+        }
+        out
+    }
+
+    fn pelvis(&self, x: &DVector<f64>) -> Vec<Vector3<f64>> {
+        self.motion
+            .time
+            .iter()
+            .map(|&t| self.pelvis_at(x, t)[0])
+            .collect()
+    }
+
+    fn evaluate(&self, x: &DVector<f64>) -> Result<Evaluated, Error> {
+        let offset = Vector3::new(x[0], x[1], x[2]);
+        let model = with_trunk_offset(self.model, self.trunk, &offset);
+        let (mut q, mut v, mut a) = (
+            self.motion.q.to_vec(),
+            self.motion.v.to_vec(),
+            self.motion.a.to_vec(),
+        );
+        let mut ws = Workspace::new(&model);
+        for k in 0..q.len() {
+            let [p, dp, ddp] = self.pelvis_at(x, self.motion.time[k]);
+            forward_kinematics(&model, &mut ws, &q[k]);
+            let rot = ws.o_x_i[self.root].rot;
+            shift_root(
+                &self.translation,
+                &rot,
+                &p,
+                &dp,
+                &ddp,
+                &mut q[k],
+                &mut v[k],
+                &mut a[k],
+            );
+        }
+        let ground = estimate_ground_reactions_progress(
+            &model,
+            self.feet,
+            self.motion.time,
+            &q,
+            &v,
+            &a,
+            self.up,
+            self.params,
+            &mut |_| true,
+        )?;
+        let cost = self.cost(&ground);
+        Ok(Evaluated {
+            model,
+            q,
+            v,
+            a,
+            ground,
+            cost,
+        })
+    }
+
+    /// `Σ |n|² + h² |f|²` over the counted frames.
+    fn cost(&self, g: &GroundReactions) -> f64 {
+        let h2 = self.height * self.height;
+        (0..g.residual.len())
+            .filter(|&k| self.counted[k])
+            .map(|k| {
+                let r = &g.residual[k];
+                r[3] * r[3]
+                    + r[4] * r[4]
+                    + r[5] * r[5]
+                    + h2 * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2])
+            })
+            .sum()
+    }
+}
+
+/// A residual this small is met (N·m; N): the feet give the wrench there.
+const MET: f64 = 1e-3;
+/// The step of the trunk offset's finite differences (m); the needed wrench is linear in the
+/// first moments `mᵢ cᵢ`, nearly so in `cᵢ` (the parallel-axis term is second order).
+const TRUNK_STEP: f64 = 0.005;
+
+impl Problem<'_> {
+    /// The Gauss–Newton normal equations `JᵀJ`, `Jᵀr` at `x` (evaluated as `e`): per counted
+    /// frame, the residual `r = [n; h f]` and how each parameter changes it (module doc).
+    fn normal_equations(&self, x: &DVector<f64>, e: &Evaluated) -> (DMatrix<f64>, DVector<f64>) {
+        let np = x.len();
+        let nb = self.spline.len();
+        let (mut jtj, mut jtr) = (DMatrix::zeros(np, np), DVector::zeros(np));
+        let offset = Vector3::new(x[0], x[1], x[2]);
+        let moved: Vec<Model> = (0..3)
+            .map(|j| {
+                with_trunk_offset(
+                    self.model,
+                    self.trunk,
+                    &(offset + Vector3::ith(j, TRUNK_STEP)),
+                )
+            })
+            .collect();
+        let mut ws = Workspace::new(&e.model);
+        let mut ws_moved = Workspace::new(&e.model);
+        let mass = e.model.total_mass();
+        let h = self.height;
+        let g = &e.ground;
+        // per frame: the local Jacobian over the 3 trunk and 8 pelvis columns
+        let mut cols = [0usize; 11];
+        let mut jac = [[0.0; 11]; 6];
+        for k in (0..g.residual.len()).filter(|&k| self.counted[k]) {
+            forward_kinematics(&e.model, &mut ws, &e.q[k]);
+            let pelvis = ws.o_x_i[self.root].trans;
+            let com = centre_of_mass(&e.model, &ws);
+            let r = &g.residual[k];
+            let (n_res, f_res) = (
+                Vector3::new(r[3], r[4], r[5]),
+                Vector3::new(r[0], r[1], r[2]),
+            );
+            let load: f64 = g.grf[k].iter().map(|f| f[self.up]).sum();
+            let flight = load <= 1e-9;
+            let cop = if flight {
+                pelvis
+            } else {
+                g.grf[k]
+                    .iter()
+                    .zip(&g.cop[k])
+                    .map(|(f, c)| c * f[self.up])
+                    .sum::<Vector3<f64>>()
+                    / load
+            };
+            // how a change dn, df of the needed wrench (about the pelvis) reaches the residual
+            let pass = |dn: Vector3<f64>, df: Vector3<f64>| -> [f64; 6] {
+                let (n, f) = if flight {
+                    (dn, df)
+                } else {
+                    let n = if n_res.norm() > MET {
+                        dn - (cop - pelvis).cross(&df)
+                    } else {
+                        Vector3::zeros()
+                    };
+                    let f = if f_res.norm() > MET {
+                        df
+                    } else {
+                        Vector3::zeros()
+                    };
+                    (n, f)
+                };
+                [n.x, n.y, n.z, h * f.x, h * f.y, h * f.z]
+            };
+            // trunk: finite differences of the needed wrench
+            for (j, m) in moved.iter().enumerate() {
+                forward_kinematics(m, &mut ws_moved, &e.q[k]);
+                rnea(m, &mut ws_moved, &e.q[k], &e.v[k], &e.a[k], None);
+                let w = about(&super::grf::root_wrench(m, &ws_moved), &pelvis);
+                let d: Vec<f64> = (0..6)
+                    .map(|c| (w[c] - g.wrench[k][c]) / TRUNK_STEP)
+                    .collect();
+                let col = pass(
+                    Vector3::new(d[3], d[4], d[5]),
+                    Vector3::new(d[0], d[1], d[2]),
+                );
+                cols[j] = j;
+                (0..6).for_each(|row| jac[row][j] = col[row]);
+            }
+            // pelvis: a rigid translation adds M δp̈ at the centre of mass
+            let (i0, b) = self.spline.basis(self.motion.time[k]);
+            for (hh, axis) in self.horizontal().into_iter().enumerate() {
+                for (j, ddb) in b[2].iter().enumerate() {
+                    let df = Vector3::ith(axis, mass * ddb);
+                    let col = pass((com - pelvis).cross(&df), df);
+                    let c = 3 + 4 * hh + j;
+                    cols[c] = 3 + hh * nb + i0 + j;
+                    (0..6).for_each(|row| jac[row][c] = col[row]);
+                }
+            }
+            let rk = [
+                n_res.x,
+                n_res.y,
+                n_res.z,
+                h * f_res.x,
+                h * f_res.y,
+                h * f_res.z,
+            ];
+            for a in 0..11 {
+                for row in 0..6 {
+                    jtr[cols[a]] += jac[row][a] * rk[row];
+                }
+                for b in 0..11 {
+                    let s: f64 = (0..6).map(|row| jac[row][a] * jac[row][b]).sum();
+                    jtj[(cols[a], cols[b])] += s;
+                }
+            }
+        }
+        (jtj, jtr)
+    }
+
+    /// Whether `x` keeps within the bounds: (trunk, pelvis).
+    fn within(&self, x: &DVector<f64>, bounds: &ReductionBounds) -> (bool, bool) {
+        let trunk = Vector3::new(x[0], x[1], x[2]).norm() <= bounds.trunk_com_m;
+        let (peak, rms) = peak_rms(&self.pelvis(x));
+        (
+            trunk,
+            peak <= bounds.pelvis_peak_m && rms <= bounds.pelvis_rms_m,
+        )
+    }
+
+    /// One regularized Gauss–Newton step from `x`, its Tikhonov weights raised until the step
+    /// keeps within the bounds; `mu` (trunk, pelvis) keeps the weights reached.
+    fn step(
+        &self,
+        x: &DVector<f64>,
+        e: &Evaluated,
+        bounds: &ReductionBounds,
+        mu: &mut [f64; 2],
+        bounded: &mut Vec<&'static str>,
+    ) -> Option<DVector<f64>> {
+        let (jtj, jtr) = self.normal_equations(x, e);
+        let np = x.len();
+        let scale = |r: std::ops::Range<usize>| {
+            let s: f64 = r.clone().map(|i| jtj[(i, i)]).sum::<f64>() / r.len() as f64;
+            s.max(1e-12)
+        };
+        let (s_trunk, s_pelvis) = (scale(0..3), scale(3..np));
+        for _ in 0..20 {
+            let mut a = jtj.clone();
+            let mut b = -&jtr;
+            for i in 0..np {
+                let l = if i < 3 {
+                    mu[0] * s_trunk
+                } else {
+                    mu[1] * s_pelvis
+                };
+                a[(i, i)] += l;
+                b[i] -= l * x[i];
+            }
+            let next = x + a.cholesky()?.solve(&b);
+            let (trunk, pelvis) = self.within(&next, bounds);
+            if trunk && pelvis {
+                return Some(next);
+            }
+            for (ok, m, name) in [(trunk, 0, "trunk"), (pelvis, 1, "pelvis")] {
+                if !ok {
+                    mu[m] *= 4.0;
+                    if !bounded.contains(&name) {
+                        bounded.push(name);
+                    }
+                }
+            }
+        }
+        None
+    }
+}
+
+/// Residual reduction (module doc) of the motion `motion` of `model` with the feet `feet`, the
+/// trunk bodies `trunk` (whose mass centre may move) and the frames `counted`
+/// ([`super::residual::counted_frames`]).
+///
+/// Errors: those of [`estimate_ground_reactions_progress`]; a model without a floating root
+/// whose translation is three prismatic joints or a free joint; a motion of one instant.
+#[allow(clippy::too_many_arguments)]
+pub fn reduce_residuals(
+    model: &Model,
+    feet: &[Foot],
+    trunk: &[usize],
+    motion: Motion,
+    up: usize,
+    params: &ContactParams,
+    counted: &[bool],
+    bounds: &ReductionBounds,
+) -> Result<Reduction, Error> {
+    let translation = root_translation(model).ok_or_else(|| {
+        Error::Invalid(format!(
+            "model {}: residual reduction moves the root, and needs a floating root (a free \
+             joint, or three prismatic joints then the rotations); use --consistent off",
+            model.name
+        ))
+    })?;
+    let n = motion.time.len();
+    let spline = match (motion.time.first(), motion.time.last()) {
+        (Some(&t0), Some(&t1)) if counted.len() == n => {
+            UniformBSpline::new(t0, t1, bounds.knot_spacing_s)
+        }
+        _ => None,
+    }
+    .ok_or_else(|| {
+        Error::Invalid(format!(
+            "residual reduction needs a motion over time and a mask per frame (got {n} samples, \
+             {} flags); use --consistent off",
+            counted.len()
+        ))
+    })?;
+    let root = floating_root(model).unwrap_or(1);
+    let mut problem = Problem {
+        model,
+        feet,
+        trunk,
+        motion,
+        up,
+        params,
+        counted,
+        spline,
+        translation,
+        root,
+        height: 1.0,
+    };
+    let mut x = DVector::zeros(3 + 2 * spline.len());
+    let mut e = problem.evaluate(&x)?;
+    problem.height = mean_com_height(model, &e, counted);
+    e.cost = problem.cost(&e.ground);
+
+    // Gauss–Newton steps, each kept only if the re-estimated residuals fall
+    let (mut mu, mut bounded, mut steps) = ([1e-4, 1e-4], vec![], 0);
+    for _ in 0..bounds.iterations {
+        let Some(next) = problem.step(&x, &e, bounds, &mut mu, &mut bounded) else {
+            break;
+        };
+        let mut accepted = None;
+        let mut dx = &next - &x;
+        for _ in 0..4 {
+            let trial = &x + &dx;
+            let t = problem.evaluate(&trial)?;
+            if t.cost < e.cost {
+                accepted = Some((trial, t));
+                break;
+            }
+            dx *= 0.5;
+        }
+        let Some((xn, en)) = accepted else {
+            break;
+        };
+        let gain = (e.cost - en.cost) / e.cost.max(1e-12);
+        (x, e, steps) = (xn, en, steps + 1);
+        if gain < 1e-3 {
+            break;
+        }
+    }
+    let trunk_mass_kg = trunk.iter().map(|&b| model.inertia[b].mass).sum();
+    Ok(Reduction {
+        pelvis: problem.pelvis(&x),
+        trunk_offset: Vector3::new(x[0], x[1], x[2]),
+        trunk_mass_kg,
+        model: e.model,
+        q: e.q,
+        v: e.v,
+        a: e.a,
+        ground: e.ground,
+        bounded,
+        steps,
+    })
+}
+
+/// Mean height of the whole-body centre of mass over the floor, over the counted frames (m).
+fn mean_com_height(model: &Model, e: &Evaluated, counted: &[bool]) -> f64 {
+    com_heights(model, &e.q, e.ground.up, e.ground.floor)
+        .iter()
+        .zip(counted)
+        .filter(|(_, c)| **c)
+        .map(|(h, _)| *h)
+        .sum::<f64>()
+        / counted.iter().filter(|c| **c).count().max(1) as f64
+}
+
+/// Per sample: the height of the whole-body centre of mass over the floor (m).
+pub fn com_heights(model: &Model, q: &[Vec<f64>], up: usize, floor: f64) -> Vec<f64> {
+    let mut ws = Workspace::new(model);
+    q.iter()
+        .map(|qk| {
+            forward_kinematics(model, &mut ws, qk);
+            centre_of_mass(model, &ws)[up] - floor
+        })
+        .collect()
+}
