@@ -554,7 +554,7 @@ pub fn reduce_residuals(
         };
         let mut accepted = None;
         let mut dx = &next - &x;
-        for _ in 0..4 {
+        for _ in 0..8 {
             let trial = &x + &dx;
             let t = problem.evaluate(&trial)?;
             if t.cost < e.cost {

@@ -130,7 +130,7 @@ fn figures(g: &GroundReactions, heights: &[f64], counted: &[bool]) -> ResidualFi
 
 /// The bodies of the trunk whose mass centre residual reduction moves: those of the joints
 /// from the lumbar joint up to the head (arms left out), with mass.
-fn trunk_bodies(take: &Take) -> Vec<usize> {
+pub fn trunk_bodies(take: &Take) -> Vec<usize> {
     let Ok(human) = find_take_human(take) else {
         return vec![];
     };
@@ -177,6 +177,17 @@ fn finish(
             ));
         }
         why.extend(why_missed(&last, g, &beyond));
+        if let Some(a) = adjustments.as_ref().filter(|a| !a.bounded.is_empty()) {
+            why.push(format!(
+                "the {} bound held the adjustments back (trunk mass centre ≤ {:.0} cm, pelvis \
+                 offset ≤ {:.0} cm peak and {:.0} cm RMS, OpenSim's guidelines for RRA): what \
+                 remains would take a larger change of the model or the motion than they allow",
+                a.bounded.join(" and "),
+                100.0 * a.bounds.trunk_com_m,
+                100.0 * a.bounds.pelvis_peak_m,
+                100.0 * a.bounds.pelvis_rms_m
+            ));
+        }
     }
     Consistency {
         before,
