@@ -96,7 +96,7 @@ pub struct Reduction {
     pub trunk_mass_kg: f64,
     /// Per frame: the pelvis offset (m, world).
     pub pelvis: Vec<Vector3<f64>>,
-    /// Which bounds held the adjustments back (`trunk`, `pelvis`).
+    /// The bounds the adjustments end against, within a tenth (`trunk`, `pelvis`).
     pub bounded: Vec<&'static str>,
     /// Gauss–Newton steps kept.
     pub steps: usize,
@@ -198,11 +198,36 @@ fn shift_root(
     }
 }
 
+/// The trunk whose mass centre residual reduction moves: its bodies, and the two directions
+/// (in their frames) across its long axis along which it may move. RRA moves the torso's mass
+/// centre forward–back and side to side only: along the trunk, the offset changes the needed
+/// wrench through the trunk's rotational accelerations alone and is not to be found from it.
+#[derive(Debug, Clone, Copy)]
+pub struct Trunk<'a> {
+    pub bodies: &'a [usize],
+    pub across: [Vector3<f64>; 2],
+}
+
+impl Trunk<'_> {
+    /// The two unit directions across `long` (a direction along the trunk in its bodies'
+    /// frame, from the lumbar joint to the head); `None` if `long` is zero.
+    pub fn across(long: &Vector3<f64>) -> Option<[Vector3<f64>; 2]> {
+        let e = long.try_normalize(1e-12)?;
+        let seed = Vector3::ith(e.iamin(), 1.0);
+        let u = e.cross(&seed).normalize();
+        Some([u, e.cross(&u)])
+    }
+}
+
+/// Parameters: the trunk offset's two coordinates, then the pelvis spline's coefficients
+/// along the first horizontal axis, then along the second.
+const NT: usize = 2;
+
 /// The problem residual reduction solves, fixed over its iterations.
 struct Problem<'a> {
     model: &'a Model,
     feet: &'a [Foot],
-    trunk: &'a [usize],
+    trunk: Trunk<'a>,
     motion: Motion<'a>,
     up: usize,
     params: &'a ContactParams,
@@ -230,13 +255,18 @@ impl Problem<'_> {
         [(self.up + 1) % 3, (self.up + 2) % 3]
     }
 
+    /// The trunk's mass-centre offset (m, its bodies' frame) for parameters `x`.
+    fn trunk_offset(&self, x: &DVector<f64>) -> Vector3<f64> {
+        self.trunk.across[0] * x[0] + self.trunk.across[1] * x[1]
+    }
+
     /// The pelvis offset, its rate and acceleration at time `t` for parameters `x`.
     fn pelvis_at(&self, x: &DVector<f64>, t: f64) -> [Vector3<f64>; 3] {
         let nb = self.spline.len();
         let (i, b) = self.spline.basis(t);
         let mut out = [Vector3::zeros(); 3];
         for (h, axis) in self.horizontal().into_iter().enumerate() {
-            let c = &x.as_slice()[3 + h * nb..3 + (h + 1) * nb];
+            let c = &x.as_slice()[NT + h * nb..NT + (h + 1) * nb];
             for (order, o) in out.iter_mut().enumerate() {
                 o[axis] = (0..4).map(|j| b[order][j] * c[i + j]).sum();
             }
@@ -252,9 +282,9 @@ impl Problem<'_> {
             .collect()
     }
 
+    /// The model and motion adjusted by `x`, their ground reactions and cost.
     fn evaluate(&self, x: &DVector<f64>) -> Result<Evaluated, Error> {
-        let offset = Vector3::new(x[0], x[1], x[2]);
-        let model = with_trunk_offset(self.model, self.trunk, &offset);
+        let model = with_trunk_offset(self.model, self.trunk.bodies, &self.trunk_offset(x));
         let (mut q, mut v, mut a) = (
             self.motion.q.to_vec(),
             self.motion.v.to_vec(),
@@ -300,17 +330,21 @@ impl Problem<'_> {
 
     /// `Σ |n|² + h² |f|²` over the counted frames.
     fn cost(&self, g: &GroundReactions) -> f64 {
-        let h2 = self.height * self.height;
         (0..g.residual.len())
             .filter(|&k| self.counted[k])
             .map(|k| {
-                let r = &g.residual[k];
-                r[3] * r[3]
-                    + r[4] * r[4]
-                    + r[5] * r[5]
-                    + h2 * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2])
+                self.weighted(&g.residual[k])
+                    .iter()
+                    .map(|r| r * r)
+                    .sum::<f64>()
             })
             .sum()
+    }
+
+    /// A residual `[fx, fy, fz, tx, ty, tz]` as the least-squares residual `[n; h f]`.
+    fn weighted(&self, r: &[f64; 6]) -> [f64; 6] {
+        let h = self.height;
+        [r[3], r[4], r[5], h * r[0], h * r[1], h * r[2]]
     }
 }
 
@@ -319,122 +353,132 @@ const MET: f64 = 1e-3;
 /// The step of the trunk offset's finite differences (m); the needed wrench is linear in the
 /// first moments `mᵢ cᵢ`, nearly so in `cᵢ` (the parallel-axis term is second order).
 const TRUNK_STEP: f64 = 0.005;
+/// Columns of one frame's Jacobian: the trunk's, and four spline coefficients per axis.
+const LOCAL: usize = NT + 8;
+
+/// What one frame's residual does with a change of the needed wrench (about the pelvis):
+/// passed whole in flight; in stance, the moment where a clamp holds, less the moment of the
+/// force change at the feet's centre of pressure `cop`, and the force where one holds.
+struct Pass {
+    flight: bool,
+    moment_clamped: bool,
+    force_clamped: bool,
+    lever: Vector3<f64>,
+    height: f64,
+}
+
+impl Pass {
+    fn new(g: &GroundReactions, k: usize, pelvis: &Vector3<f64>, height: f64) -> Self {
+        let r = &g.residual[k];
+        let load: f64 = g.grf[k].iter().map(|f| f[g.up]).sum();
+        let flight = load <= 1e-9;
+        let cop = if flight {
+            *pelvis
+        } else {
+            g.grf[k]
+                .iter()
+                .zip(&g.cop[k])
+                .map(|(f, c)| c * f[g.up])
+                .sum::<Vector3<f64>>()
+                / load
+        };
+        Self {
+            flight,
+            moment_clamped: Vector3::new(r[3], r[4], r[5]).norm() > MET,
+            force_clamped: Vector3::new(r[0], r[1], r[2]).norm() > MET,
+            lever: cop - pelvis,
+            height,
+        }
+    }
+
+    fn apply(&self, dn: Vector3<f64>, df: Vector3<f64>) -> [f64; 6] {
+        let (n, f) = if self.flight {
+            (dn, df)
+        } else {
+            let zero = Vector3::zeros();
+            let n = if self.moment_clamped {
+                dn - self.lever.cross(&df)
+            } else {
+                zero
+            };
+            (n, if self.force_clamped { df } else { zero })
+        };
+        let h = self.height;
+        [n.x, n.y, n.z, h * f.x, h * f.y, h * f.z]
+    }
+}
 
 impl Problem<'_> {
     /// The Gauss–Newton normal equations `JᵀJ`, `Jᵀr` at `x` (evaluated as `e`): per counted
     /// frame, the residual `r = [n; h f]` and how each parameter changes it (module doc).
     fn normal_equations(&self, x: &DVector<f64>, e: &Evaluated) -> (DMatrix<f64>, DVector<f64>) {
         let np = x.len();
-        let nb = self.spline.len();
         let (mut jtj, mut jtr) = (DMatrix::zeros(np, np), DVector::zeros(np));
-        let offset = Vector3::new(x[0], x[1], x[2]);
-        let moved: Vec<Model> = (0..3)
-            .map(|j| {
-                with_trunk_offset(
-                    self.model,
-                    self.trunk,
-                    &(offset + Vector3::ith(j, TRUNK_STEP)),
-                )
-            })
+        let offset = self.trunk_offset(x);
+        let moved: Vec<Model> = self
+            .trunk
+            .across
+            .iter()
+            .map(|u| with_trunk_offset(self.model, self.trunk.bodies, &(offset + u * TRUNK_STEP)))
             .collect();
         let mut ws = Workspace::new(&e.model);
         let mut ws_moved = Workspace::new(&e.model);
-        let mass = e.model.total_mass();
-        let h = self.height;
-        let g = &e.ground;
-        // per frame: the local Jacobian over the 3 trunk and 8 pelvis columns
-        let mut cols = [0usize; 11];
-        let mut jac = [[0.0; 11]; 6];
-        for k in (0..g.residual.len()).filter(|&k| self.counted[k]) {
+        let mut cols = [0usize; LOCAL];
+        let mut jac = [[0.0; LOCAL]; 6];
+        for k in (0..e.q.len()).filter(|&k| self.counted[k]) {
             forward_kinematics(&e.model, &mut ws, &e.q[k]);
             let pelvis = ws.o_x_i[self.root].trans;
-            let com = centre_of_mass(&e.model, &ws);
-            let r = &g.residual[k];
-            let (n_res, f_res) = (
-                Vector3::new(r[3], r[4], r[5]),
-                Vector3::new(r[0], r[1], r[2]),
-            );
-            let load: f64 = g.grf[k].iter().map(|f| f[self.up]).sum();
-            let flight = load <= 1e-9;
-            let cop = if flight {
-                pelvis
-            } else {
-                g.grf[k]
-                    .iter()
-                    .zip(&g.cop[k])
-                    .map(|(f, c)| c * f[self.up])
-                    .sum::<Vector3<f64>>()
-                    / load
-            };
-            // how a change dn, df of the needed wrench (about the pelvis) reaches the residual
-            let pass = |dn: Vector3<f64>, df: Vector3<f64>| -> [f64; 6] {
-                let (n, f) = if flight {
-                    (dn, df)
-                } else {
-                    let n = if n_res.norm() > MET {
-                        dn - (cop - pelvis).cross(&df)
-                    } else {
-                        Vector3::zeros()
-                    };
-                    let f = if f_res.norm() > MET {
-                        df
-                    } else {
-                        Vector3::zeros()
-                    };
-                    (n, f)
-                };
-                [n.x, n.y, n.z, h * f.x, h * f.y, h * f.z]
-            };
+            let pass = Pass::new(&e.ground, k, &pelvis, self.height);
             // trunk: finite differences of the needed wrench
             for (j, m) in moved.iter().enumerate() {
                 forward_kinematics(m, &mut ws_moved, &e.q[k]);
                 rnea(m, &mut ws_moved, &e.q[k], &e.v[k], &e.a[k], None);
                 let w = about(&super::grf::root_wrench(m, &ws_moved), &pelvis);
-                let d: Vec<f64> = (0..6)
-                    .map(|c| (w[c] - g.wrench[k][c]) / TRUNK_STEP)
-                    .collect();
-                let col = pass(
+                let d: [f64; 6] =
+                    std::array::from_fn(|c| (w[c] - e.ground.wrench[k][c]) / TRUNK_STEP);
+                let col = pass.apply(
                     Vector3::new(d[3], d[4], d[5]),
                     Vector3::new(d[0], d[1], d[2]),
                 );
                 cols[j] = j;
                 (0..6).for_each(|row| jac[row][j] = col[row]);
             }
-            // pelvis: a rigid translation adds M δp̈ at the centre of mass
-            let (i0, b) = self.spline.basis(self.motion.time[k]);
-            for (hh, axis) in self.horizontal().into_iter().enumerate() {
-                for (j, ddb) in b[2].iter().enumerate() {
-                    let df = Vector3::ith(axis, mass * ddb);
-                    let col = pass((com - pelvis).cross(&df), df);
-                    let c = 3 + 4 * hh + j;
-                    cols[c] = 3 + hh * nb + i0 + j;
-                    (0..6).for_each(|row| jac[row][c] = col[row]);
-                }
-            }
-            let rk = [
-                n_res.x,
-                n_res.y,
-                n_res.z,
-                h * f_res.x,
-                h * f_res.y,
-                h * f_res.z,
-            ];
-            for a in 0..11 {
-                for row in 0..6 {
-                    jtr[cols[a]] += jac[row][a] * rk[row];
-                }
-                for b in 0..11 {
-                    let s: f64 = (0..6).map(|row| jac[row][a] * jac[row][b]).sum();
-                    jtj[(cols[a], cols[b])] += s;
-                }
-            }
+            self.pelvis_columns(&e.model, &ws, k, &pass, &mut cols, &mut jac);
+            let rk = self.weighted(&e.ground.residual[k]);
+            accumulate(&cols, &jac, &rk, &mut jtj, &mut jtr);
         }
         (jtj, jtr)
     }
 
+    /// The pelvis spline's columns of frame `k`'s Jacobian (from `LOCAL − 8`): a rigid
+    /// translation adds the force `M δp̈` at the centre of mass (`ws` at frame `k`).
+    fn pelvis_columns(
+        &self,
+        model: &Model,
+        ws: &Workspace,
+        k: usize,
+        pass: &Pass,
+        cols: &mut [usize; LOCAL],
+        jac: &mut [[f64; LOCAL]; 6],
+    ) {
+        let nb = self.spline.len();
+        let mass = model.total_mass();
+        let lever = centre_of_mass(model, ws) - ws.o_x_i[self.root].trans;
+        let (i0, b) = self.spline.basis(self.motion.time[k]);
+        for (h, axis) in self.horizontal().into_iter().enumerate() {
+            for (j, ddb) in b[2].iter().enumerate() {
+                let df = Vector3::ith(axis, mass * ddb);
+                let col = pass.apply(lever.cross(&df), df);
+                let c = NT + 4 * h + j;
+                cols[c] = NT + h * nb + i0 + j;
+                (0..6).for_each(|row| jac[row][c] = col[row]);
+            }
+        }
+    }
+
     /// Whether `x` keeps within the bounds: (trunk, pelvis).
     fn within(&self, x: &DVector<f64>, bounds: &ReductionBounds) -> (bool, bool) {
-        let trunk = Vector3::new(x[0], x[1], x[2]).norm() <= bounds.trunk_com_m;
+        let trunk = self.trunk_offset(x).norm() <= bounds.trunk_com_m;
         let (peak, rms) = peak_rms(&self.pelvis(x));
         (
             trunk,
@@ -450,7 +494,6 @@ impl Problem<'_> {
         e: &Evaluated,
         bounds: &ReductionBounds,
         mu: &mut [f64; 2],
-        bounded: &mut Vec<&'static str>,
     ) -> Option<DVector<f64>> {
         let (jtj, jtr) = self.normal_equations(x, e);
         let np = x.len();
@@ -458,16 +501,13 @@ impl Problem<'_> {
             let s: f64 = r.clone().map(|i| jtj[(i, i)]).sum::<f64>() / r.len() as f64;
             s.max(1e-12)
         };
-        let (s_trunk, s_pelvis) = (scale(0..3), scale(3..np));
+        let s = [scale(0..NT), scale(NT..np)];
         for _ in 0..20 {
             let mut a = jtj.clone();
             let mut b = -&jtr;
             for i in 0..np {
-                let l = if i < 3 {
-                    mu[0] * s_trunk
-                } else {
-                    mu[1] * s_pelvis
-                };
+                let block = usize::from(i >= NT);
+                let l = mu[block] * s[block];
                 a[(i, i)] += l;
                 b[i] -= l * x[i];
             }
@@ -476,12 +516,9 @@ impl Problem<'_> {
             if trunk && pelvis {
                 return Some(next);
             }
-            for (ok, m, name) in [(trunk, 0, "trunk"), (pelvis, 1, "pelvis")] {
+            for (ok, m) in [(trunk, 0), (pelvis, 1)] {
                 if !ok {
                     mu[m] *= 4.0;
-                    if !bounded.contains(&name) {
-                        bounded.push(name);
-                    }
                 }
             }
         }
@@ -489,8 +526,24 @@ impl Problem<'_> {
     }
 }
 
+/// `JᵀJ += JₖᵀJₖ`, `Jᵀr += Jₖᵀrₖ` for one frame's local Jacobian `jac` over columns `cols`.
+fn accumulate(
+    cols: &[usize; LOCAL],
+    jac: &[[f64; LOCAL]; 6],
+    rk: &[f64; 6],
+    jtj: &mut DMatrix<f64>,
+    jtr: &mut DVector<f64>,
+) {
+    for a in 0..LOCAL {
+        jtr[cols[a]] += (0..6).map(|row| jac[row][a] * rk[row]).sum::<f64>();
+        for b in 0..LOCAL {
+            jtj[(cols[a], cols[b])] += (0..6).map(|row| jac[row][a] * jac[row][b]).sum::<f64>();
+        }
+    }
+}
+
 /// Residual reduction (module doc) of the motion `motion` of `model` with the feet `feet`, the
-/// trunk bodies `trunk` (whose mass centre may move) and the frames `counted`
+/// trunk `trunk` (whose mass centre may move across it) and the frames `counted`
 /// ([`super::residual::counted_frames`]).
 ///
 /// Errors: those of [`estimate_ground_reactions_progress`]; a model without a floating root
@@ -499,7 +552,7 @@ impl Problem<'_> {
 pub fn reduce_residuals(
     model: &Model,
     feet: &[Foot],
-    trunk: &[usize],
+    trunk: Trunk,
     motion: Motion,
     up: usize,
     params: &ContactParams,
@@ -527,7 +580,6 @@ pub fn reduce_residuals(
             counted.len()
         ))
     })?;
-    let root = floating_root(model).unwrap_or(1);
     let mut problem = Problem {
         model,
         feet,
@@ -538,18 +590,18 @@ pub fn reduce_residuals(
         counted,
         spline,
         translation,
-        root,
+        root: floating_root(model).unwrap_or(1),
         height: 1.0,
     };
-    let mut x = DVector::zeros(3 + 2 * spline.len());
+    let mut x = DVector::zeros(NT + 2 * spline.len());
     let mut e = problem.evaluate(&x)?;
     problem.height = mean_com_height(model, &e, counted);
     e.cost = problem.cost(&e.ground);
 
-    // Gauss–Newton steps, each kept only if the re-estimated residuals fall
-    let (mut mu, mut bounded, mut steps) = ([1e-4, 1e-4], vec![], 0);
+    // Gauss–Newton steps, each kept only if the re-estimated residuals fall (halved until so)
+    let (mut mu, mut steps) = ([1e-4, 1e-4], 0);
     for _ in 0..bounds.iterations {
-        let Some(next) = problem.step(&x, &e, bounds, &mut mu, &mut bounded) else {
+        let Some(next) = problem.step(&x, &e, bounds, &mut mu) else {
             break;
         };
         let mut accepted = None;
@@ -572,11 +624,20 @@ pub fn reduce_residuals(
             break;
         }
     }
-    let trunk_mass_kg = trunk.iter().map(|&b| model.inertia[b].mass).sum();
+    // the bounds the adjustments end against (within a tenth of them)
+    let pelvis = problem.pelvis(&x);
+    let (peak, rms) = peak_rms(&pelvis);
+    let mut bounded = vec![];
+    if problem.trunk_offset(&x).norm() > 0.9 * bounds.trunk_com_m {
+        bounded.push("trunk");
+    }
+    if peak > 0.9 * bounds.pelvis_peak_m || rms > 0.9 * bounds.pelvis_rms_m {
+        bounded.push("pelvis");
+    }
     Ok(Reduction {
-        pelvis: problem.pelvis(&x),
-        trunk_offset: Vector3::new(x[0], x[1], x[2]),
-        trunk_mass_kg,
+        pelvis,
+        trunk_offset: problem.trunk_offset(&x),
+        trunk_mass_kg: trunk.bodies.iter().map(|&b| model.inertia[b].mass).sum(),
         model: e.model,
         q: e.q,
         v: e.v,

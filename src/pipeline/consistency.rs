@@ -9,7 +9,7 @@ use crate::dynamics::residual::{
     FORCE_SHARE, MOMENT_SHARE, ResidualFigures, counted_frames, external_forces, residual_figures,
     split_norms,
 };
-use crate::dynamics::rra::{Motion, ReductionBounds, com_heights, reduce_residuals};
+use crate::dynamics::rra::{Motion, ReductionBounds, Trunk, com_heights, reduce_residuals};
 use crate::error::Error;
 use crate::motion::contact::ContactParams;
 use nalgebra::Vector3;
@@ -24,7 +24,7 @@ pub struct Adjustments {
     /// Largest and RMS horizontal pelvis offset over the take (m).
     pub pelvis_peak_m: f64,
     pub pelvis_rms_m: f64,
-    /// The bounds that held the adjustments back (`trunk`, `pelvis`).
+    /// The bounds the adjustments end against (`trunk`, `pelvis`).
     pub bounded: Vec<&'static str>,
     /// The bounds used.
     pub bounds: ReductionBounds,
@@ -80,10 +80,17 @@ pub fn consistent_take(
     }
     let bounds = ReductionBounds::default();
     let feet = take_feet(take);
+    let bodies = trunk_bodies(take);
+    let across = trunk_long_axis(take)
+        .and_then(|e| Trunk::across(&e))
+        .unwrap_or([Vector3::zeros(); 2]);
     let r = reduce_residuals(
         &take.model,
         &feet,
-        &trunk_bodies(take),
+        Trunk {
+            bodies: &bodies,
+            across,
+        },
         Motion {
             time: &s.time,
             q: &s.q,
@@ -152,6 +159,21 @@ pub fn trunk_bodies(take: &Take) -> Vec<usize> {
     bodies
 }
 
+/// The trunk's long axis, from the lumbar joint to the head, in the frame of the lumbar joint's
+/// body at the rest pose (`None`: no trunk).
+fn trunk_long_axis(take: &Take) -> Option<Vector3<f64>> {
+    let spine = find_take_human(take).ok()?.spine?;
+    let model = &take.model;
+    let mut ws = crate::dynamics::Workspace::new(model);
+    crate::dynamics::forward_kinematics(model, &mut ws, &model.neutral());
+    let at = |j: usize| {
+        let m = &take.map.joints[j];
+        ws.o_x_i[m.body].compose(&m.frame).trans
+    };
+    let lumbar = &ws.o_x_i[take.map.joints[spine.lumbar].body];
+    Some(lumbar.rot.transpose() * (at(spine.head) - at(spine.lumbar)))
+}
+
 fn finish(
     before: ResidualFigures,
     after: Option<ResidualFigures>,
@@ -176,9 +198,9 @@ fn finish(
                 100.0 * travel
             ));
         }
-        why.extend(why_missed(&last, g, &beyond));
-        if let Some(a) = adjustments.as_ref().filter(|a| !a.bounded.is_empty()) {
-            why.push(format!(
+        why.extend(why_missed(&last, g, &counted, &beyond));
+        match adjustments.as_ref() {
+            Some(a) if !a.bounded.is_empty() => why.push(format!(
                 "the {} bound held the adjustments back (trunk mass centre ≤ {:.0} cm, pelvis \
                  offset ≤ {:.0} cm peak and {:.0} cm RMS, OpenSim's guidelines for RRA): what \
                  remains would take a larger change of the model or the motion than they allow",
@@ -186,7 +208,13 @@ fn finish(
                 100.0 * a.bounds.trunk_com_m,
                 100.0 * a.bounds.pelvis_peak_m,
                 100.0 * a.bounds.pelvis_rms_m
-            ));
+            )),
+            Some(_) => why.push(
+                "the adjustments stop inside their bounds: what remains is no smooth change of \
+                 the trunk's mass centre or the pelvis path (the frames above)"
+                    .into(),
+            ),
+            None => {}
         }
     }
     Consistency {
@@ -238,9 +266,14 @@ fn runs(flags: &[bool]) -> Vec<(usize, usize)> {
     out
 }
 
-/// Why the figures `f` miss the thresholds, from the frames `beyond` them: how much of the
+/// Why the figures `f` miss the thresholds, from the frames `beyond` them (of those `counted`): how much of the
 /// residual lies in flight and how far the needed centre of pressure lies off the feet.
-fn why_missed(f: &ResidualFigures, g: &GroundReactions, beyond: &[bool]) -> Vec<String> {
+fn why_missed(
+    f: &ResidualFigures,
+    g: &GroundReactions,
+    counted: &[bool],
+    beyond: &[bool],
+) -> Vec<String> {
     let mut why = vec![];
     if f.peak_force_n > f.force_limit_n() {
         why.push(format!(
@@ -263,24 +296,28 @@ fn why_missed(f: &ResidualFigures, g: &GroundReactions, beyond: &[bool]) -> Vec<
         let mut gaps: Vec<f64> = frames.iter().map(|&k| g.cop_gap[k]).collect();
         gaps.sort_by(f64::total_cmp);
         let median = gaps.get(gaps.len() / 2).copied().unwrap_or(0.0);
-        let flight = frames
-            .iter()
-            .filter(|&&k| g.loaded[k].iter().all(|l| !l))
-            .count();
+        let feet_on = |k: usize| g.loaded[k].iter().filter(|l| **l).count();
+        let count = |n: usize| frames.iter().filter(|&&k| feet_on(k) == n).count();
+        let (flight, single) = (count(0), count(1));
+        let double = frames.len() - flight - single;
+        // the share of the squared residual moment these frames hold
+        let n2 = |k: usize| {
+            let r = &g.residual[k];
+            r[3] * r[3] + r[4] * r[4] + r[5] * r[5]
+        };
+        let total: f64 = (0..beyond.len()).filter(|&k| counted[k]).map(n2).sum();
+        let share = frames.iter().map(|&k| n2(k)).sum::<f64>() / total.max(1e-12);
         why.push(format!(
-            "RMS residual moment {:.1} N·m is {:.1}× the {:.0} % threshold ({:.1} N·m): in {} \
-             frames beyond it{} the needed centre of pressure lies a median {:.1} cm off the \
-             feet{}",
+            "RMS residual moment {:.1} N·m is {:.1}× the {:.0} % threshold ({:.1} N·m): {} frames \
+             beyond it ({single} in single support, {double} in double support, {flight} in \
+             flight) hold {:.0} % of it; there the needed centre of pressure lies a median {:.1} \
+             cm off the feet{}",
             f.rms_moment_nm,
             f.rms_moment_nm / f.moment_limit_nm().max(1e-9),
             100.0 * MOMENT_SHARE,
             f.moment_limit_nm(),
             frames.len(),
-            if flight > 0 {
-                format!(" ({flight} in flight)")
-            } else {
-                String::new()
-            },
+            100.0 * share,
             100.0 * median,
             if median > 0.05 {
                 ": more than a smooth pelvis and trunk correction can move it (a missed \
@@ -372,7 +409,7 @@ impl Consistency {
                 if a.bounded.is_empty() {
                     String::new()
                 } else {
-                    format!("; held back by the {} bound", a.bounded.join(" and "))
+                    format!("; at the {} bound", a.bounded.join(" and "))
                 }
             );
         }
