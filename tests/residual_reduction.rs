@@ -160,3 +160,37 @@ fn every_shared_walk_and_run_meets_the_thresholds_or_says_by_how_much_it_missed(
         }
     }
 }
+
+use common::workbench;
+
+#[test]
+fn the_workbench_reduces_with_contact_unless_told_not_to_and_says_so() {
+    let out = tempfile::tempdir().unwrap();
+    let mut wb = workbench::wb_in(out.path());
+    workbench::ok(&mut wb, "load demo:walk as walk");
+    workbench::ok(&mut wb, "set contact feet");
+    let on = workbench::ok(&mut wb, "run id");
+    assert!(on.contains("consistency after residual reduction"), "{on}");
+    assert!(on.contains("within Hicks et al.'s thresholds"), "{on}");
+    let peak = |wb: &mut articula::session::Workbench| {
+        let m = workbench::fails(wb, "expect peak LeftLeg.Xrotation torque between 0 1");
+        m.split("torque ")
+            .nth(1)
+            .unwrap()
+            .split(' ')
+            .next()
+            .unwrap()
+            .parse::<f64>()
+            .unwrap()
+    };
+    let reduced = peak(&mut wb);
+    workbench::ok(&mut wb, "set consistent off");
+    let off = workbench::ok(&mut wb, "run id");
+    assert!(off.contains("beyond Hicks et al.'s thresholds"), "{off}");
+    assert!(
+        (peak(&mut wb) - reduced).abs() > 1.0,
+        "the knee's torque is the adjusted take's"
+    );
+    let e = workbench::fails(&mut wb, "set consistent maybe");
+    assert!(e.contains("expected auto, on or off"), "{e}");
+}

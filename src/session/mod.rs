@@ -56,7 +56,9 @@
 //! de Leva's fixed fractions: `--segments`), `unit auto|m|dm|cm|mm|in|cmu|METRES`,
 //! `stature auto|M`, `up auto|x|y|z`, `positions auto|add|replace`, `subtree none|JOINT`,
 //! `joints euler|ball`, `smooth none|gaussian:W|butterworth:F[hz][:ORDER]` (W in s, F in Hz),
-//! `contact none|feet`, `link.<joint>.mass KG`, `lock J1,J2,…` (or `none`),
+//! `contact none|feet`, `consistent auto|on|off` (residual reduction with `contact feet`, as
+//! `--consistent`: auto is on; the status line then says the take's residuals against Hicks et
+//! al.'s thresholds), `link.<joint>.mass KG`, `lock J1,J2,…` (or `none`),
 //! `keep_first_frame true|false` (keep a rest pose stored as frame 0, `--keep-first-frame`; it
 //! acts when a take is read, so it applies to the takes loaded after it),
 //! `joint_translations weld|keep` (position channels on joints below the body's root held at
