@@ -247,6 +247,8 @@ struct Evaluated {
     a: Vec<Vec<f64>>,
     ground: GroundReactions,
     cost: f64,
+    /// Gauss–Newton steps taken to reach it.
+    steps: usize,
 }
 
 impl Problem<'_> {
@@ -325,6 +327,7 @@ impl Problem<'_> {
             a,
             ground,
             cost,
+            steps: 0,
         })
     }
 
@@ -593,37 +596,7 @@ pub fn reduce_residuals(
         root: floating_root(model).unwrap_or(1),
         height: 1.0,
     };
-    let mut x = DVector::zeros(NT + 2 * spline.len());
-    let mut e = problem.evaluate(&x)?;
-    problem.height = mean_com_height(model, &e, counted);
-    e.cost = problem.cost(&e.ground);
-
-    // Gauss–Newton steps, each kept only if the re-estimated residuals fall (halved until so)
-    let (mut mu, mut steps) = ([1e-4, 1e-4], 0);
-    for _ in 0..bounds.iterations {
-        let Some(next) = problem.step(&x, &e, bounds, &mut mu) else {
-            break;
-        };
-        let mut accepted = None;
-        let mut dx = &next - &x;
-        for _ in 0..8 {
-            let trial = &x + &dx;
-            let t = problem.evaluate(&trial)?;
-            if t.cost < e.cost {
-                accepted = Some((trial, t));
-                break;
-            }
-            dx *= 0.5;
-        }
-        let Some((xn, en)) = accepted else {
-            break;
-        };
-        let gain = (e.cost - en.cost) / e.cost.max(1e-12);
-        (x, e, steps) = (xn, en, steps + 1);
-        if gain < 1e-3 {
-            break;
-        }
-    }
+    let (x, e) = problem.solve(bounds)?;
     // the bounds the adjustments end against (within a tenth of them)
     let pelvis = problem.pelvis(&x);
     let (peak, rms) = peak_rms(&pelvis);
@@ -644,8 +617,47 @@ pub fn reduce_residuals(
         a: e.a,
         ground: e.ground,
         bounded,
-        steps,
+        steps: e.steps,
     })
+}
+
+impl Problem<'_> {
+    /// Gauss–Newton from no adjustment: each step kept only if the re-estimated residuals
+    /// fall (halved until they do, eight times at most); stops when a step gains less than
+    /// a thousandth.
+    fn solve(&mut self, bounds: &ReductionBounds) -> Result<(DVector<f64>, Evaluated), Error> {
+        let mut x = DVector::zeros(NT + 2 * self.spline.len());
+        let mut e = self.evaluate(&x)?;
+        self.height = mean_com_height(self.model, &e, self.counted);
+        e.cost = self.cost(&e.ground);
+        let mut mu = [1e-4, 1e-4];
+        for _ in 0..bounds.iterations {
+            let Some(next) = self.step(&x, &e, bounds, &mut mu) else {
+                break;
+            };
+            let mut accepted = None;
+            let mut dx = &next - &x;
+            for _ in 0..8 {
+                let trial = &x + &dx;
+                let t = self.evaluate(&trial)?;
+                if t.cost < e.cost {
+                    accepted = Some((trial, t));
+                    break;
+                }
+                dx *= 0.5;
+            }
+            let Some((xn, mut en)) = accepted else {
+                break;
+            };
+            let gain = (e.cost - en.cost) / e.cost.max(1e-12);
+            en.steps = e.steps + 1;
+            (x, e) = (xn, en);
+            if gain < 1e-3 {
+                break;
+            }
+        }
+        Ok((x, e))
+    }
 }
 
 /// Mean height of the whole-body centre of mass over the floor, over the counted frames (m).
@@ -668,4 +680,69 @@ pub fn com_heights(model: &Model, q: &[Vec<f64>], up: usize, floor: f64) -> Vec<
             centre_of_mass(model, &ws)[up] - floor
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    //! A rigid translation of the whole body by `δp(t)` (the pelvis offset) adds exactly the
+    //! force `M δp̈` at the centre of mass to the wrench the motion needs: the linearization
+    //! residual reduction's Jacobian uses, for a free root and for a root of three prismatic
+    //! joints.
+    use super::*;
+    use crate::dynamics::samples::{
+        SplitMix64, euler_avatar, random_configuration, random_tree, random_vector,
+    };
+
+    fn needed_about_pelvis(model: &Model, q: &[f64], v: &[f64], a: &[f64]) -> [f64; 6] {
+        let mut ws = Workspace::new(model);
+        forward_kinematics(model, &mut ws, q);
+        rnea(model, &mut ws, q, v, a, None);
+        let root = floating_root(model).unwrap();
+        about(
+            &super::super::grf::root_wrench(model, &ws),
+            &ws.o_x_i[root].trans,
+        )
+    }
+
+    #[test]
+    fn a_rigid_translation_adds_m_times_its_acceleration_at_the_centre_of_mass() {
+        let mut rng = SplitMix64(7);
+        for model in [random_tree(9, 3, true), euler_avatar()] {
+            let t = root_translation(&model).expect("a floating root");
+            let root = floating_root(&model).unwrap();
+            let (mut q, mut v, mut a) = (
+                vec![0.0; model.nq],
+                vec![0.0; model.nv],
+                vec![0.0; model.nv],
+            );
+            random_configuration(&model, &mut rng, &mut q);
+            random_vector(&mut rng, 1.0, &mut v);
+            random_vector(&mut rng, 1.0, &mut a);
+            let w0 = needed_about_pelvis(&model, &q, &v, &a);
+            let mut ws = Workspace::new(&model);
+            forward_kinematics(&model, &mut ws, &q);
+            let (pelvis, rot) = (ws.o_x_i[root].trans, ws.o_x_i[root].rot);
+            let com = centre_of_mass(&model, &ws);
+            let (p, dp, ddp) = (rng.vec3(0.05), rng.vec3(0.3), rng.vec3(2.0));
+            shift_root(&t, &rot, &p, &dp, &ddp, &mut q, &mut v, &mut a);
+            forward_kinematics(&model, &mut ws, &q);
+            assert!((ws.o_x_i[root].trans - pelvis - p).norm() < 1e-12);
+            assert!((ws.o_x_i[root].rot - rot).norm() < 1e-12);
+            let w1 = needed_about_pelvis(&model, &q, &v, &a);
+            let df = ddp * model.total_mass();
+            let dn = (com - pelvis).cross(&df);
+            for c in 0..3 {
+                assert!(
+                    (w1[c] - w0[c] - df[c]).abs() < 1e-9,
+                    "{}: force",
+                    model.name
+                );
+                assert!(
+                    (w1[3 + c] - w0[3 + c] - dn[c]).abs() < 1e-9,
+                    "{}: moment",
+                    model.name
+                );
+            }
+        }
+    }
 }

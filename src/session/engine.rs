@@ -548,11 +548,11 @@ impl Engine for Builtin {
                     } else {
                         format!("{note}; {said}")
                     };
+                    ctl.set_progress(0.9);
                     (adjusted.unwrap_or(t), Some(g))
                 } else {
                     (t, None)
                 };
-                ctl.set_progress(0.9);
                 ctl.check()?;
                 anatomy = anatomy_table(&t, g.as_ref());
                 ctl.check()?;
