@@ -24,6 +24,9 @@ pub struct Adjustments {
     /// Largest and RMS horizontal pelvis offset over the take (m).
     pub pelvis_peak_m: f64,
     pub pelvis_rms_m: f64,
+    /// The largest change of the pelvis offset within one foot's contact phase (m): how far
+    /// the offset slides a foot on the floor (the whole body moves with it, as in RRA).
+    pub stance_slide_m: f64,
     /// The bounds the adjustments end against (`trunk`, `pelvis`).
     pub bounded: Vec<&'static str>,
     /// The bounds used.
@@ -111,6 +114,7 @@ pub fn consistent_take(
         trunk_mass_kg: r.trunk_mass_kg,
         pelvis_peak_m,
         pelvis_rms_m,
+        stance_slide_m: stance_slide(&r.pelvis, &r.ground.contact),
         bounded: r.bounded.clone(),
         bounds,
     };
@@ -157,6 +161,21 @@ pub fn trunk_bodies(take: &Take) -> Vec<usize> {
         j = take.bvh.joints[joint].parent;
     }
     bodies
+}
+
+/// The largest change of the offsets `pelvis` (per frame) over one foot's contact phase (m).
+fn stance_slide(pelvis: &[Vector3<f64>], contact: &[Vec<bool>]) -> f64 {
+    let feet = contact.first().map_or(0, Vec::len);
+    let mut slide: f64 = 0.0;
+    for j in 0..feet {
+        let on: Vec<bool> = contact.iter().map(|c| c[j]).collect();
+        for (a, b) in runs(&on) {
+            for k in a..=b {
+                slide = slide.max((pelvis[k] - pelvis[a]).norm());
+            }
+        }
+    }
+    slide
 }
 
 /// The trunk's long axis, from the lumbar joint to the head, in the frame of the lumbar joint's
@@ -393,7 +412,8 @@ impl Consistency {
                  the motion: a mass change scales every force and moment alike); trunk mass \
                  centre ({:+.1}, {:+.1}, {:+.1}) cm = {:.1} cm (trunk {:.1} kg, its frame; bound \
                  {:.0} cm); pelvis offset peak {:.1} cm, RMS {:.1} cm (horizontal, knots every \
-                 {:.2} s; bounds {:.0} cm, {:.0} cm){}\n",
+                 {:.2} s; bounds {:.0} cm, {:.0} cm){}; it slides a foot in contact by up to \
+                 {:.1} cm\n",
                 self.mass_kg,
                 c.x,
                 c.y,
@@ -410,7 +430,8 @@ impl Consistency {
                     String::new()
                 } else {
                     format!("; at the {} bound", a.bounded.join(" and "))
-                }
+                },
+                100.0 * a.stance_slide_m
             );
         }
         if self.last().meets() {
@@ -449,6 +470,7 @@ impl Consistency {
                 "trunk_mass_kg": a.trunk_mass_kg,
                 "pelvis_offset_peak_m": a.pelvis_peak_m,
                 "pelvis_offset_rms_m": a.pelvis_rms_m,
+                "stance_slide_m": a.stance_slide_m,
                 "bounded_by": a.bounded,
                 "bounds": {
                     "trunk_com_m": a.bounds.trunk_com_m,
