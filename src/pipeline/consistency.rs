@@ -3,7 +3,7 @@
 //! the trunk's mass centre and a smooth pelvis offset, as OpenSim's RRA), the adjustments,
 //! and where and why a take misses the thresholds.
 
-use super::{Take, anatomy::find_take_human, estimate_take_ground_reactions, take_feet};
+use super::{Take, anatomy::find_take_human, contact_feet, estimate_take_ground_reactions};
 use crate::dynamics::grf::GroundReactions;
 use crate::dynamics::residual::{
     FORCE_SHARE, MOMENT_SHARE, ResidualFigures, counted_frames, external_forces, residual_figures,
@@ -82,7 +82,7 @@ pub fn consistent_take(
         return Ok((None, before, c));
     }
     let bounds = ReductionBounds::default();
-    let feet = take_feet(take);
+    let feet = contact_feet(take);
     let bodies = trunk_bodies(take);
     let across = trunk_long_axis(take)
         .and_then(|e| Trunk::across(&e))

@@ -1327,15 +1327,9 @@ pub fn estimate_take_ground_reactions_with(
     let s = &take.states;
     let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)
         .map_err(|e| at_file(&take.path, e))?;
-    let mut feet = take_feet(take);
-    if feet.is_empty() {
-        // no feet by name (an animal; a rig whose names no scheme knows): the limb ends that
-        // come down to the floor
-        feet = limb_ends_on_floor(take);
-    }
     crate::dynamics::grf::estimate_ground_reactions_progress(
         &take.model,
-        &feet,
+        &contact_feet(take),
         &s.time,
         &s.q,
         &s.v,
@@ -1345,6 +1339,17 @@ pub fn estimate_take_ground_reactions_with(
         keep_going,
     )
     .map_err(|e| at_file(&take.path, e))
+}
+
+/// The feet that carry a take's ground reactions: [`take_feet`], else (no feet by name: an
+/// animal, a rig whose names no scheme knows) the limb ends that come down to the floor.
+pub fn contact_feet(take: &Take) -> Vec<crate::motion::contact::Foot> {
+    let feet = take_feet(take);
+    if feet.is_empty() {
+        limb_ends_on_floor(take)
+    } else {
+        feet
+    }
 }
 
 /// A human's feet at the ankles and toes its topology found (`model::skeleton`), else the
