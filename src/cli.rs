@@ -72,6 +72,8 @@ pub enum Cmd {
         src: SourceArgs,
         #[command(flatten)]
         opts: TakeArgs,
+        #[command(flatten)]
+        consistency: ConsistencyArgs,
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -85,6 +87,8 @@ pub enum Cmd {
         take: PathBuf,
         #[command(flatten)]
         opts: TakeArgs,
+        #[command(flatten)]
+        consistency: ConsistencyArgs,
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -292,6 +296,46 @@ pub struct TakeArgs {
     /// Scene file (TOML, see data/scene_example.toml); flags given here override it.
     #[arg(long)]
     pub scene: Option<PathBuf>,
+}
+
+/// Residual reduction and the consistency summary (`id`, `anatomy`; with `--contact feet`).
+#[derive(Debug, Args, Clone)]
+pub struct ConsistencyArgs {
+    /// Residual reduction, as OpenSim's RRA: on (adjust the trunk's mass centre and a smooth
+    /// pelvis offset, within stated bounds, so that the root residuals fall within Hicks et
+    /// al.'s 2015 thresholds; every output is then the adjusted model's and motion's) or off.
+    /// Default: on for `anatomy` with ground contact, off for `id`. Needs ground contact
+    /// (contact auto on a take that stands, or --contact feet).
+    #[arg(long, value_name = "on|off")]
+    pub consistent: Option<String>,
+    /// Print the consistency summary as JSON (keys thresholds, before, after, adjustments,
+    /// meets, why, frames_beyond) instead of the table; on standard error with `-o -`.
+    #[arg(long)]
+    pub json: bool,
+}
+
+impl ConsistencyArgs {
+    /// Whether to reduce the residuals: `--consistent`, else `default`; refused without
+    /// contact.
+    fn reduce(&self, contact: bool, default: bool) -> Result<bool> {
+        let on = match self.consistent.as_deref().map(str::trim) {
+            None => default,
+            Some("on") => true,
+            Some("off") => false,
+            Some(other) => bail!("--consistent {other}: expected on or off"),
+        };
+        if self.consistent.is_some() && !contact {
+            bail!(
+                "--consistent has no effect without ground contact (contact none, or auto on a \
+                 take that never stands on a floor): residuals against the ground reactions \
+                 need --contact feet; remove it or add --contact feet"
+            );
+        }
+        if self.json && !contact {
+            bail!("--json prints the consistency summary, which needs --contact feet");
+        }
+        Ok(on && contact)
+    }
 }
 
 /// Computed-torque tracking settings.
@@ -620,23 +664,39 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             pipeline::generate_walk(&output, fps, duration, scale)?;
             wrote(&output);
         }
-        Cmd::Id { src, opts, output } => {
-            let mut job = pipeline::load_source(
-                &src.source()?,
-                src.states.as_deref(),
-                &opts.options_for_source("id", &src)?,
-            )?;
+        Cmd::Id {
+            src,
+            opts,
+            consistency,
+            output,
+        } => {
+            let o = opts.options_for_source("id", &src)?;
+            let mut job = pipeline::load_source(&src.source()?, src.states.as_deref(), &o)?;
             if let Some(t) = job.take.as_mut() {
                 pipeline::resolve_contact(t);
             }
+            let contact = job
+                .take
+                .as_ref()
+                .is_some_and(|t| t.options.contact == pipeline::Contact::Feet);
+            let reduce = consistency.reduce(contact, false)?;
+            let c = pipeline::consistency::consistent_job(&mut job, reduce, src.states.is_none())?;
             let quality = pipeline::write_inverse_dynamics(&job, &output)?;
             print_notes(job.take.as_ref());
             if let Some(q) = quality {
                 eprintln!("{q}");
             }
+            if let Some(c) = c {
+                print_consistency(&c, consistency.json, &output)?;
+            }
             wrote(&output);
         }
-        Cmd::Anatomy { take, opts, output } => {
+        Cmd::Anatomy {
+            take,
+            opts,
+            consistency,
+            output,
+        } => {
             let mut o = opts.options_for("anatomy")?;
             // no gimbal lock, and smoothing on rotations, not on one Euler order's angles
             if opts.scene.is_none() && opts.joints.is_none() {
@@ -644,13 +704,20 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             }
             let mut take = pipeline::load_take(&take, &o)?;
             pipeline::resolve_contact(&mut take);
-            let a = pipeline::anatomy::anatomy(&take)?;
+            let contact = take.options.contact == pipeline::Contact::Feet;
+            let reduce = consistency.reduce(contact, true)?;
+            let a = pipeline::consistency::anatomy_consistent(&take, reduce)?;
             pipeline::anatomy::write_anatomy(&a, &output)?;
             print_notes(Some(&take));
             for n in &a.notes {
                 eprintln!("note: {n}");
             }
             eprint!("{}", pipeline::anatomy::summary(&a));
+            if consistency.json
+                && let Some(c) = &a.consistency
+            {
+                print_consistency(c, true, &output)?;
+            }
             wrote(&output);
         }
         Cmd::Fd {
@@ -805,6 +872,23 @@ fn report(text: &str, output: Option<&Path>) {
     } else {
         print!("{text}");
     }
+}
+
+/// The consistency summary: as JSON through [`report`], else the table on standard error.
+fn print_consistency(
+    c: &pipeline::consistency::Consistency,
+    json: bool,
+    output: &Path,
+) -> Result<()> {
+    if json {
+        report(
+            &format!("{}\n", serde_json::to_string_pretty(&c.json())?),
+            Some(output),
+        );
+    } else {
+        eprint!("{}", c.text());
+    }
+    Ok(())
 }
 
 /// The line that says where an output went, on standard error.

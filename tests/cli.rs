@@ -1149,3 +1149,62 @@ fn fd_refuses_torques_computed_with_ground_reactions() {
     assert!(e.contains("articula id --contact none"), "{e}");
     assert!(!dir.path().join("a.csv").exists());
 }
+
+#[test]
+fn anatomy_reports_the_consistency_and_id_asks_for_contact_before_reducing() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 3.0);
+    let out = dir.path().join("a.csv");
+    // anatomy: residual reduction on by default with contact; the JSON summary on stdout
+    let json = articula()
+        .args(["anatomy", "--json", "-o"])
+        .arg(&out)
+        .arg(&take)
+        .assert()
+        .success()
+        .stderr(predicate::str::contains(
+            "consistency after residual reduction",
+        ))
+        .get_output()
+        .stdout
+        .clone();
+    let v: serde_json::Value = serde_json::from_slice(&json).unwrap();
+    for key in [
+        "thresholds",
+        "before",
+        "after",
+        "adjustments",
+        "meets",
+        "why",
+        "frames_beyond",
+    ] {
+        assert!(v.get(key).is_some(), "no key {key} in {v}");
+    }
+    assert!(
+        v["after"]["rms_residual_moment_pct"].as_f64().unwrap()
+            <= v["before"]["rms_residual_moment_pct"].as_f64().unwrap()
+    );
+    // off: the figures of the take as loaded, and no adjustment
+    articula()
+        .args(["anatomy", "--consistent", "off", "-o"])
+        .arg(&out)
+        .arg(&take)
+        .assert()
+        .success()
+        .stderr(predicate::str::contains("(not reduced)"));
+    articula()
+        .args(["anatomy", "--consistent", "maybe", "-o"])
+        .arg(&out)
+        .arg(&take)
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("expected on or off"));
+    // id: no contact, no residuals to reduce
+    articula()
+        .args(["id", "--contact", "none", "--consistent", "on", "-o"])
+        .arg(dir.path().join("id.csv"))
+        .arg(&take)
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("need --contact feet"));
+}

@@ -573,7 +573,7 @@ fn foot_paths(
 
 /// The wrench the world applies on the model through the joints of the root-level bodies
 /// (world axes, about the world origin), from `ws.f` and `ws.o_x_i`.
-fn root_wrench(model: &Model, ws: &Workspace) -> ForceVec {
+pub(crate) fn root_wrench(model: &Model, ws: &Workspace) -> ForceVec {
     (1..model.nbodies())
         .filter(|&i| model.parent[i] == 0)
         .map(|i| ws.o_x_i[i].act_force(&ws.f[i]))
@@ -581,7 +581,7 @@ fn root_wrench(model: &Model, ws: &Workspace) -> ForceVec {
 }
 
 /// `[fx, fy, fz, tx, ty, tz]` of a wrench given about the world origin, taken about `point`.
-fn about(w: &ForceVec, point: &Vector3<f64>) -> [f64; 6] {
+pub(crate) fn about(w: &ForceVec, point: &Vector3<f64>) -> [f64; 6] {
     let n = w.ang - point.cross(&w.lin);
     [w.lin.x, w.lin.y, w.lin.z, n.x, n.y, n.z]
 }

@@ -8,6 +8,7 @@ pub mod derive;
 pub mod fold;
 pub mod ramp;
 pub mod smooth;
+pub mod spline;
 pub mod take;
 pub mod trim;
 pub mod twist;

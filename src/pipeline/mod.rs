@@ -18,6 +18,7 @@
 //!    of v.
 
 pub mod anatomy;
+pub mod consistency;
 mod edit;
 mod sim;
 
@@ -1477,9 +1478,9 @@ pub fn estimate_take_ground_reactions_with(
     .map_err(|e| at_file(&take.path, e))
 }
 
-/// The feet ground reactions act on: a human's ([`take_feet`]), else the limb ends that come
-/// down to the floor (an animal; a rig whose names no scheme knows).
-fn contact_feet(take: &Take) -> Vec<crate::motion::contact::Foot> {
+/// The feet that carry a take's ground reactions: [`take_feet`], else (no feet by name: an
+/// animal, a rig whose names no scheme knows) the limb ends that come down to the floor.
+pub fn contact_feet(take: &Take) -> Vec<crate::motion::contact::Foot> {
     let feet = take_feet(take);
     if feet.is_empty() {
         limb_ends_on_floor(take)

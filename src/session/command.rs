@@ -205,6 +205,7 @@ pub const SET_KEYS: &[&str] = &[
     "joints",
     "smooth",
     "contact",
+    "consistent",
     "keep_first_frame",
     "joint_translations",
     "kp",

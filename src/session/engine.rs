@@ -146,6 +146,9 @@ pub struct Params {
     pub motor_joint: BTreeMap<String, MotorOverride>,
     /// Motor catalogue (TOML, see `data/motor_classes.toml`); `None`: the bundled one.
     pub motor_catalogue: Option<std::path::PathBuf>,
+    /// Residual reduction with ground contact (`set consistent auto|on|off`, the CLI's
+    /// `--consistent`): `None` is on with `contact feet`, as `articula anatomy`.
+    pub consistent: Option<bool>,
 }
 
 impl Default for Params {
@@ -165,6 +168,7 @@ impl Default for Params {
             },
             motor_joint: BTreeMap::new(),
             motor_catalogue: None,
+            consistent: None,
         }
     }
 }
@@ -174,6 +178,7 @@ impl Params {
     /// the blend window do not change inverse dynamics or a simulation).
     pub fn same_results(&self, other: &Params) -> bool {
         self.take == other.take
+            && self.consistent == other.consistent
             && self.kp == other.kp
             && self.kv == other.kv
             && self.integrator == other.integrator
@@ -533,16 +538,22 @@ impl Engine for Builtin {
                 let scale = t.scale_to_m;
                 note = summarize_notes(&t.notes);
                 // with `contact feet`: the torques with the estimated ground reactions
-                // (and how far the feet could give the ground force the motion needs)
-                let g = pipeline::ground_reactions_with(&t, &mut ctl.stage(0.2, 0.9))?;
-                if let Some(g) = &g {
-                    let quality = g.quality().to_string();
+                // (and how far the feet could give the ground force the motion needs), of the
+                // take made consistent unless `consistent off` (residual reduction)
+                let (t, g) = if t.options.contact == pipeline::Contact::Feet {
+                    let reduce = params.consistent.unwrap_or(true);
+                    let (adjusted, g, c) = pipeline::consistency::consistent_take(&t, reduce)?;
+                    let said = format!("{}; {}", g.quality(), c.headline());
                     note = if note.is_empty() {
-                        quality
+                        said
                     } else {
-                        format!("{note}; {quality}")
+                        format!("{note}; {said}")
                     };
-                }
+                    ctl.set_progress(0.9);
+                    (adjusted.unwrap_or(t), Some(g))
+                } else {
+                    (t, None)
+                };
                 ctl.check()?;
                 anatomy = anatomy_table(&t, g.as_ref());
                 ctl.check()?;

@@ -56,7 +56,10 @@
 //! de Leva's fixed fractions: `--segments`), `unit auto|m|dm|cm|mm|in|cmu|METRES`,
 //! `stature auto|M`, `up auto|x|y|z`, `positions auto|add|replace`, `subtree none|JOINT`,
 //! `joints euler|ball`, `smooth none|gaussian:W|butterworth:F[hz][:ORDER]` (W in s, F in Hz),
-//! `contact auto|feet|none`, `link.<joint>.mass KG`, `lock J1,J2,…` (or `none`),
+//! `contact auto|feet|none`, `consistent auto|on|off` (residual reduction with ground contact,
+//! as `--consistent`: auto is on when contact is feet, or auto settled on feet; the status line
+//! then says the take's residuals against Hicks et al.'s thresholds), `link.<joint>.mass KG`,
+//! `lock J1,J2,…` (or `none`),
 //! `keep_first_frame true|false` (keep a rest pose stored as frame 0, `--keep-first-frame`; it
 //! acts when a take is read, so it applies to the takes loaded after it),
 //! `joint_translations weld|keep` (position channels on joints below the body's root held at

@@ -1264,6 +1264,18 @@ impl Workbench {
                 self.params.take.smooth = spec;
             }
             "contact" => p.take.contact = parsed(key, value)?,
+            "consistent" => {
+                p.consistent = match value {
+                    "auto" => None,
+                    "on" => Some(true),
+                    "off" => Some(false),
+                    _ => {
+                        return Err(err(format!(
+                            "set consistent: expected auto, on or off, found '{value}'"
+                        )));
+                    }
+                }
+            }
             "keep_first_frame" => p.take.keep_first_frame = parsed::<bool>(key, value)?,
             "joint_translations" => p.take.joint_translations = parsed(key, value)?,
             "kp" => p.kp.all = num(None, "a gain in 1/s²")?,

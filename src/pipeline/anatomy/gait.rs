@@ -71,7 +71,11 @@ pub fn knee_cycles(a: &Anatomy) -> Vec<KneeCycles> {
 /// A few lines for the terminal: per joint, the flexion range (deg) and the largest extensor
 /// and flexor moments (N·m/kg) over the take.
 pub fn summary(a: &Anatomy) -> String {
-    let mut out = format!(
+    let mut out = a
+        .consistency
+        .as_ref()
+        .map_or(String::new(), |c| format!("{}\n", c.headline()));
+    out += &format!(
         "{:<12} {:>22} {:>30}\n",
         "joint", "flexion min..max (deg)", "flexion moment min..max (N·m/kg)"
     );
@@ -104,6 +108,9 @@ pub fn summary(a: &Anatomy) -> String {
             c.loading_flexion_deg,
             a.mass_kg
         );
+    }
+    if let Some(c) = &a.consistency {
+        out += &c.text();
     }
     out
 }

@@ -51,6 +51,9 @@ pub struct Anatomy {
     pub notes: Vec<String>,
     /// With ground contact: per foot (`left`, `right`), whether it is on the floor per frame.
     pub contact: Vec<(String, Vec<bool>)>,
+    /// With ground contact through [`anatomy_consistent`](super::consistency::anatomy_consistent):
+    /// the take's residuals against Hicks et al.'s thresholds, before and after reduction.
+    pub consistency: Option<super::consistency::Consistency>,
 }
 
 impl Anatomy {
@@ -685,6 +688,7 @@ pub fn anatomy_with(take: &Take, grf: Option<&GroundReactions>) -> Result<Anatom
         mass_kg: mass,
         notes,
         contact,
+        consistency: None,
     })
 }
 
@@ -698,7 +702,9 @@ fn unwrap_degrees(x: &mut [f64]) {
 
 /// `articula anatomy -o PATH`: `time` (s), then every column of [`anatomy`] (angles in deg,
 /// moments in N·m and N·m/kg), then with ground contact `contact:left`, `contact:right` (1 on
-/// the floor, 0 off it).
+/// the floor, 0 off it), and with the take's consistency `residual:force` (N),
+/// `residual:moment` (N·m about the pelvis) and `residual:beyond` (1 where the frame lies
+/// beyond Hicks et al.'s thresholds, 0 elsewhere).
 pub fn write_anatomy(a: &Anatomy, path: &std::path::Path) -> Result<(), Error> {
     let mut header = vec!["time".to_string()];
     header.extend(a.names.iter().cloned());
@@ -711,5 +717,19 @@ pub fn write_anatomy(a: &Anatomy, path: &std::path::Path) -> Result<(), Error> {
         .collect();
     header.extend(a.contact.iter().map(|(f, _)| format!("contact:{f}")));
     cols.extend(contact.iter().map(|c| c.as_slice()));
+    let beyond: Vec<f64>;
+    if let Some(c) = &a.consistency {
+        beyond = c
+            .beyond
+            .iter()
+            .map(|&b| if b { 1.0 } else { 0.0 })
+            .collect();
+        header.extend(["residual:force", "residual:moment", "residual:beyond"].map(String::from));
+        cols.extend([
+            c.force_n.as_slice(),
+            c.moment_nm.as_slice(),
+            beyond.as_slice(),
+        ]);
+    }
     crate::report::csv::write_columns(path, &header, &cols)
 }

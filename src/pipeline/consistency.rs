@@ -1,0 +1,561 @@
+//! A take's dynamic consistency (`--consistent`): its residuals against Hicks et al.'s
+//! thresholds (`dynamics::residual`), before and after residual reduction (`dynamics::rra`:
+//! the trunk's mass centre and a smooth pelvis offset, as OpenSim's RRA), the adjustments,
+//! and where and why a take misses the thresholds.
+
+use super::{Take, anatomy::find_take_human, contact_feet, estimate_take_ground_reactions};
+use crate::dynamics::grf::GroundReactions;
+use crate::dynamics::residual::{
+    FORCE_SHARE, MOMENT_SHARE, ResidualFigures, counted_frames, external_forces, residual_figures,
+    split_norms,
+};
+use crate::dynamics::rra::{Motion, ReductionBounds, Trunk, com_heights, reduce_residuals};
+use crate::error::Error;
+use crate::motion::contact::ContactParams;
+use nalgebra::Vector3;
+
+/// What residual reduction changed (`None` fields: not reduced).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Adjustments {
+    /// The trunk's mass-centre offset (m, in the trunk bodies' frame: the file's axes at rest).
+    pub trunk_offset_m: Vector3<f64>,
+    /// The trunk's mass (kg): the bodies from the lumbar joint to the head.
+    pub trunk_mass_kg: f64,
+    /// Largest and RMS horizontal pelvis offset over the take (m).
+    pub pelvis_peak_m: f64,
+    pub pelvis_rms_m: f64,
+    /// The largest change of the pelvis offset within one foot's contact phase (m): how far
+    /// the offset slides a foot on the floor (the whole body moves with it, as in RRA).
+    pub stance_slide_m: f64,
+    /// The bounds the adjustments end against (`trunk`, `pelvis`).
+    pub bounded: Vec<&'static str>,
+    /// The bounds used.
+    pub bounds: ReductionBounds,
+}
+
+/// A take's consistency: the residual figures before and after reduction, per frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Consistency {
+    /// The residuals of the take as loaded.
+    pub before: ResidualFigures,
+    /// After residual reduction (`None`: `--consistent off`).
+    pub after: Option<ResidualFigures>,
+    pub adjustments: Option<Adjustments>,
+    /// The body mass (kg), not adjusted (`dynamics::rra`: estimated ground reactions make it
+    /// unobservable).
+    pub mass_kg: f64,
+    /// Per frame: |residual force| (N) and |residual moment| (N·m) of the final model and
+    /// motion, whether the frame counts, and whether it lies beyond the thresholds.
+    pub force_n: Vec<f64>,
+    pub moment_nm: Vec<f64>,
+    pub counted: Vec<bool>,
+    pub beyond: Vec<bool>,
+    /// Why the thresholds are missed, when they are (empty when met).
+    pub why: Vec<String>,
+}
+
+impl Consistency {
+    /// The final figures: after reduction, else before.
+    pub fn last(&self) -> &ResidualFigures {
+        self.after.as_ref().unwrap_or(&self.before)
+    }
+}
+
+/// The take's ground reactions and consistency; with `reduce`, residual reduction first, and
+/// the take returned is the adjusted one (its model and states), whose joint moments every
+/// output then reads.
+pub fn consistent_take(
+    take: &Take,
+    reduce: bool,
+) -> Result<(Option<Take>, GroundReactions, Consistency), Error> {
+    let before = estimate_take_ground_reactions(take)?;
+    let s = &take.states;
+    let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)?;
+    let spread = (params.spread_s / take.bvh.frame_time).round() as usize;
+    let counted = counted_frames(s.len(), spread);
+    let heights = com_heights(&take.model, &s.q, before.up, before.floor);
+    let fig_before = figures(&before, &heights, &counted);
+    let mass_kg = take.model.total_mass();
+    let travel = pelvis_travel(take);
+    if !reduce {
+        let c = finish(fig_before, None, None, mass_kg, &before, counted, travel);
+        return Ok((None, before, c));
+    }
+    let duration = s.time.last().copied().unwrap_or(0.0) - s.time.first().copied().unwrap_or(0.0);
+    let bounds = ReductionBounds::for_take(duration, take.bvh.frame_time);
+    let feet = contact_feet(take);
+    let bodies = trunk_bodies(take);
+    let across = trunk_long_axis(take)
+        .and_then(|e| Trunk::across(&e))
+        .unwrap_or([Vector3::zeros(); 2]);
+    let r = reduce_residuals(
+        &take.model,
+        &feet,
+        Trunk {
+            bodies: &bodies,
+            across,
+        },
+        Motion {
+            time: &s.time,
+            q: &s.q,
+            v: &s.v,
+            a: &s.a,
+        },
+        take.up.index(),
+        &params,
+        &counted,
+        &bounds,
+    )
+    .map_err(|e| Error::Invalid(format!("{}: {e}", take.path.display())))?;
+    let heights = com_heights(&r.model, &r.q, r.ground.up, r.ground.floor);
+    let fig_after = figures(&r.ground, &heights, &counted);
+    let (pelvis_peak_m, pelvis_rms_m) = r.pelvis_peak_rms();
+    let adjustments = Adjustments {
+        trunk_offset_m: r.trunk_offset,
+        trunk_mass_kg: r.trunk_mass_kg,
+        pelvis_peak_m,
+        pelvis_rms_m,
+        stance_slide_m: stance_slide(&r.pelvis, &r.ground.contact),
+        bounded: r.bounded.clone(),
+        bounds,
+    };
+    let c = finish(
+        fig_before,
+        Some(fig_after),
+        Some(adjustments),
+        mass_kg,
+        &r.ground,
+        counted,
+        travel,
+    );
+    let mut adjusted = take.clone();
+    adjusted.model = r.model;
+    adjusted.states.q = r.q;
+    adjusted.states.v = r.v;
+    adjusted.states.a = r.a;
+    Ok((Some(adjusted), r.ground, c))
+}
+
+fn figures(g: &GroundReactions, heights: &[f64], counted: &[bool]) -> ResidualFigures {
+    residual_figures(&g.residual, &external_forces(g), heights, counted)
+}
+
+/// The bodies of the trunk whose mass centre residual reduction moves: those of the joints
+/// from the lumbar joint up to the head (arms left out), with mass.
+pub fn trunk_bodies(take: &Take) -> Vec<usize> {
+    let Ok(human) = find_take_human(take) else {
+        return vec![];
+    };
+    let Some(spine) = human.spine else {
+        return vec![];
+    };
+    let mut bodies = vec![];
+    let mut j = Some(spine.head);
+    while let Some(joint) = j {
+        let b = take.map.joints[joint].body;
+        if take.model.inertia[b].mass > 0.0 && !bodies.contains(&b) {
+            bodies.push(b);
+        }
+        if joint == spine.lumbar {
+            break;
+        }
+        j = take.bvh.joints[joint].parent;
+    }
+    bodies
+}
+
+/// The largest change of the offsets `pelvis` (per frame) over one foot's contact phase (m).
+fn stance_slide(pelvis: &[Vector3<f64>], contact: &[Vec<bool>]) -> f64 {
+    let feet = contact.first().map_or(0, Vec::len);
+    let mut slide: f64 = 0.0;
+    for j in 0..feet {
+        let on: Vec<bool> = contact.iter().map(|c| c[j]).collect();
+        for (a, b) in runs(&on) {
+            for k in a..=b {
+                slide = slide.max((pelvis[k] - pelvis[a]).norm());
+            }
+        }
+    }
+    slide
+}
+
+/// The trunk's long axis, from the lumbar joint to the head, in the frame of the lumbar joint's
+/// body at the rest pose (`None`: no trunk).
+fn trunk_long_axis(take: &Take) -> Option<Vector3<f64>> {
+    let spine = find_take_human(take).ok()?.spine?;
+    let model = &take.model;
+    let mut ws = crate::dynamics::Workspace::new(model);
+    crate::dynamics::forward_kinematics(model, &mut ws, &model.neutral());
+    let at = |j: usize| {
+        let m = &take.map.joints[j];
+        ws.o_x_i[m.body].compose(&m.frame).trans
+    };
+    let lumbar = &ws.o_x_i[take.map.joints[spine.lumbar].body];
+    Some(lumbar.rot.transpose() * (at(spine.head) - at(spine.lumbar)))
+}
+
+fn finish(
+    before: ResidualFigures,
+    after: Option<ResidualFigures>,
+    adjustments: Option<Adjustments>,
+    mass_kg: f64,
+    g: &GroundReactions,
+    counted: Vec<bool>,
+    travel: f64,
+) -> Consistency {
+    let last = after.unwrap_or(before);
+    let (force_n, moment_nm): (Vec<f64>, Vec<f64>) = g.residual.iter().map(split_norms).unzip();
+    let beyond: Vec<bool> = (0..g.residual.len())
+        .map(|k| counted[k] && last.beyond(&g.residual[k]))
+        .collect();
+    let mut why = vec![];
+    if !last.meets() {
+        if travel < IN_PLACE_M {
+            why.push(format!(
+                "the pelvis travels {:.0} cm over the take: a walk in place (a keyframed cycle \
+                 or a treadmill) whose feet slide back under the body; no ground force explains \
+                 such a motion",
+                100.0 * travel
+            ));
+        }
+        why.extend(why_missed(&last, g, &counted, &beyond));
+        match adjustments.as_ref() {
+            Some(a) if !a.bounded.is_empty() => why.push(format!(
+                "the {} bound held the adjustments back (trunk mass centre ≤ {:.0} cm, pelvis \
+                 offset ≤ {:.0} cm peak and {:.0} cm RMS, OpenSim's guidelines for RRA): what \
+                 remains would take a larger change of the model or the motion than they allow",
+                a.bounded.join(" and "),
+                100.0 * a.bounds.trunk_com_m,
+                100.0 * a.bounds.pelvis_peak_m,
+                100.0 * a.bounds.pelvis_rms_m
+            )),
+            Some(_) => why.push(
+                "the adjustments stop inside their bounds: what remains is no smooth change of \
+                 the trunk's mass centre or the pelvis path (the frames above)"
+                    .into(),
+            ),
+            None => {}
+        }
+    }
+    Consistency {
+        before,
+        after,
+        adjustments,
+        mass_kg,
+        force_n,
+        moment_nm,
+        counted,
+        beyond,
+        why,
+    }
+}
+
+/// A pelvis that travels less than this over a take (m) walks in place.
+const IN_PLACE_M: f64 = 0.1;
+
+/// How far the pelvis gets from where it starts, along the floor (m), over the take.
+fn pelvis_travel(take: &Take) -> f64 {
+    let model = &take.model;
+    let Some(root) = crate::dynamics::grf::floating_root(model) else {
+        return f64::INFINITY;
+    };
+    let up = take.up.index();
+    let mut ws = crate::dynamics::Workspace::new(model);
+    let mut start = None;
+    let mut far: f64 = 0.0;
+    for q in &take.states.q {
+        crate::dynamics::forward_kinematics(model, &mut ws, q);
+        let mut p = ws.o_x_i[root].trans;
+        p[up] = 0.0;
+        let s = *start.get_or_insert(p);
+        far = far.max((p - s).norm());
+    }
+    far
+}
+
+/// Runs of `true` in `flags` as `(first, last)` frames.
+fn runs(flags: &[bool]) -> Vec<(usize, usize)> {
+    let mut out: Vec<(usize, usize)> = vec![];
+    for (k, &f) in flags.iter().enumerate() {
+        match out.last_mut() {
+            Some(r) if f && r.1 + 1 == k => r.1 = k,
+            _ if f => out.push((k, k)),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Why the figures `f` miss the thresholds, from the frames `beyond` them (of those `counted`): how much of the
+/// residual lies in flight and how far the needed centre of pressure lies off the feet.
+fn why_missed(
+    f: &ResidualFigures,
+    g: &GroundReactions,
+    counted: &[bool],
+    beyond: &[bool],
+) -> Vec<String> {
+    let mut why = vec![];
+    if f.peak_force_n > f.force_limit_n() {
+        why.push(format!(
+            "peak residual force {:.0} N is {:.1}× the {:.0} % threshold ({:.0} N), at frame {}{}",
+            f.peak_force_n,
+            f.peak_force_n / f.force_limit_n().max(1e-9),
+            100.0 * FORCE_SHARE,
+            f.force_limit_n(),
+            f.peak_force_frame,
+            if g.loaded[f.peak_force_frame].iter().any(|l| *l) {
+                ": a foot is on the floor but the force leaves its friction cone or pulls"
+            } else {
+                ": no foot is on the floor, yet the motion is not ballistic there (a missed \
+                 contact, or the accelerations of a landing spread into the flight)"
+            }
+        ));
+    }
+    if f.rms_moment_nm > f.moment_limit_nm() {
+        let frames: Vec<usize> = (0..beyond.len()).filter(|&k| beyond[k]).collect();
+        let mut gaps: Vec<f64> = frames.iter().map(|&k| g.cop_gap[k]).collect();
+        gaps.sort_by(f64::total_cmp);
+        let median = gaps.get(gaps.len() / 2).copied().unwrap_or(0.0);
+        let feet_on = |k: usize| g.loaded[k].iter().filter(|l| **l).count();
+        let count = |n: usize| frames.iter().filter(|&&k| feet_on(k) == n).count();
+        let (flight, single) = (count(0), count(1));
+        let double = frames.len() - flight - single;
+        // the share of the squared residual moment these frames hold
+        let n2 = |k: usize| {
+            let r = &g.residual[k];
+            r[3] * r[3] + r[4] * r[4] + r[5] * r[5]
+        };
+        let total: f64 = (0..beyond.len()).filter(|&k| counted[k]).map(n2).sum();
+        let share = frames.iter().map(|&k| n2(k)).sum::<f64>() / total.max(1e-12);
+        why.push(format!(
+            "RMS residual moment {:.1} N·m is {:.1}× the {:.0} % threshold ({:.1} N·m): {} frames \
+             beyond it ({single} in single support, {double} in double support, {flight} in \
+             flight) hold {:.0} % of it; there the needed centre of pressure lies a median {:.1} \
+             cm off the feet{}",
+            f.rms_moment_nm,
+            f.rms_moment_nm / f.moment_limit_nm().max(1e-9),
+            100.0 * MOMENT_SHARE,
+            f.moment_limit_nm(),
+            frames.len(),
+            100.0 * share,
+            100.0 * median,
+            if median > 0.05 {
+                ": more than a smooth pelvis and trunk correction can move it (a missed \
+                 contact, a prop, or feet that slide), not noise"
+            } else {
+                ""
+            }
+        ));
+    }
+    let r = runs(beyond);
+    if !r.is_empty() {
+        let shown: Vec<String> = r
+            .iter()
+            .take(8)
+            .map(|&(a, b)| {
+                if a == b {
+                    format!("{a}")
+                } else {
+                    format!("{a}–{b}")
+                }
+            })
+            .collect();
+        why.push(format!(
+            "frames beyond the thresholds: {}{} (column residual:beyond)",
+            shown.join(", "),
+            if r.len() > 8 { ", …" } else { "" }
+        ));
+    }
+    why
+}
+
+impl Consistency {
+    /// The table for the terminal: the residual figures before and after against Hicks et
+    /// al.'s thresholds, the adjustments, and why the thresholds are missed.
+    pub fn text(&self) -> String {
+        let force =
+            |f: &ResidualFigures| format!("{:.0} N ({:.1} %)", f.peak_force_n, f.force_pct());
+        let moment =
+            |f: &ResidualFigures| format!("{:.1} N·m ({:.2} %)", f.rms_moment_nm, f.moment_pct());
+        let after = |g: &dyn Fn(&ResidualFigures) -> String| {
+            self.after.as_ref().map_or("(not reduced)".into(), g)
+        };
+        let b = &self.before;
+        let mut out = format!(
+            "consistency (Hicks et al. 2015; {} frames, peak external force {:.0} N, COM height \
+             {:.2} m)\n{:<28} {:>20} {:>20} {:>10}\n",
+            b.frames,
+            self.last().peak_external_n,
+            self.last().com_height_m,
+            "residual",
+            "before",
+            "after",
+            "threshold"
+        );
+        out += &format!(
+            "{:<28} {:>20} {:>20} {:>10}\n",
+            "peak force (% peak ext.)",
+            force(b),
+            after(&force),
+            format!("{:.0} %", 100.0 * FORCE_SHARE)
+        );
+        out += &format!(
+            "{:<28} {:>20} {:>20} {:>10}\n",
+            "RMS moment (% h × peak ext.)",
+            moment(b),
+            after(&moment),
+            format!("{:.0} %", 100.0 * MOMENT_SHARE)
+        );
+        if let Some(a) = &self.adjustments {
+            let c = a.trunk_offset_m * 100.0;
+            out += &format!(
+                "adjustments: mass {:.1} kg, unchanged (the ground reactions are estimated from \
+                 the motion: a mass change scales every force and moment alike); trunk mass \
+                 centre ({:+.1}, {:+.1}, {:+.1}) cm = {:.1} cm (trunk {:.1} kg, its frame; bound \
+                 {:.0} cm); pelvis offset peak {:.1} cm, RMS {:.1} cm (horizontal, knots every \
+                 {:.2} s; bounds {:.0} cm, {:.0} cm){}; it slides a foot in contact by up to \
+                 {:.1} cm\n",
+                self.mass_kg,
+                c.x,
+                c.y,
+                c.z,
+                c.norm(),
+                a.trunk_mass_kg,
+                100.0 * a.bounds.trunk_com_m,
+                100.0 * a.pelvis_peak_m,
+                100.0 * a.pelvis_rms_m,
+                a.bounds.knot_spacing_s,
+                100.0 * a.bounds.pelvis_peak_m,
+                100.0 * a.bounds.pelvis_rms_m,
+                if a.bounded.is_empty() {
+                    String::new()
+                } else {
+                    format!("; at the {} bound", a.bounded.join(" and "))
+                },
+                100.0 * a.stance_slide_m
+            );
+        }
+        if self.last().meets() {
+            out += "consistency: within Hicks et al.'s thresholds\n";
+        } else {
+            out += "consistency: beyond Hicks et al.'s thresholds; the joint moments carry the \
+                    residual's error\n";
+            for w in &self.why {
+                out += &format!("  {w}\n");
+            }
+        }
+        out
+    }
+
+    /// The same as JSON: `before`, `after` (figures), `adjustments`, `meets`, `why`,
+    /// `frames_beyond`.
+    pub fn json(&self) -> serde_json::Value {
+        let fig = |f: &ResidualFigures| {
+            serde_json::json!({
+                "peak_external_force_n": f.peak_external_n,
+                "peak_residual_force_n": f.peak_force_n,
+                "peak_residual_force_frame": f.peak_force_frame,
+                "peak_residual_force_pct": f.force_pct(),
+                "rms_residual_moment_nm": f.rms_moment_nm,
+                "rms_residual_moment_pct": f.moment_pct(),
+                "com_height_m": f.com_height_m,
+                "frames": f.frames,
+                "meets": f.meets(),
+            })
+        };
+        let adjustments = self.adjustments.as_ref().map(|a| {
+            serde_json::json!({
+                "mass_kg": self.mass_kg,
+                "mass_change_kg": 0.0,
+                "trunk_com_offset_m": a.trunk_offset_m.as_slice(),
+                "trunk_mass_kg": a.trunk_mass_kg,
+                "pelvis_offset_peak_m": a.pelvis_peak_m,
+                "pelvis_offset_rms_m": a.pelvis_rms_m,
+                "stance_slide_m": a.stance_slide_m,
+                "bounded_by": a.bounded,
+                "bounds": {
+                    "trunk_com_m": a.bounds.trunk_com_m,
+                    "pelvis_peak_m": a.bounds.pelvis_peak_m,
+                    "pelvis_rms_m": a.bounds.pelvis_rms_m,
+                    "knot_spacing_s": a.bounds.knot_spacing_s,
+                },
+            })
+        });
+        serde_json::json!({
+            "thresholds": { "peak_force_pct": 100.0 * FORCE_SHARE, "rms_moment_pct": 100.0 * MOMENT_SHARE },
+            "before": fig(&self.before),
+            "after": self.after.as_ref().map(fig),
+            "adjustments": adjustments,
+            "meets": self.last().meets(),
+            "why": self.why,
+            "frames_beyond": runs(&self.beyond),
+        })
+    }
+}
+
+impl Consistency {
+    /// One line to read with every moment: the final figures against the thresholds.
+    pub fn headline(&self) -> String {
+        let f = self.last();
+        format!(
+            "consistency{}: residual force peak {:.1} % (≤ {:.0} %), residual moment RMS {:.2} % \
+             (≤ {:.0} %): {}",
+            if self.after.is_some() {
+                " after residual reduction"
+            } else {
+                ""
+            },
+            f.force_pct(),
+            100.0 * FORCE_SHARE,
+            f.moment_pct(),
+            100.0 * MOMENT_SHARE,
+            if f.meets() {
+                "within Hicks et al.'s thresholds"
+            } else {
+                "beyond Hicks et al.'s thresholds (see below)"
+            }
+        )
+    }
+}
+
+/// `articula anatomy`: the angles and moments of the take, with ground contact those of the
+/// take made consistent when `reduce` (residual reduction; else as loaded), and its
+/// consistency in [`Anatomy::consistency`](super::anatomy::Anatomy::consistency).
+pub fn anatomy_consistent(take: &Take, reduce: bool) -> Result<super::anatomy::Anatomy, Error> {
+    if take.options.contact == super::Contact::None {
+        return super::anatomy::anatomy(take);
+    }
+    let (adjusted, ground, c) = consistent_take(take, reduce)?;
+    let mut a = super::anatomy::anatomy_with(adjusted.as_ref().unwrap_or(take), Some(&ground))?;
+    a.consistency = Some(c);
+    Ok(a)
+}
+
+/// `articula id`: the consistency of a job's take with ground contact (`None`: a robot, or
+/// contact none); when `reduce`, the job's model, states and take become the adjusted ones.
+pub fn consistent_job(
+    job: &mut super::Job,
+    reduce: bool,
+    own_states: bool,
+) -> Result<Option<Consistency>, Error> {
+    let Some(take) = job.take.as_ref() else {
+        return Ok(None);
+    };
+    if take.options.contact == super::Contact::None {
+        return Ok(None);
+    }
+    if reduce && !own_states {
+        return Err(Error::Invalid(
+            "residual reduction adjusts the take's own motion: drop --states, or use \
+             --consistent off"
+                .into(),
+        ));
+    }
+    let (adjusted, _, c) = consistent_take(take, reduce)?;
+    if let Some(t) = adjusted {
+        job.model = t.model.clone();
+        job.states = t.states.clone();
+        job.take = Some(t);
+    }
+    Ok(Some(c))
+}

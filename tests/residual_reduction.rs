@@ -1,0 +1,199 @@
+//! Residual reduction (issue 14 item 4; OpenSim's RRA, Delp et al. 2007): the trunk's mass
+//! centre and a smooth pelvis offset adjusted so that the root residuals fall within Hicks et
+//! al.'s 2015 thresholds (peak force ≤ 5 % of the peak external force, RMS moment ≤ 1 % of COM
+//! height × peak external force).
+//!
+//! Invariants tested: a trunk mass centre moved by a known offset in a take made consistent is
+//! found again (the reduction moves it back) and the residuals fall back within the
+//! thresholds; a uniform change of mass changes no residual percentage (why RRA's mass
+//! adjustment has nothing to find when the ground reactions are estimated from the motion);
+//! every shared walk and run either meets the thresholds after reduction or says by how much it
+//! missed and why.
+
+mod common;
+
+use articula::dynamics::residual::with_trunk_offset;
+use articula::pipeline::consistency::{anatomy_consistent, consistent_take, trunk_bodies};
+use articula::pipeline::{self, Contact, Take, TakeOptions};
+use articula::spatial::SpatialInertia;
+use nalgebra::Vector3;
+use std::path::Path;
+
+fn opts() -> TakeOptions {
+    TakeOptions {
+        joints: "ball".parse().unwrap(),
+        contact: Contact::Feet,
+        ..TakeOptions::default()
+    }
+}
+
+fn demo() -> Take {
+    pipeline::load_take(&common::repo("data/demo_walk.bvh"), &opts()).unwrap()
+}
+
+#[test]
+fn the_demo_walk_meets_hicks_thresholds_after_reduction_and_not_before() {
+    let (adjusted, _, c) = consistent_take(&demo(), true).unwrap();
+    let after = c.after.unwrap();
+    eprintln!("{}", c.text());
+    assert!(!c.before.meets(), "{:?}", c.before);
+    assert!(after.meets(), "{}", c.text());
+    assert!(after.rms_moment_nm < 0.5 * c.before.rms_moment_nm);
+    // the adjustments keep within their bounds
+    let a = c.adjustments.unwrap();
+    assert!(a.trunk_offset_m.norm() <= a.bounds.trunk_com_m + 1e-12);
+    assert!(a.pelvis_peak_m <= a.bounds.pelvis_peak_m + 1e-12);
+    assert!(a.pelvis_rms_m <= a.bounds.pelvis_rms_m + 1e-12);
+    assert!(a.pelvis_peak_m > 0.0 && a.trunk_offset_m.norm() > 0.0);
+    assert!(adjusted.is_some());
+    assert!(c.why.is_empty());
+}
+
+#[test]
+fn a_trunk_mass_centre_moved_3_cm_forward_is_found_again() {
+    // the demo walk made consistent is the truth; its trunk's mass centre moved 3 cm along the
+    // walk in the model used for estimation (the ball model's root position is q[0..3], world)
+    let (truth, _, c0) = consistent_take(&demo(), true).unwrap();
+    let truth = truth.unwrap();
+    let trunk = trunk_bodies(&truth);
+    assert!(!trunk.is_empty());
+    let (q0, q1) = (&truth.states.q[0], truth.states.q.last().unwrap());
+    let up = truth.up.index();
+    let forward = [(up + 1) % 3, (up + 2) % 3]
+        .into_iter()
+        .max_by(|&a, &b| (q1[a] - q0[a]).abs().total_cmp(&(q1[b] - q0[b]).abs()))
+        .unwrap();
+    let moved = Vector3::ith(forward, 0.03);
+    let mut wrong = truth.clone();
+    wrong.model = with_trunk_offset(&truth.model, &trunk, &moved);
+    let (_, _, c) = consistent_take(&wrong, true).unwrap();
+    let after = c.after.unwrap();
+    let found = c.adjustments.as_ref().unwrap().trunk_offset_m;
+    let truth_rms = c0.after.unwrap().rms_moment_nm;
+    eprintln!(
+        "axis {forward}: residual moment {:.1} → {:.1} N·m (truth {truth_rms:.1}); offset found \
+         {:?} cm",
+        c.before.rms_moment_nm,
+        after.rms_moment_nm,
+        found * 100.0
+    );
+    assert!(c.before.rms_moment_nm > 1.1 * truth_rms);
+    assert!(
+        after.rms_moment_nm < c.before.rms_moment_nm && after.meets(),
+        "{}",
+        c.text()
+    );
+    // moved back along the walk by at least half the move, within the bound. Not closer: the
+    // residual is flat in the trunk's mass centre (3 cm raise it by only a third), and with the
+    // double supports' ramps (grf::transitions) the fit lands 1.8 cm past the truth, where the
+    // residual is lower than the truth's own (5.1 vs 6.1 N·m)
+    assert!(
+        (-0.05..=-0.015).contains(&found[forward]),
+        "found {found:?} for a 3 cm move along axis {forward}"
+    );
+}
+
+#[test]
+fn a_uniform_change_of_mass_changes_no_residual_percentage() {
+    let take = demo();
+    let (_, _, c) = consistent_take(&take, false).unwrap();
+    let mut heavy = take.clone();
+    for i in heavy.model.inertia.iter_mut() {
+        *i = SpatialInertia::new(i.mass * 1.02, i.com, i.inertia_com * 1.02);
+    }
+    let (_, _, h) = consistent_take(&heavy, false).unwrap();
+    assert!((h.before.peak_external_n / c.before.peak_external_n - 1.02).abs() < 1e-9);
+    assert!((h.before.moment_pct() - c.before.moment_pct()).abs() < 1e-9);
+    assert!((h.before.force_pct() - c.before.force_pct()).abs() < 1e-9);
+    assert!(c.after.is_none() && c.adjustments.is_none());
+}
+
+#[test]
+fn the_anatomy_csv_carries_the_residual_per_frame() {
+    let a = anatomy_consistent(&demo(), true).unwrap();
+    let c = a.consistency.as_ref().unwrap();
+    assert_eq!(c.force_n.len(), a.time.len());
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("a.csv");
+    pipeline::anatomy::write_anatomy(&a, &out).unwrap();
+    let (h, cols) = articula::report::csv::read_columns(&out).unwrap();
+    for name in ["residual:force", "residual:moment", "residual:beyond"] {
+        let i = h.iter().position(|x| x == name).unwrap();
+        assert_eq!(cols[i].len(), a.time.len());
+    }
+    assert!(pipeline::anatomy::summary(&a).contains("consistency after residual reduction"));
+}
+
+fn is_walk_or_run(p: &Path) -> bool {
+    let n = p.file_name().unwrap().to_string_lossy().to_lowercase();
+    n.contains("walk") || n.contains("run")
+}
+
+#[test]
+#[ignore = "real takes: ARTICULA_REAL_TAKES=../shared/data/bvh cargo test -- --ignored"]
+fn every_shared_walk_and_run_meets_the_thresholds_or_says_by_how_much_it_missed() {
+    let takes: Vec<_> = common::real_takes()
+        .into_iter()
+        .filter(|p| is_walk_or_run(p))
+        .collect();
+    assert!(takes.len() >= 4, "{takes:?}");
+    for p in takes {
+        let take = pipeline::load_take(&p, &opts()).unwrap();
+        let a = anatomy_consistent(&take, true).unwrap();
+        let c = a.consistency.unwrap();
+        let after = c.after.unwrap();
+        eprintln!("{}\n{}", p.display(), c.text());
+        assert!(
+            after.moment_pct() <= c.before.moment_pct() + 1e-9,
+            "{}: reduction raised the residual moment",
+            p.display()
+        );
+        if !after.meets() {
+            assert!(
+                c.why.iter().any(|w| w.contains("× the")),
+                "{}: misses without saying by how much: {:?}",
+                p.display(),
+                c.why
+            );
+            assert!(
+                c.beyond.iter().any(|b| *b),
+                "{}: no frame marked",
+                p.display()
+            );
+        }
+    }
+}
+
+use common::workbench;
+
+#[test]
+fn the_workbench_reduces_with_contact_unless_told_not_to_and_says_so() {
+    let out = tempfile::tempdir().unwrap();
+    let mut wb = workbench::wb_in(out.path());
+    workbench::ok(&mut wb, "load demo:walk as walk");
+    workbench::ok(&mut wb, "set contact feet");
+    let on = workbench::ok(&mut wb, "run id");
+    assert!(on.contains("consistency after residual reduction"), "{on}");
+    assert!(on.contains("within Hicks et al.'s thresholds"), "{on}");
+    let peak = |wb: &mut articula::session::Workbench| {
+        let m = workbench::fails(wb, "expect peak LeftLeg.Xrotation torque between 0 1");
+        m.split("torque ")
+            .nth(1)
+            .unwrap()
+            .split(' ')
+            .next()
+            .unwrap()
+            .parse::<f64>()
+            .unwrap()
+    };
+    let reduced = peak(&mut wb);
+    workbench::ok(&mut wb, "set consistent off");
+    let off = workbench::ok(&mut wb, "run id");
+    assert!(off.contains("beyond Hicks et al.'s thresholds"), "{off}");
+    assert!(
+        (peak(&mut wb) - reduced).abs() > 1.0,
+        "the knee's torque is the adjusted take's"
+    );
+    let e = workbench::fails(&mut wb, "set consistent maybe");
+    assert!(e.contains("expected auto, on or off"), "{e}");
+}
