@@ -89,6 +89,11 @@ pub enum Cmd {
         opts: TakeArgs,
         #[command(flatten)]
         consistency: ConsistencyArgs,
+        /// The frames within the smoothing's reach of the take's ends, whose accelerations
+        /// are not trustworthy: exclude (the default) leaves them out of the summary's ranges,
+        /// include keeps them. The CSV marks them either way (column `edge`).
+        #[arg(long, value_name = "exclude|include")]
+        edges: Option<String>,
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -695,8 +700,14 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             take,
             opts,
             consistency,
+            edges,
             output,
         } => {
+            let include_edges = match edges.as_deref().map(str::trim) {
+                None | Some("exclude") => false,
+                Some("include") => true,
+                Some(other) => bail!("--edges {other}: expected exclude or include"),
+            };
             let mut o = opts.options_for("anatomy")?;
             // no gimbal lock, and smoothing on rotations, not on one Euler order's angles
             if opts.scene.is_none() && opts.joints.is_none() {
@@ -706,7 +717,8 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             pipeline::resolve_contact(&mut take);
             let contact = take.options.contact == pipeline::Contact::Feet;
             let reduce = consistency.reduce(contact, true)?;
-            let a = pipeline::consistency::anatomy_consistent(&take, reduce)?;
+            let mut a = pipeline::consistency::anatomy_consistent(&take, reduce)?;
+            a.include_edges = include_edges;
             pipeline::anatomy::write_anatomy(&a, &output)?;
             print_notes(Some(&take));
             for n in &a.notes {

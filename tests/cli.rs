@@ -1208,3 +1208,64 @@ fn anatomy_reports_the_consistency_and_id_asks_for_contact_before_reducing() {
         .failure()
         .stderr(predicate::str::contains("need --contact feet"));
 }
+
+#[test]
+fn anatomy_marks_the_edge_frames_and_leaves_them_out_of_its_ranges_unless_asked() {
+    // the smoothing's reach at each end of a take: accelerations there are not trustworthy
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 2.0);
+    let out = dir.path().join("a.csv");
+    let run = |extra: &[&str]| {
+        let o = articula()
+            .arg("anatomy")
+            .arg(&take)
+            .args(extra)
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .unwrap();
+        (
+            o.status.success(),
+            String::from_utf8_lossy(&o.stderr).to_string(),
+        )
+    };
+    let (ok, excluded) = run(&[]);
+    assert!(ok, "{excluded}");
+    assert!(excluded.contains("ranges leave out the"), "{excluded}");
+    let (h, c) = read_columns(&out).unwrap();
+    let edge = column(&h, &c, "edge");
+    let n = edge.len();
+    let e = edge.iter().take_while(|x| **x == 1.0).count();
+    assert!(e >= 1 && e < n / 4, "{e} edge frames of {n}");
+    assert_eq!(edge.iter().rev().take_while(|x| **x == 1.0).count(), e);
+    assert_eq!(edge.iter().filter(|x| **x == 1.0).count(), 2 * e);
+    // the summary's ranges are those of the frames between the edges
+    let m = column(&h, &c, "knee_l:flexion:moment_per_kg");
+    let (lo, hi) = m[e..n - e]
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), x| {
+            (l.min(*x), u.max(*x))
+        });
+    let line = excluded.lines().find(|l| l.starts_with("knee_l ")).unwrap();
+    assert!(
+        line.ends_with(&format!("{lo:.2}..{hi:.2}")),
+        "{line} vs {lo:.2}..{hi:.2}"
+    );
+    let (ok, included) = run(&["--edges", "include"]);
+    assert!(ok && !included.contains("ranges leave out"), "{included}");
+    let (lo, hi) = m
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), x| {
+            (l.min(*x), u.max(*x))
+        });
+    let line = included.lines().find(|l| l.starts_with("knee_l ")).unwrap();
+    assert!(
+        line.ends_with(&format!("{lo:.2}..{hi:.2}")),
+        "{line} vs {lo:.2}..{hi:.2}"
+    );
+    let (ok, e) = run(&["--edges", "maybe"]);
+    assert!(
+        !ok && e.contains("--edges maybe: expected exclude or include"),
+        "{e}"
+    );
+}

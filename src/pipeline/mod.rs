@@ -1420,6 +1420,21 @@ pub fn resolve_contact(take: &mut Take) {
     take.notes.push(format!("contact auto: {contact}: {why}"));
 }
 
+/// Frames at each end of a take whose estimated accelerations are not trustworthy: those
+/// within the estimator's reach of its first or last frame
+/// ([`acceleration_spread_s`](crate::motion::contact::acceleration_spread_s) of the take's
+/// smoothing: 8 frames at 120 fps and 3 at 30 fps with `butterworth:6hz`, 1 without
+/// smoothing), where the smoothing and the differences see past the take's ends. 0 on a take
+/// too short to spare them (fewer than four times as many frames).
+pub fn edge_frames(take: &Take) -> usize {
+    let dt = take.bvh.frame_time;
+    let Ok(h) = crate::motion::contact::acceleration_spread_s(&take.smooth, dt) else {
+        return 0;
+    };
+    let e = (h / dt).round().max(1.0) as usize;
+    if take.states.len() < 4 * e { 0 } else { e }
+}
+
 /// Ground reactions of a take with `--contact feet` (`None` with `--contact none`; with
 /// `auto`, as [`contact_choice`] decides).
 pub fn ground_reactions(

@@ -69,7 +69,7 @@ pub fn knee_cycles(a: &Anatomy) -> Vec<KneeCycles> {
 }
 
 /// A few lines for the terminal: per joint, the flexion range (deg) and the largest extensor
-/// and flexor moments (N·m/kg) over the take.
+/// and flexor moments (N·m/kg) over the take's [`reported`](Anatomy::reported) frames.
 pub fn summary(a: &Anatomy) -> String {
     let mut out = a
         .consistency
@@ -79,8 +79,10 @@ pub fn summary(a: &Anatomy) -> String {
         "{:<12} {:>22} {:>30}\n",
         "joint", "flexion min..max (deg)", "flexion moment min..max (N·m/kg)"
     );
+    let reported = a.reported();
     let range = |c: &[f64]| {
-        c.iter()
+        c[reported.clone()]
+            .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
                 (lo.min(*x), hi.max(*x))
             })
@@ -96,6 +98,21 @@ pub fn summary(a: &Anatomy) -> String {
             })
             .unwrap_or_else(|| "-".into());
         out += &format!("{joint:<12} {:>22} {m:>30}\n", format!("{lo:.1}..{hi:.1}"));
+    }
+    let n = a.time.len();
+    if reported.len() < n {
+        let dt = if n > 1 {
+            (a.time[n - 1] - a.time[0]) / (n - 1) as f64
+        } else {
+            0.0
+        };
+        out += &format!(
+            "(ranges leave out the {} frames ({:.2} s) at each end of the take, whose \
+             accelerations the smoothing cannot estimate (CSV column `edge`); --edges include \
+             keeps them)\n",
+            a.edge,
+            a.edge as f64 * dt
+        );
     }
     for c in knee_cycles(a) {
         out += &format!(

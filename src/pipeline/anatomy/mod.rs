@@ -54,9 +54,26 @@ pub struct Anatomy {
     /// With ground contact through [`anatomy_consistent`](super::consistency::anatomy_consistent):
     /// the take's residuals against Hicks et al.'s thresholds, before and after reduction.
     pub consistency: Option<super::consistency::Consistency>,
+    /// Frames at each end of the take whose accelerations are not trustworthy
+    /// ([`edge_frames`](super::edge_frames)): marked in the CSV (`edge`), and left out of the
+    /// summary's ranges unless [`include_edges`](Self::include_edges).
+    pub edge: usize,
+    /// The summary's ranges include the edge frames (`articula anatomy --edges include`).
+    pub include_edges: bool,
 }
 
 impl Anatomy {
+    /// The frames whose values the summary reports: all with
+    /// [`include_edges`](Self::include_edges), else all but [`edge`](Self::edge) at each end.
+    pub fn reported(&self) -> std::ops::Range<usize> {
+        let n = self.time.len();
+        if self.include_edges || 2 * self.edge >= n {
+            0..n
+        } else {
+            self.edge..n - self.edge
+        }
+    }
+
     /// The column called `name`.
     pub fn column(&self, name: &str) -> Option<&[f64]> {
         let i = self.names.iter().position(|n| n == name)?;
@@ -689,6 +706,8 @@ pub fn anatomy_with(take: &Take, grf: Option<&GroundReactions>) -> Result<Anatom
         notes,
         contact,
         consistency: None,
+        edge: super::edge_frames(take),
+        include_edges: false,
     })
 }
 
@@ -702,9 +721,10 @@ fn unwrap_degrees(x: &mut [f64]) {
 
 /// `articula anatomy -o PATH`: `time` (s), then every column of [`anatomy`] (angles in deg,
 /// moments in N·m and N·m/kg), then with ground contact `contact:left`, `contact:right` (1 on
-/// the floor, 0 off it), and with the take's consistency `residual:force` (N),
+/// the floor, 0 off it), with the take's consistency `residual:force` (N),
 /// `residual:moment` (N·m about the pelvis) and `residual:beyond` (1 where the frame lies
-/// beyond Hicks et al.'s thresholds, 0 elsewhere).
+/// beyond Hicks et al.'s thresholds, 0 elsewhere), and last `edge` (1 within the smoothing's
+/// reach of the take's first or last frame, whose accelerations are not trustworthy).
 pub fn write_anatomy(a: &Anatomy, path: &std::path::Path) -> Result<(), Error> {
     let mut header = vec!["time".to_string()];
     header.extend(a.names.iter().cloned());
@@ -731,5 +751,11 @@ pub fn write_anatomy(a: &Anatomy, path: &std::path::Path) -> Result<(), Error> {
             beyond.as_slice(),
         ]);
     }
+    let n = a.time.len();
+    let edge: Vec<f64> = (0..n)
+        .map(|k| f64::from(u8::from(k < a.edge || k + a.edge >= n)))
+        .collect();
+    header.push("edge".into());
+    cols.push(&edge);
     crate::report::csv::write_columns(path, &header, &cols)
 }
