@@ -14,17 +14,24 @@ use articula::io::bvh::{self, Bvh, Channel};
 use articula::pipeline::{self, Contact, Take, TakeOptions};
 use std::path::Path;
 
-/// The euler model: its root is three prismatic joints along the world axes, so a drift taken
-/// out of the root's position changes no velocity or acceleration but the root's own. (The
-/// ball model's free root is differenced on SE(3), where a straight line with a turning body
-/// is not a constant twist: its accelerations differ by the finite differences' coupling,
-/// 0.7 N·m at the spine of AV_8Walk on a 2.5 m/s belt.)
-fn opts(contact: Contact) -> TakeOptions {
+/// Both joint models: the euler model's root is three prismatic joints along the world axes,
+/// the ball model's a free joint whose linear velocity is differenced along its path in the
+/// world (`pipeline::derivatives`); either way a drift taken out of the root's position
+/// changes no joint torque. (Differenced on SE(3), as the ball model once was, a straight line
+/// with a turning body is not a constant twist: the Bandai walk's knee moved 4.8 N·m at 30 fps
+/// on a 1.25 m/s belt, AV_8Walk's spine 0.7 N·m on a 2.5 m/s one.)
+const JOINTS: [&str; 2] = ["euler", "ball"];
+
+fn opts_with(contact: Contact, joints: &str) -> TakeOptions {
     TakeOptions {
-        joints: "euler".parse().unwrap(),
+        joints: joints.parse().unwrap(),
         contact,
         ..TakeOptions::default()
     }
+}
+
+fn opts(contact: Contact) -> TakeOptions {
+    opts_with(contact, "ball")
 }
 
 fn load(path: &Path, b: Bvh, contact: Contact) -> Result<Take, articula::error::Error> {
@@ -75,8 +82,15 @@ fn on_a_treadmill(b: &Bvh, up: usize, scale_to_m: f64) -> Bvh {
 }
 
 fn check_treadmill(path: &Path) {
+    for joints in JOINTS {
+        check_treadmill_with(path, joints);
+    }
+}
+
+fn check_treadmill_with(path: &Path, joints: &str) {
     let b = bvh::read(path).unwrap();
-    let ground = load(path, b.clone(), Contact::Feet).unwrap();
+    let load = |b: Bvh| pipeline::take_from_bvh(path, b, &opts_with(Contact::Feet, joints));
+    let ground = load(b.clone()).unwrap();
     let up = ground.up.index();
     let speed = {
         let s = &ground.states;
@@ -88,12 +102,7 @@ fn check_treadmill(path: &Path) {
         };
         (p(n - 1) - p(0)).norm() / (s.time[n - 1] - s.time[0])
     };
-    let belt = load(
-        path,
-        on_a_treadmill(&b, up, ground.scale_to_m),
-        Contact::Feet,
-    )
-    .unwrap();
+    let belt = load(on_a_treadmill(&b, up, ground.scale_to_m)).unwrap();
     let (g0, g1) = (
         pipeline::ground_reactions(&ground).unwrap().unwrap(),
         pipeline::ground_reactions(&belt).unwrap().unwrap(),
@@ -101,8 +110,8 @@ fn check_treadmill(path: &Path) {
     let n = g0.contact.len();
     let same = (0..n).filter(|&k| g0.contact[k] == g1.contact[k]).count();
     eprintln!(
-        "{}: walking at {speed:.2} m/s; on a treadmill {same} of {n} frames have the same feet \
-         on the floor",
+        "{} ({joints}): walking at {speed:.2} m/s; on a treadmill {same} of {n} frames have the \
+         same feet on the floor",
         path.display()
     );
     assert!(
@@ -149,12 +158,13 @@ fn the_demo_walk_on_a_treadmill_stands_as_it_does_over_ground() {
 #[test]
 #[ignore = "real takes: ARTICULA_REAL_TAKES=../shared/data/bvh cargo test -- --ignored"]
 fn every_shared_walk_on_a_treadmill_stands_as_it_does_over_ground() {
-    for name in [
-        "AV_8Walk_Meredith_HVHA_Rep1.bvh",
-        "dataset-1_walk_normal_001.bvh",
-    ] {
-        check_treadmill(&common::real_take(name));
-    }
+    check_treadmill(&common::real_take("AV_8Walk_Meredith_HVHA_Rep1.bvh"));
+    // The Bandai walk in the euler model only: in the ball model its treadmill variant finds
+    // each stance a frame longer at both ends (168 of 195 frames agree; the belt estimated
+    // the same, 0.986 of 1 m/s, as in the euler model, where all 195 agree). Not explained yet:
+    // the ball model's foot paths of this folded-root, six-channel rig are not a pure
+    // translation of the ground take's.
+    check_treadmill_with(&common::real_take("dataset-1_walk_normal_001.bvh"), "euler");
 }
 
 #[test]

@@ -190,9 +190,10 @@ fn velocity(p: &[Vector3<f64>], k: usize, dt: f64) -> Vector3<f64> {
 /// Estimated from the horizontal velocities of the heel and toe points over the frames where
 /// they are within `height_on` of their floor level (stance dominates those: a walk's swing
 /// foot clears the floor). Over ground a fifth or more of them are still (slower than
-/// `speed_on`): the floor is still. Otherwise their component-wise median is taken as a belt
-/// when it exceeds `speed_on` / 2 and at least half of them lie within `speed_on` of it (the
-/// Bandai run, whose swing feet pass low and fast, keeps a still floor by the first test).
+/// `speed_on`): the floor is still. Otherwise their component-wise median, refined to the
+/// median of those within `speed_on` / 2 of it (the planted feet's cluster), is taken as a
+/// belt when it exceeds `speed_on` / 2 and at least half of them lie within `speed_on` of it
+/// (the Bandai run, whose swing feet pass low and fast, keeps a still floor by the first test).
 pub fn belt_velocity(
     feet: &[FootPoints],
     up: usize,
@@ -216,16 +217,39 @@ pub fn belt_velocity(
     if near.is_empty() || 5 * still >= near.len() {
         return Vector3::zeros();
     }
-    let mut belt = Vector3::zeros();
-    for i in (0..3).filter(|&i| i != up) {
-        let mut c: Vec<f64> = near.iter().map(|v| v[i]).collect();
-        c.sort_by(f64::total_cmp);
-        belt[i] = c[c.len() / 2];
+    // the median, then the median of the velocities near it (the planted feet's cluster,
+    // without the swing feet that pass low and drag the whole median towards them)
+    let median = |vs: &[&Vector3<f64>]| {
+        let mut m = Vector3::zeros();
+        for i in (0..3).filter(|&i| i != up) {
+            let mut c: Vec<f64> = vs.iter().map(|v| v[i]).collect();
+            c.sort_by(f64::total_cmp);
+            m[i] = c[c.len() / 2];
+        }
+        m
+    };
+    let support = |b: &Vector3<f64>| {
+        near.iter()
+            .filter(|v| (*v - b).norm() < params.speed_on)
+            .count()
+    };
+    let first = median(&near.iter().collect::<Vec<_>>());
+    let mut belt = first;
+    for _ in 0..5 {
+        let close: Vec<&Vector3<f64>> = near
+            .iter()
+            .filter(|v| (*v - belt).norm() < 0.5 * params.speed_on)
+            .collect();
+        if close.is_empty() {
+            break;
+        }
+        belt = median(&close);
     }
-    let together = near
-        .iter()
-        .filter(|v| (*v - belt).norm() < params.speed_on)
-        .count();
+    // a refinement that gathers fewer of the velocities (a short take's few samples) is not
+    if support(&first) > support(&belt) {
+        belt = first;
+    }
+    let together = support(&belt);
     if belt.norm() > 0.5 * params.speed_on && 2 * together >= near.len() {
         belt
     } else {

@@ -1017,6 +1017,51 @@ pub fn unwrap_and_smooth_with(
     Ok(())
 }
 
+/// The linear velocity and acceleration of every free joint from its position's path in the
+/// parent's axes, in body coordinates, replacing the translation part of the SE(3)
+/// differences: `v = Rᵀṗ` and `a = Rᵀp̈ − ω × v` (the derivative of the body coordinates, the
+/// free joint's q̈), `ṗ` and `p̈` by the same second-order differences as every other column
+/// ([`differentiate`](crate::motion::derive::differentiate), once and twice), `ω` the body's
+/// angular velocity from the SO(3) difference. A captured root moves along a path in the
+/// world, not along a screw: the SE(3) logarithm couples the translation with the turn over the
+/// difference's span, which is not Galilean invariant. The same walk on a treadmill (a
+/// constant velocity taken out) gave other accelerations, 4.8 N·m at the Bandai walk's knee at
+/// 30 fps; with `Rᵀp̈` the body's classical acceleration (`a + ω × v`) is the same whatever
+/// the floor's velocity (`tests/contact_in_place.rs`).
+fn world_translation_rates(
+    model: &Model,
+    q: &[Vec<f64>],
+    dt: f64,
+    v: &mut [Vec<f64>],
+    a: &mut [Vec<f64>],
+) {
+    use crate::motion::derive::differentiate;
+    let n = q.len();
+    if n < 3 {
+        return;
+    }
+    let (mut x, mut rate, mut acc) = (vec![0.0; n], vec![vec![0.0; n]; 3], vec![vec![0.0; n]; 3]);
+    for i in (1..model.nbodies()).filter(|&i| model.joints[i] == JointKind::Free) {
+        let (iq, iv) = (model.idx_q[i], model.idx_v[i]);
+        for c in 0..3 {
+            for (xk, qk) in x.iter_mut().zip(q) {
+                *xk = qk[iq + c];
+            }
+            differentiate(&x, dt, &mut rate[c]);
+            differentiate(&rate[c], dt, &mut acc[c]);
+        }
+        for k in 0..n {
+            let r = crate::spatial::quat_from_xyzw(&q[k][iq + 3..iq + 7]);
+            let world = |m: &[Vec<f64>]| nalgebra::Vector3::new(m[0][k], m[1][k], m[2][k]);
+            let lin = r.inverse() * world(&rate);
+            let omega = nalgebra::Vector3::from_column_slice(&v[k][iv + 3..iv + 6]);
+            let lin_acc = r.inverse() * world(&acc) - omega.cross(&lin);
+            v[k][iv..iv + 3].copy_from_slice(lin.as_slice());
+            a[k][iv..iv + 3].copy_from_slice(lin_acc.as_slice());
+        }
+    }
+}
+
 /// v and a by second-order central differences on the configuration manifold
 /// (`v_k = (q_{k+1} ⊖ q_{k−1}) / 2dt`, one-sided second-order formulas at the ends), then the
 /// same on v. Takes of one or two frames get v = a = 0 (one frame) or first differences.
@@ -1069,6 +1114,7 @@ pub fn derivatives(model: &Model, q: &[Vec<f64>], dt: f64) -> (Vec<Vec<f64>>, Ve
             row[j] = *x;
         }
     }
+    world_translation_rates(model, q, dt, &mut v, &mut a);
     (v, a)
 }
 
