@@ -1239,30 +1239,24 @@ fn anatomy_marks_the_edge_frames_and_leaves_them_out_of_its_ranges_unless_asked(
     assert!(e >= 1 && e < n / 4, "{e} edge frames of {n}");
     assert_eq!(edge.iter().rev().take_while(|x| **x == 1.0).count(), e);
     assert_eq!(edge.iter().filter(|x| **x == 1.0).count(), 2 * e);
-    // the summary's ranges are those of the frames between the edges
+    // the summary's ranges are those of the frames between the edges, or of all with include
     let m = column(&h, &c, "knee_l:flexion:moment_per_kg");
-    let (lo, hi) = m[e..n - e]
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), x| {
-            (l.min(*x), u.max(*x))
-        });
-    let line = excluded.lines().find(|l| l.starts_with("knee_l ")).unwrap();
-    assert!(
-        line.ends_with(&format!("{lo:.2}..{hi:.2}")),
-        "{line} vs {lo:.2}..{hi:.2}"
-    );
+    let printed_range = |summary: &str, frames: &[f64]| {
+        let (lo, hi) = frames
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), x| {
+                (l.min(*x), u.max(*x))
+            });
+        let line = summary.lines().find(|l| l.starts_with("knee_l ")).unwrap();
+        assert!(
+            line.ends_with(&format!("{lo:.2}..{hi:.2}")),
+            "{line} vs {lo:.2}..{hi:.2}"
+        );
+    };
+    printed_range(&excluded, &m[e..n - e]);
     let (ok, included) = run(&["--edges", "include"]);
     assert!(ok && !included.contains("ranges leave out"), "{included}");
-    let (lo, hi) = m
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), x| {
-            (l.min(*x), u.max(*x))
-        });
-    let line = included.lines().find(|l| l.starts_with("knee_l ")).unwrap();
-    assert!(
-        line.ends_with(&format!("{lo:.2}..{hi:.2}")),
-        "{line} vs {lo:.2}..{hi:.2}"
-    );
+    printed_range(&included, m);
     let (ok, e) = run(&["--edges", "maybe"]);
     assert!(
         !ok && e.contains("--edges maybe: expected exclude or include"),

@@ -327,15 +327,13 @@ pub fn estimate_ground_reactions_progress(
 
     // contact phases from the heel and toe paths
     let mut feet = feet.to_vec();
-    let points = foot_paths(model, &mut ws, &mut feet, q, up);
-    let by_foot = contact_phases(&points, up, dt, params);
-    if by_foot.iter().flatten().all(|c| !c) {
-        return Err(Error::Invalid(format!(
-            "model {}: {}; use --contact none (`set contact none` in the workbench)",
-            model.name,
-            why_no_contact(&points, up, dt, params)
-        )));
-    }
+    let (points, by_foot) =
+        planted_feet(model, &mut ws, &mut feet, q, up, dt, params).map_err(|why| {
+            Error::Invalid(format!(
+                "model {}: {why}; use --contact none (`set contact none` in the workbench)",
+                model.name
+            ))
+        })?;
     let floor = floor_height(&points, up);
     let contact: Vec<Vec<bool>> = (0..n)
         .map(|k| by_foot.iter().map(|c| c[k]).collect())
@@ -459,12 +457,26 @@ pub fn stance(
     let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
     let mut ws = Workspace::new(model);
     let mut feet = feet.to_vec();
-    let points = foot_paths(model, &mut ws, &mut feet, q, up);
+    planted_feet(model, &mut ws, &mut feet, q, up, dt, params).map(|(_, by_foot)| by_foot)
+}
+
+/// The heel and toe paths of `feet` (their heel points fitted to the take) and the contact
+/// phases from them, or why no foot is ever planted ([`why_no_contact`]).
+fn planted_feet(
+    model: &Model,
+    ws: &mut Workspace,
+    feet: &mut [Foot],
+    q: &[Vec<f64>],
+    up: usize,
+    dt: f64,
+    params: &ContactParams,
+) -> Result<(Vec<FootPoints>, Vec<Vec<bool>>), String> {
+    let points = foot_paths(model, ws, feet, q, up);
     let by_foot = contact_phases(&points, up, dt, params);
     if by_foot.iter().flatten().all(|c| !c) {
         return Err(why_no_contact(&points, up, dt, params));
     }
-    Ok(by_foot)
+    Ok((points, by_foot))
 }
 
 fn check_inputs(
