@@ -19,9 +19,15 @@
 
 pub mod anatomy;
 pub mod consistency;
+mod contact;
 mod edit;
 mod sim;
 
+pub use contact::{
+    Contact, contact_choice, contact_feet, edge_frames, estimate_take_ground_reactions,
+    estimate_take_ground_reactions_with, ground_reactions, ground_reactions_with, resolve_contact,
+    take_feet,
+};
 pub use edit::{blend_files, export_smoothed_bvh};
 pub use sim::{
     Bench, SimSettings, SimSummary, Tradeoff, TradeoffRow, bench, bench_batches,
@@ -77,53 +83,6 @@ pub struct TakeOptions {
     /// Position channels of the joints below the body's root: welded at their mean (the
     /// default) or kept as coordinates (`motion::weld`).
     pub joint_translations: JointTranslations,
-}
-
-/// Ground contact model of a scene.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Contact {
-    /// No contact: a floating avatar hangs from its root residual.
-    None,
-    /// Feet on a detected floor: ground reaction forces estimated. A take on which no foot is
-    /// ever planted on a floor is an error.
-    Feet,
-    /// Feet when the take stands on a floor, none when it never touches one (the default;
-    /// [`contact_choice`] decides and says why).
-    Auto,
-}
-
-impl Contact {
-    /// The names `none`, `feet`, `auto` and their variants: the one table parsing and printing
-    /// read.
-    const NAMES: [(&'static str, Contact); 3] = [
-        ("none", Contact::None),
-        ("feet", Contact::Feet),
-        ("auto", Contact::Auto),
-    ];
-}
-
-impl FromStr for Contact {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self, Error> {
-        let s = s.trim();
-        Contact::NAMES
-            .iter()
-            .find(|(n, _)| *n == s)
-            .map(|(_, c)| *c)
-            .ok_or_else(|| {
-                Error::Invalid(format!("contact `{s}`: expected `auto`, `feet` or `none`"))
-            })
-    }
-}
-
-impl std::fmt::Display for Contact {
-    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        let name = Contact::NAMES
-            .iter()
-            .find(|(_, c)| c == self)
-            .map(|(n, _)| *n);
-        f.write_str(name.unwrap_or("?"))
-    }
 }
 
 impl Default for TakeOptions {
@@ -1402,195 +1361,6 @@ pub fn inverse_dynamics_with(
         names: model.v_names.clone(),
         tau,
     }
-}
-
-/// What `--contact auto` gives on `take` ([`Contact::Feet`] or [`Contact::None`]) and why, for
-/// a user: feet when the take is a floating body with feet of which at least one is planted on
-/// a floor some of the time ([`stance`](crate::dynamics::grf::stance)); otherwise none, and
-/// the reason (too few frames, no floating root, no feet, no foot ever planted).
-pub fn contact_choice(take: &Take) -> (Contact, String) {
-    use crate::motion::contact::ContactParams;
-    let s = &take.states;
-    if s.len() < 3 {
-        return (
-            Contact::None,
-            format!("a take of {} frame(s) has no contact phases", s.len()),
-        );
-    }
-    if crate::dynamics::grf::floating_root(&take.model).is_none() {
-        return (
-            Contact::None,
-            "the model has no floating root: nothing of it stands on a floor".into(),
-        );
-    }
-    let feet = contact_feet(take);
-    if feet.is_empty() {
-        return (Contact::None, "no feet found on the skeleton".into());
-    }
-    let params = match ContactParams::for_take(&take.smooth, take.bvh.frame_time) {
-        Ok(p) => p,
-        Err(e) => return (Contact::None, e.to_string()),
-    };
-    let up = take.up.index();
-    match crate::dynamics::grf::stance(&take.model, &feet, &s.time, &s.q, up, &params) {
-        Ok(by_foot) => {
-            let share = |c: &Vec<bool>| {
-                100.0 * c.iter().filter(|x| **x).count() as f64 / c.len().max(1) as f64
-            };
-            let on: Vec<String> = feet
-                .iter()
-                .zip(&by_foot)
-                .map(|(f, c)| format!("{} {:.0} %", f.name, share(c)))
-                .collect();
-            (
-                Contact::Feet,
-                format!(
-                    "the feet stand on a floor (frames on it: {})",
-                    on.join(", ")
-                ),
-            )
-        }
-        Err(why) => (Contact::None, why),
-    }
-}
-
-/// Settles `--contact auto` on a loaded take: sets [`TakeOptions::contact`] to what
-/// [`contact_choice`] gives and notes the choice (`info`, the commands' notes, the workbench's
-/// status line); any other setting is left as it is.
-pub fn resolve_contact(take: &mut Take) {
-    if take.options.contact != Contact::Auto {
-        return;
-    }
-    let (contact, why) = contact_choice(take);
-    take.options.contact = contact;
-    take.notes.push(format!("contact auto: {contact}: {why}"));
-}
-
-/// Frames at each end of a take whose estimated accelerations are not trustworthy: those
-/// within the estimator's reach of its first or last frame
-/// ([`acceleration_spread_s`](crate::motion::contact::acceleration_spread_s) of the take's
-/// smoothing: 8 frames at 120 fps and 3 at 30 fps with `butterworth:6hz`, 1 without
-/// smoothing), where the smoothing and the differences see past the take's ends. 0 on a take
-/// too short to spare them (fewer than four times as many frames).
-pub fn edge_frames(take: &Take) -> usize {
-    let dt = take.bvh.frame_time;
-    let Ok(h) = crate::motion::contact::acceleration_spread_s(&take.smooth, dt) else {
-        return 0;
-    };
-    let e = (h / dt).round().max(1.0) as usize;
-    if take.states.len() < 4 * e { 0 } else { e }
-}
-
-/// Ground reactions of a take with `--contact feet` (`None` with `--contact none`; with
-/// `auto`, as [`contact_choice`] decides).
-pub fn ground_reactions(
-    take: &Take,
-) -> Result<Option<crate::dynamics::grf::GroundReactions>, Error> {
-    ground_reactions_with(take, &mut |_| true)
-}
-
-/// [`ground_reactions`] that reports its progress (0‥1) to `keep_going` every
-/// [`PROGRESS_EVERY`] frames and stops with [`Error::Cancelled`] when it returns false.
-pub fn ground_reactions_with(
-    take: &Take,
-    keep_going: &mut dyn FnMut(f64) -> bool,
-) -> Result<Option<crate::dynamics::grf::GroundReactions>, Error> {
-    let contact = match take.options.contact {
-        Contact::Auto => contact_choice(take).0,
-        c => c,
-    };
-    if contact == Contact::None {
-        return Ok(None);
-    }
-    estimate_take_ground_reactions_with(take, keep_going).map(Some)
-}
-
-/// Ground reactions of a take whatever its `contact` option: the feet found through the BVH
-/// skeleton ([`feet_of_bvh`](crate::motion::contact::feet_of_bvh)), the contact thresholds
-/// with the spread of the take's own smoothing and frame time
-/// ([`ContactParams::for_take`](crate::motion::contact::ContactParams::for_take)).
-pub fn estimate_take_ground_reactions(
-    take: &Take,
-) -> Result<crate::dynamics::grf::GroundReactions, Error> {
-    estimate_take_ground_reactions_with(take, &mut |_| true)
-}
-
-/// [`estimate_take_ground_reactions`] with progress and cancel
-/// ([`estimate_ground_reactions_progress`](crate::dynamics::grf::estimate_ground_reactions_progress)).
-pub fn estimate_take_ground_reactions_with(
-    take: &Take,
-    keep_going: &mut dyn FnMut(f64) -> bool,
-) -> Result<crate::dynamics::grf::GroundReactions, Error> {
-    use crate::motion::contact::ContactParams;
-    let s = &take.states;
-    let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)
-        .map_err(|e| at_file(&take.path, e))?;
-    crate::dynamics::grf::estimate_ground_reactions_progress(
-        &take.model,
-        &contact_feet(take),
-        &s.time,
-        &s.q,
-        &s.v,
-        &s.a,
-        take.up.index(),
-        &params,
-        keep_going,
-    )
-    .map_err(|e| at_file(&take.path, e))
-}
-
-/// The feet that carry a take's ground reactions: [`take_feet`], else (no feet by name: an
-/// animal, a rig whose names no scheme knows) the limb ends that come down to the floor.
-pub fn contact_feet(take: &Take) -> Vec<crate::motion::contact::Foot> {
-    let feet = take_feet(take);
-    if feet.is_empty() {
-        limb_ends_on_floor(take)
-    } else {
-        feet
-    }
-}
-
-/// A human's feet at the ankles and toes its topology found (`model::skeleton`), else the
-/// feet its names say ([`feet_of_bvh`](crate::motion::contact::feet_of_bvh)).
-pub fn take_feet(take: &Take) -> Vec<crate::motion::contact::Foot> {
-    use crate::motion::contact::{Side, feet_at, feet_of_bvh};
-    match &take.human {
-        Ok(h) => {
-            let side = |l: &crate::model::skeleton::Leg| match l.side {
-                crate::model::anthropometry::Side::Left => Side::Left,
-                _ => Side::Right,
-            };
-            let legs: Vec<_> = h.legs.iter().map(|l| (side(l), l.ankle, l.toe)).collect();
-            feet_at(&take.bvh, &take.map, &take.model, &legs)
-        }
-        Err(_) => feet_of_bvh(&take.bvh, &take.map, &take.model),
-    }
-}
-
-/// The feet of a skeleton that is not a human's: the limb ends
-/// ([`limb_ends`](crate::motion::contact::limb_ends)) that come down to the floor, their
-/// lowest point over the take (ankle or toe, at up to 64 evenly spaced frames) within 15 % of
-/// the stature of the lowest of all: a quadruped's four feet, a crab's eight legs, not its
-/// nose, tail or raised claws.
-fn limb_ends_on_floor(take: &Take) -> Vec<crate::motion::contact::Foot> {
-    let (model, up) = (&take.model, take.up.index());
-    let mut ends = crate::motion::contact::limb_ends(&take.bvh, &take.map, model);
-    let mut ws = Workspace::new(model);
-    let mut lowest = vec![f64::INFINITY; ends.len()];
-    let n = take.states.len();
-    for k in (0..n).step_by(n.div_ceil(64).max(1)) {
-        dynamics::forward_kinematics(model, &mut ws, &take.states.q[k]);
-        for (low, f) in lowest.iter_mut().zip(&ends) {
-            let a = ws.o_x_i[f.ankle_body].transform_point(&f.ankle_point)[up];
-            let t = ws.o_x_i[f.toe_body].transform_point(&f.toe_point)[up];
-            *low = low.min(a).min(t);
-        }
-    }
-    let floor = lowest.iter().copied().fold(f64::INFINITY, f64::min);
-    let reach = 0.15 * take.stature_m;
-    let mut keep = lowest.iter().map(|l| *l <= floor + reach);
-    ends.retain(|_| keep.next().unwrap_or(false));
-    ends
 }
 
 /// `articula id`: `time`, one torque column per coordinate; with `--contact feet` the torques
