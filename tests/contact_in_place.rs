@@ -211,3 +211,38 @@ fn a_take_whose_feet_never_touch_a_floor_says_so() {
             .any(|n| n.starts_with("contact auto: feet:"))
     );
 }
+
+#[test]
+fn feet_without_toe_joints_and_unfamiliar_names_find_their_stance() {
+    // the demo walk with its toe joints cut to End Sites and every joint renamed J0, J1, …: the
+    // feet are the shape's (model::skeleton), their toe points the End Sites
+    let path = common::repo("data/demo_walk.bvh");
+    let b = bvh::read(&path).unwrap();
+    let cut = common::variants::without_leaf_joint(
+        &common::variants::without_leaf_joint(&b, "LeftToeBase"),
+        "RightToeBase",
+    );
+    let strange = common::variants::renamed(&cut);
+    assert!(strange.joints.iter().all(|j| !j.name.contains("Toe")));
+    let g0 = pipeline::ground_reactions(&load(&path, b, Contact::Feet).unwrap())
+        .unwrap()
+        .unwrap();
+    let mut t = load(&path, strange, Contact::Auto).unwrap();
+    pipeline::resolve_contact(&mut t);
+    assert_eq!(t.options.contact, Contact::Feet, "{:?}", t.notes);
+    let g1 = pipeline::ground_reactions(&t).unwrap().unwrap();
+    let n = g0.contact.len();
+    for (j, foot) in g0.feet.iter().enumerate() {
+        let k1 = g1.feet.iter().position(|f| f == foot).unwrap_or(j);
+        let same = (0..n)
+            .filter(|&k| g0.contact[k][j] == g1.contact[k][k1])
+            .count();
+        let on = (0..n).filter(|&k| g1.contact[k][k1]).count();
+        eprintln!("{foot}: {same} of {n} frames agree, {on} on the floor");
+        assert!(same as f64 >= 0.9 * n as f64, "{foot}: {same} of {n}");
+        assert!(
+            on as f64 >= 0.4 * n as f64,
+            "{foot}: {on} of {n} on the floor"
+        );
+    }
+}

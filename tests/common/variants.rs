@@ -222,3 +222,41 @@ pub fn with_twist_helper(b: &Bvh, joint: &str, twist_deg: impl Fn(usize) -> f64)
     }
     out
 }
+
+/// (g) the leaf joint `joint` (no child joints) replaced by an End Site at its offset, its
+/// channels gone: a skeleton whose feet end without toe joints, as some optical systems write
+/// them.
+pub fn without_leaf_joint(b: &Bvh, joint: &str) -> Bvh {
+    let j = b.joint_index(joint).expect("the joint");
+    assert!(
+        b.joints.iter().all(|c| c.parent != Some(j)),
+        "{joint} has child joints"
+    );
+    let (first, count) = (b.joints[j].first_channel, b.joints[j].channels.len());
+    let mut out = b.clone();
+    let removed = out.joints.remove(j);
+    let parent = removed.parent.expect("not the root");
+    out.joints[parent].end_sites.push(removed.offset);
+    for c in out.joints.iter_mut() {
+        if c.first_channel > first {
+            c.first_channel -= count;
+        }
+        if let Some(p) = c.parent.as_mut()
+            && *p > j
+        {
+            *p -= 1;
+        }
+    }
+    out.channel_count = b.channel_count - count;
+    out.motion = (0..b.frames)
+        .flat_map(|k| {
+            let row = b.frame(k);
+            row[..first]
+                .iter()
+                .chain(&row[first + count..])
+                .copied()
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    out
+}
