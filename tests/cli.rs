@@ -1231,7 +1231,7 @@ fn anatomy_marks_the_edge_frames_and_leaves_them_out_of_its_ranges_unless_asked(
     };
     let (ok, excluded) = run(&[]);
     assert!(ok, "{excluded}");
-    assert!(excluded.contains("ranges leave out the"), "{excluded}");
+    assert!(excluded.contains("at each end of the take"), "{excluded}");
     let (h, c) = read_columns(&out).unwrap();
     let edge = column(&h, &c, "edge");
     let n = edge.len();
@@ -1239,13 +1239,16 @@ fn anatomy_marks_the_edge_frames_and_leaves_them_out_of_its_ranges_unless_asked(
     assert!(e >= 1 && e < n / 4, "{e} edge frames of {n}");
     assert_eq!(edge.iter().rev().take_while(|x| **x == 1.0).count(), e);
     assert_eq!(edge.iter().filter(|x| **x == 1.0).count(), 2 * e);
-    // the summary's ranges are those of the frames between the edges, or of all with include
+    // the summary's ranges are those of the frames between the edges, or of all with include,
+    // never those beyond Hicks et al.'s thresholds (`residual:beyond`)
     let m = column(&h, &c, "knee_l:flexion:moment_per_kg");
-    let printed_range = |summary: &str, frames: &[f64]| {
+    let beyond = column(&h, &c, "residual:beyond");
+    let printed_range = |summary: &str, frames: std::ops::Range<usize>| {
         let (lo, hi) = frames
-            .iter()
+            .filter(|&k| beyond[k] == 0.0)
+            .map(|k| m[k])
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), x| {
-                (l.min(*x), u.max(*x))
+                (l.min(x), u.max(x))
             });
         let line = summary.lines().find(|l| l.starts_with("knee_l ")).unwrap();
         assert!(
@@ -1253,10 +1256,13 @@ fn anatomy_marks_the_edge_frames_and_leaves_them_out_of_its_ranges_unless_asked(
             "{line} vs {lo:.2}..{hi:.2}"
         );
     };
-    printed_range(&excluded, &m[e..n - e]);
+    printed_range(&excluded, e..n - e);
     let (ok, included) = run(&["--edges", "include"]);
-    assert!(ok && !included.contains("ranges leave out"), "{included}");
-    printed_range(&included, m);
+    assert!(
+        ok && !included.contains("at each end of the take"),
+        "{included}"
+    );
+    printed_range(&included, 0..n);
     let (ok, e) = run(&["--edges", "maybe"]);
     assert!(
         !ok && e.contains("--edges maybe: expected exclude or include"),

@@ -69,7 +69,9 @@ pub fn knee_cycles(a: &Anatomy) -> Vec<KneeCycles> {
 }
 
 /// A few lines for the terminal: per joint, the flexion range (deg) and the largest extensor
-/// and flexor moments (N·m/kg) over the take's [`reported`](Anatomy::reported) frames.
+/// and flexor moments (N·m/kg) over the take's [`reported`](Anatomy::reported) frames, the
+/// moments without the frames beyond Hicks et al.'s thresholds (issue 14: frames where the
+/// needed force is beyond what the feet can give are never quoted as peaks).
 pub fn summary(a: &Anatomy) -> String {
     let mut out = a
         .consistency
@@ -80,26 +82,43 @@ pub fn summary(a: &Anatomy) -> String {
         "joint", "flexion min..max (deg)", "flexion moment min..max (N·m/kg)"
     );
     let reported = a.reported();
-    let range = |c: &[f64]| {
-        c[reported.clone()]
-            .iter()
+    // moments are never quoted where the motion needs a force the feet cannot give (beyond
+    // Hicks et al.'s thresholds after residual reduction)
+    let beyond = |k: usize| {
+        a.consistency
+            .as_ref()
+            .is_some_and(|c| c.beyond.get(k) == Some(&true))
+    };
+    let range = |c: &[f64], skip_beyond: bool| {
+        reported
+            .clone()
+            .filter(|&k| !(skip_beyond && beyond(k)))
+            .map(|k| c[k])
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
-                (lo.min(*x), hi.max(*x))
+                (lo.min(x), hi.max(x))
             })
     };
     for name in a.names.iter().filter(|n| n.ends_with(":flexion:angle")) {
         let joint = name.trim_end_matches(":flexion:angle");
-        let (lo, hi) = range(a.column(name).unwrap_or(&[]));
+        let (lo, hi) = range(a.column(name).unwrap_or(&[]), false);
         let m = a
             .column(&format!("{joint}:flexion:moment_per_kg"))
-            .map(|c| {
-                let (l, h) = range(c);
-                format!("{l:.2}..{h:.2}")
+            .map(|c| match range(c, true) {
+                (l, h) if l <= h => format!("{l:.2}..{h:.2}"),
+                _ => "- (every frame beyond)".into(),
             })
             .unwrap_or_else(|| "-".into());
         out += &format!("{joint:<12} {:>22} {m:>30}\n", format!("{lo:.1}..{hi:.1}"));
     }
     let n = a.time.len();
+    let left_out = reported.clone().filter(|&k| beyond(k)).count();
+    if left_out > 0 {
+        out += &format!(
+            "(moment ranges leave out the {left_out} frames where the residuals stay beyond \
+             Hicks et al.'s thresholds: the motion needs a force the feet cannot give there; \
+             CSV column `residual:beyond`)\n"
+        );
+    }
     if reported.len() < n {
         let dt = if n > 1 {
             (a.time[n - 1] - a.time[0]) / (n - 1) as f64
