@@ -71,8 +71,7 @@ pub fn consistent_take(
     let before = estimate_take_ground_reactions(take)?;
     let s = &take.states;
     let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)?;
-    let spread = (params.spread_s / take.bvh.frame_time).round() as usize;
-    let counted = counted_frames(s.len(), spread);
+    let counted = counted_frames(s.len(), super::edge_frames(take));
     let heights = com_heights(&take.model, &s.q, before.up, before.floor);
     let fig_before = figures(&before, &heights, &counted);
     let mass_kg = take.model.total_mass();

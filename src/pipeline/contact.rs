@@ -122,14 +122,16 @@ pub fn resolve_contact(take: &mut Take) {
 /// ([`acceleration_spread_s`](crate::motion::contact::acceleration_spread_s) of the take's
 /// smoothing: 8 frames at 120 fps and 3 at 30 fps with `butterworth:6hz`, 1 without
 /// smoothing), where the smoothing and the differences see past the take's ends. 0 on a take
-/// too short to spare them (fewer than four times as many frames).
+/// too short to spare them (one that would keep fewer than a third of its frames, as
+/// [`counted_frames`](crate::dynamics::residual::counted_frames) says). The residual figures
+/// count the same frames (`pipeline::consistency`).
 pub fn edge_frames(take: &Take) -> usize {
     let dt = take.bvh.frame_time;
     let Ok(h) = crate::motion::contact::acceleration_spread_s(&take.smooth, dt) else {
         return 0;
     };
     let e = (h / dt).round().max(1.0) as usize;
-    if take.states.len() < 4 * e { 0 } else { e }
+    if take.states.len() < 6 * e { 0 } else { e }
 }
 
 /// Ground reactions of a take with `--contact feet` (`None` with `--contact none`; with
