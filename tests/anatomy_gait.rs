@@ -7,16 +7,8 @@
 
 mod common;
 
-use articula::pipeline::{self, Contact, TakeOptions, anatomy::Anatomy};
+use articula::pipeline::{self, anatomy::Anatomy};
 use std::path::Path;
-
-fn opts() -> TakeOptions {
-    TakeOptions {
-        joints: "ball".parse().unwrap(),
-        contact: Contact::Feet,
-        ..TakeOptions::default()
-    }
-}
 
 /// The peaks of `y` above `floor`, each the largest within `half` samples either side.
 fn peaks(y: &[f64], floor: f64, half: usize) -> Vec<f64> {
@@ -37,7 +29,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// Per knee: the median swing peak (deg), and the share of foot strikes followed within
 /// 150 ms by an extensor moment.
 fn gait(path: &Path) -> Vec<(String, f64, f64)> {
-    let take = pipeline::load_take(path, &opts()).unwrap();
+    let take = pipeline::load_take(path, &common::anatomy_opts()).unwrap();
     let a: Anatomy = pipeline::anatomy::anatomy(&take).unwrap();
     let g = pipeline::ground_reactions(&take).unwrap().unwrap();
     let dt = take.bvh.frame_time;
@@ -100,7 +92,7 @@ fn jumps(a: &Anatomy) -> Vec<(String, f64, usize)> {
 const JUMP_RATIO: f64 = 3.5;
 
 fn assert_gait(path: &Path) {
-    let take = pipeline::load_take(path, &opts()).unwrap();
+    let take = pipeline::load_take(path, &common::anatomy_opts()).unwrap();
     let a: Anatomy = pipeline::anatomy::anatomy(&take).unwrap();
     for (name, ratio, k) in jumps(&a) {
         eprintln!(

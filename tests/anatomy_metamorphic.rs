@@ -9,19 +9,10 @@ mod common;
 
 use articula::dynamics::{self, Workspace};
 use articula::io::bvh::{self, Bvh};
-use articula::pipeline::{self, Contact, TakeOptions, anatomy::Anatomy};
+use articula::pipeline::{self, Contact, anatomy::Anatomy};
 use common::variants::*;
 use nalgebra::Vector3;
 use std::path::Path;
-
-/// `articula anatomy`'s defaults: ball joints, feet on the floor.
-fn opts() -> TakeOptions {
-    TakeOptions {
-        joints: "ball".parse().unwrap(),
-        contact: Contact::Feet,
-        ..TakeOptions::default()
-    }
-}
 
 struct Seen {
     positions: Vec<Vec<Vector3<f64>>>,
@@ -30,7 +21,7 @@ struct Seen {
 }
 
 fn see(b: Bvh, label: &str) -> Seen {
-    let mut o = opts();
+    let mut o = common::anatomy_opts();
     if b.frames < 3 {
         o.contact = Contact::None; // a single pose: no contact phases (`anatomy` does the same)
     }
@@ -118,7 +109,8 @@ fn check_all_variants(b: &Bvh, label: &str) {
     if lying_along_x_applies(b) {
         variants.push(("lying along +X", lying_along_x(b)));
     }
-    let take = pipeline::take_from_bvh(Path::new("x.bvh"), b.clone(), &opts()).unwrap();
+    let take =
+        pipeline::take_from_bvh(Path::new("x.bvh"), b.clone(), &common::anatomy_opts()).unwrap();
     // in metres (mm if already metres): the unit detection must find the same scale
     let k = if take.scale_to_m == 1.0 {
         1000.0
@@ -148,7 +140,7 @@ fn every_shared_human_take_written_other_ways_gives_the_same_anatomy() {
     for path in common::real_takes() {
         let (b, _) = pipeline::read_take(&path, false).unwrap();
         let label = path.file_name().unwrap().to_string_lossy().into_owned();
-        let take = pipeline::take_from_bvh(&path, b.clone(), &opts()).unwrap();
+        let take = pipeline::take_from_bvh(&path, b.clone(), &common::anatomy_opts()).unwrap();
         if let Err(why) = &take.human {
             eprintln!("{label}: not a biped ({why})");
             continue;

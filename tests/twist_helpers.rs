@@ -10,7 +10,7 @@ mod common;
 use articula::dynamics::{self, Workspace, crba};
 use articula::io::bvh::{self, Bvh};
 use articula::model::bvh::JointModel;
-use articula::pipeline::{self, Contact, Take, TakeOptions, anatomy::Anatomy};
+use articula::pipeline::{self, Take, TakeOptions, anatomy::Anatomy};
 use common::variants::with_twist_helper;
 use nalgebra::Vector3;
 use std::collections::BTreeMap;
@@ -18,15 +18,6 @@ use std::path::Path;
 
 fn demo() -> Bvh {
     bvh::read(&common::repo("data/demo_walk.bvh")).unwrap()
-}
-
-/// `articula anatomy`'s defaults: ball joints, feet on the floor.
-fn opts() -> TakeOptions {
-    TakeOptions {
-        joints: "ball".parse().unwrap(),
-        contact: Contact::Feet,
-        ..TakeOptions::default()
-    }
 }
 
 struct Seen {
@@ -82,7 +73,10 @@ fn a_twist_helper_in_the_femur_and_forearm_changes_no_mass_and_no_load() {
         |k| -twist_deg(k + 10),
     );
     assert_eq!(with.joints.len(), b.joints.len() + 2);
-    let (a, h) = (see(b, &opts()), see(with, &opts()));
+    let (a, h) = (
+        see(b, &common::anatomy_opts()),
+        see(with, &common::anatomy_opts()),
+    );
 
     // the note names the helpers; they have no coordinate
     assert!(
@@ -261,7 +255,10 @@ fn with_twist_leaf(b: &Bvh, joint: &str) -> Bvh {
 fn a_twist_bone_branching_off_a_thigh_or_an_upper_arm_is_massless_and_changes_no_load() {
     let b = demo();
     let with = with_twist_leaf(&with_twist_leaf(&b, "LeftUpLeg"), "RightArm");
-    let (a, h) = (see(b, &opts()), see(with, &opts()));
+    let (a, h) = (
+        see(b, &common::anatomy_opts()),
+        see(with, &common::anatomy_opts()),
+    );
     assert!(
         h.take
             .notes

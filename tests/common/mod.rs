@@ -6,6 +6,16 @@ pub mod workbench;
 
 use std::path::PathBuf;
 
+/// `articula anatomy`'s take options as the anatomy tests load takes: ball joints, feet on the
+/// floor (explicit, not auto: a take that never stands is then an error, not a silent none).
+pub fn anatomy_opts() -> articula::pipeline::TakeOptions {
+    articula::pipeline::TakeOptions {
+        joints: "ball".parse().unwrap(),
+        contact: articula::pipeline::Contact::Feet,
+        ..articula::pipeline::TakeOptions::default()
+    }
+}
+
 /// The real takes of `ARTICULA_REAL_TAKES` (`../shared/data/bvh` in CI), sorted by name.
 ///
 /// The takes are not in this repository, so every test that reads them is marked
