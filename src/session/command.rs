@@ -206,6 +206,7 @@ pub const SET_KEYS: &[&str] = &[
     "smooth",
     "contact",
     "consistent",
+    "edges",
     "keep_first_frame",
     "joint_translations",
     "kp",

@@ -149,6 +149,9 @@ pub struct Params {
     /// Residual reduction with ground contact (`set consistent auto|on|off`, the CLI's
     /// `--consistent`): `None` is on with `contact feet`, as `articula anatomy`.
     pub consistent: Option<bool>,
+    /// Quote the edge frames' accelerations and torques too (`set edges include`, the CLI's
+    /// `anatomy --edges include`); by default they are [`LeftOut::Edge`].
+    pub include_edges: bool,
 }
 
 impl Default for Params {
@@ -169,6 +172,7 @@ impl Default for Params {
             motor_joint: BTreeMap::new(),
             motor_catalogue: None,
             consistent: None,
+            include_edges: false,
         }
     }
 }
@@ -179,6 +183,7 @@ impl Params {
     pub fn same_results(&self, other: &Params) -> bool {
         self.take == other.take
             && self.consistent == other.consistent
+            && self.include_edges == other.include_edges
             && self.kp == other.kp
             && self.kv == other.kv
             && self.integrator == other.integrator
@@ -397,6 +402,51 @@ pub struct Analysis {
     /// A human take's anatomical series (`pipeline::anatomy`): `<joint>:<axis>:angle` (rad)
     /// and `<joint>:<axis>:moment` (N·m) per frame, `knee_l:flexion:angle`; empty otherwise.
     pub anatomy: Table,
+    /// Per frame, why its accelerations and torques are not quoted (issue 14: peaks, minima,
+    /// maxima and the charts' markers leave these frames out, the charts shade them); `None`
+    /// for a frame that is. Empty: every frame is quoted.
+    pub left_out: Vec<Option<LeftOut>>,
+}
+
+/// Why a frame's accelerations and torques are left out of the figures quoted from them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LeftOut {
+    /// Within the smoothing's reach of the take's ends, where the smoothed accelerations see
+    /// past the take (`pipeline::edge_frames`); quoted with `set edges include`.
+    Edge,
+    /// The residuals stay beyond Hicks et al.'s thresholds: the motion needs a force the feet
+    /// cannot give (`pipeline::consistency`, the CSV column `residual:beyond`).
+    Beyond,
+}
+
+impl LeftOut {
+    /// A short name for messages and legends.
+    pub fn name(self) -> &'static str {
+        match self {
+            LeftOut::Edge => "edge",
+            LeftOut::Beyond => "beyond the feet",
+        }
+    }
+}
+
+impl Analysis {
+    /// Whether frame `k`'s accelerations and torques are quoted (not [`left_out`](Self::left_out)).
+    pub fn quoted(&self, k: usize) -> bool {
+        self.left_out.get(k).is_none_or(Option::is_none)
+    }
+
+    /// The runs of frames left out, as `(first, last, why)` with `first..=last` one reason.
+    pub fn left_out_runs(&self) -> Vec<(usize, usize, LeftOut)> {
+        let mut runs: Vec<(usize, usize, LeftOut)> = vec![];
+        for (k, w) in self.left_out.iter().enumerate() {
+            let Some(w) = *w else { continue };
+            match runs.last_mut() {
+                Some(r) if r.1 + 1 == k && r.2 == w => r.1 = k,
+                _ => runs.push((k, k, w)),
+            }
+        }
+        runs
+    }
 }
 
 /// The computations behind the workbench. Implementations must be deterministic.
@@ -521,6 +571,7 @@ impl Engine for Builtin {
         ctl.check()?;
         let mut note = String::new();
         let mut anatomy = Table::zeros(vec![], 0);
+        let mut left_out = vec![];
         let (model, states, scale, grf) = match &take.data {
             TakeData::Bvh(bvh) => {
                 // the pipeline's stages: axes and unit, model, q, unwrap, smooth, differentiate
@@ -536,6 +587,15 @@ impl Engine for Builtin {
                 ctl.check()?;
                 pipeline::resolve_contact(&mut t);
                 let scale = t.scale_to_m;
+                // the frames within the smoothing's reach of the ends, unless `edges include`
+                left_out = vec![None; t.states.len()];
+                if !params.include_edges {
+                    let e = pipeline::edge_frames(&t);
+                    let n = left_out.len();
+                    for k in (0..e.min(n)).chain(n.saturating_sub(e)..n) {
+                        left_out[k] = Some(LeftOut::Edge);
+                    }
+                }
                 note = summarize_notes(&t.notes);
                 // with `contact feet`: the torques with the estimated ground reactions
                 // (and how far the feet could give the ground force the motion needs), of the
@@ -543,6 +603,11 @@ impl Engine for Builtin {
                 let (t, g) = if t.options.contact == pipeline::Contact::Feet {
                     let reduce = params.consistent.unwrap_or(true);
                     let (adjusted, g, c) = pipeline::consistency::consistent_take(&t, reduce)?;
+                    for (k, b) in c.beyond.iter().enumerate() {
+                        if *b && k < left_out.len() {
+                            left_out[k] = Some(LeftOut::Beyond);
+                        }
+                    }
                     let said = format!("{}; {}", g.quality(), c.headline());
                     note = if note.is_empty() {
                         said
@@ -598,6 +663,7 @@ impl Engine for Builtin {
             note,
             model,
             anatomy,
+            left_out,
         })
     }
 
@@ -660,6 +726,7 @@ impl Engine for Builtin {
             ),
             model,
             anatomy: Table::zeros(vec![], 0),
+            left_out: vec![],
         })
     }
 

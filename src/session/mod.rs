@@ -58,7 +58,10 @@
 //! `joints euler|ball`, `smooth none|gaussian:W|butterworth:F[hz][:ORDER]` (W in s, F in Hz),
 //! `contact auto|feet|none`, `consistent auto|on|off` (residual reduction with ground contact,
 //! as `--consistent`: auto is on when contact is feet, or auto settled on feet; the status line
-//! then says the take's residuals against Hicks et al.'s thresholds), `link.<joint>.mass KG`,
+//! then says the take's residuals against Hicks et al.'s thresholds), `edges exclude|include`
+//! (whether the frames within the smoothing's reach of the take's ends count in the
+//! accelerations' and torques' min, max, peak, mean and RMS, as `anatomy --edges`; frames whose
+//! residuals stay beyond the thresholds never count), `link.<joint>.mass KG`,
 //! `lock J1,J2,…` (or `none`),
 //! `keep_first_frame true|false` (keep a rest pose stored as frame 0, `--keep-first-frame`; it
 //! acts when a take is read, so it applies to the takes loaded after it),
@@ -117,7 +120,7 @@ pub mod units;
 pub mod workbench;
 
 pub use command::{Command, Expectation, ExportKind, RunKind, parse_line, parse_session};
-pub use engine::{Analysis, Builtin, Control, Engine, Params, Take};
+pub use engine::{Analysis, Builtin, Control, Engine, LeftOut, Params, Take};
 pub use workbench::{Job, JobResult, Outcome, Workbench};
 
 use std::path::{Path, PathBuf};

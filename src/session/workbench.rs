@@ -410,6 +410,7 @@ impl Job {
             runs.push(MassRun {
                 mass_kg,
                 tau,
+                quoted: (0..r.time.len()).map(|k| r.quoted(k)).collect(),
                 t: r.time,
             });
         }
@@ -1276,6 +1277,17 @@ impl Workbench {
                     }
                 }
             }
+            "edges" => {
+                p.include_edges = match value {
+                    "exclude" => false,
+                    "include" => true,
+                    _ => {
+                        return Err(err(format!(
+                            "set edges: expected exclude or include, found '{value}'"
+                        )));
+                    }
+                }
+            }
             "keep_first_frame" => p.take.keep_first_frame = parsed::<bool>(key, value)?,
             "joint_translations" => p.take.joint_translations = parsed(key, value)?,
             "kp" => p.kp.all = num(None, "a gain in 1/s²")?,
@@ -1576,9 +1588,22 @@ impl Workbench {
                         .ok_or_else(|| err(format!("no moment for '{coord}'")))?,
                     _ => table.column(j),
                 };
+                // accelerations and torques: never of the frames left out (issue 14)
+                let forces = matches!(quantity, Quantity::Acceleration | Quantity::Torque);
+                let quoted: Vec<f64> = x
+                    .iter()
+                    .enumerate()
+                    .filter(|&(k, _)| !forces || r.quoted(k))
+                    .map(|(_, v)| *v)
+                    .collect();
                 let value = match stat {
                     Statistic::Now => x.get(self.frame).copied().unwrap_or(0.0),
-                    _ => statistic(*stat, &x),
+                    _ if quoted.is_empty() => {
+                        return Err(err(format!(
+                            "{coord}: every frame is left out of the quoted figures (edge                              frames or residuals beyond the feet; `set edges include` quotes                              the edges)"
+                        )));
+                    }
+                    _ => statistic(*stat, &quoted),
                 };
                 let name = format!(
                     "{} {coord} {}",
@@ -1639,6 +1664,17 @@ pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> 
         q.iter().map(|x| x * factor).collect(),
     )];
     let torque = [Series::new(coord, r.time.clone(), tau)];
+    // the frames whose forces are not quoted (edge frames, residuals beyond the feet)
+    let half = r
+        .time
+        .get(1)
+        .zip(r.time.first())
+        .map_or(0.0, |(b, a)| (b - a) / 2.0);
+    let shaded: Vec<(f64, f64)> = r
+        .left_out_runs()
+        .iter()
+        .map(|&(a, b, _)| (r.time[a] - half, r.time[b] + half))
+        .collect();
     let title_a = format!("{coord} {}", angle_label.split(' ').next().unwrap_or(""));
     let title_t = format!("{coord} {}", torque_label.split(' ').next().unwrap_or(""));
     let panels = [
@@ -1648,6 +1684,8 @@ pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> 
             y_label: angle_label,
             series: &angle,
             mark_min_max: true,
+            shaded: &[],
+            shaded_label: "",
         },
         Panel {
             title: &title_t,
@@ -1655,6 +1693,8 @@ pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> 
             y_label: torque_label,
             series: &torque,
             mark_min_max: true,
+            shaded: &shaded,
+            shaded_label: "not quoted: edges, beyond feet",
         },
     ];
     Ok(stacked_svg(&panels, None)?)

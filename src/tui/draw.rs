@@ -21,7 +21,9 @@ use ratatui::style::{Color, Modifier, Style};
 use ratatui::symbols::Marker;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::canvas::{Canvas, Line as CLine};
-use ratatui::widgets::{Block, Borders, Clear, LineGauge, Paragraph, Sparkline, Wrap};
+use ratatui::widgets::{
+    Block, Borders, Clear, LineGauge, Paragraph, Sparkline, SparklineBar, Wrap,
+};
 
 /// Smallest size drawn in full.
 pub const MIN_SIZE: (u16, u16) = (60, 16);
@@ -350,17 +352,31 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     f.render_widget(Paragraph::new(lines).block(block), area);
 }
 
-/// `min`, `max` over frames `0..=k` of `x`, and `x[k]`.
-pub fn running_stats(x: &[f64], k: usize) -> Option<(f64, f64, f64)> {
+/// `min`, `max` over the frames `0..=k` of `x` that `quoted` keeps (issue 14: a torque's
+/// running extremes leave out the edge frames and those beyond what the feet can give), and
+/// `x[k]`; `None` before the first quoted frame's min and max exist.
+pub fn running_stats(
+    x: &[f64],
+    k: usize,
+    quoted: impl Fn(usize) -> bool,
+) -> Option<(Option<(f64, f64)>, f64)> {
     let seen = x.get(..=k.min(x.len().checked_sub(1)?))?;
-    let min = seen.iter().copied().fold(f64::INFINITY, f64::min);
-    let max = seen.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    Some((min, max, *seen.last()?))
+    let kept = seen.iter().enumerate().filter(|&(i, _)| quoted(i));
+    let (min, max) = kept.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (_, &v)| {
+        (lo.min(v), hi.max(v))
+    });
+    Some(((min <= max).then_some((min, max)), *seen.last()?))
 }
 
 /// Sparkline bars: the take squeezed to `width` columns on the scale of the whole take;
-/// columns after frame `k` are absent.
-fn bars(x: &[f64], k: usize, width: usize) -> Vec<Option<u64>> {
+/// columns after frame `k` are absent, columns on a frame `quoted` leaves out are `shaded`.
+fn bars(
+    x: &[f64],
+    k: usize,
+    width: usize,
+    quoted: impl Fn(usize) -> bool,
+    shaded: Style,
+) -> Vec<SparklineBar> {
     if x.is_empty() || width == 0 {
         return vec![];
     }
@@ -374,7 +390,14 @@ fn bars(x: &[f64], k: usize, width: usize) -> Vec<Option<u64>> {
             } else {
                 0
             };
-            (i <= k).then(|| 1 + ((x[i] - lo) / span * 99.0).round() as u64)
+            let bar = SparklineBar::from(
+                (i <= k).then(|| 1 + ((x[i] - lo) / span * 99.0).round() as u64),
+            );
+            if quoted(i) {
+                bar
+            } else {
+                bar.style(Some(shaded))
+            }
         })
         .collect()
 }
@@ -415,24 +438,33 @@ fn draw_sparks(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
             f.render_widget(p, rect);
             continue;
         };
+        // a torque's frames left out (edge, beyond the feet) are shaded and not in its min/max
+        let forces = what == "torque" || what == "force";
+        let quoted = |k: usize| !forces || r.is_none_or(|r| r.quoted(k));
+        let left_out = (0..x.len()).filter(|&k| !quoted(k)).count();
         // the label in the coordinate's own unit, rounded by its kind; the bars in SI
         let unit = units::shown_unit(kind);
-        let label = match running_stats(&x, wb.frame) {
-            Some((min, max, now)) => {
-                let n = |v| units::format_number(kind, v);
-                format!(
-                    "{name} {what} [{unit}]  min {}  max {}  now {}",
-                    n(min),
-                    n(max),
-                    n(now)
-                )
-            }
+        let n = |v| units::format_number(kind, v);
+        let label = match running_stats(&x, wb.frame, quoted) {
+            Some((Some((min, max)), now)) => format!(
+                "{name} {what} [{unit}]  min {}  max {}  now {}",
+                n(min),
+                n(max),
+                n(now)
+            ),
+            Some((None, now)) => format!("{name} {what} [{unit}]  now {}", n(now)),
             None => format!("{name} {what}"),
+        };
+        let label = if left_out > 0 {
+            format!("{label}  ({left_out} shaded frames not quoted)")
+        } else {
+            label
         };
         let [l, s] = Layout::vertical([Constraint::Length(1), Constraint::Length(2)]).areas(rect);
         f.render_widget(Paragraph::new(label).style(ui.fg(color)), l);
+        let shaded = ui.fg(Color::DarkGray).add_modifier(Modifier::DIM);
         let spark = Sparkline::default()
-            .data(bars(&x, wb.frame, s.width as usize))
+            .data(bars(&x, wb.frame, s.width as usize, quoted, shaded))
             .max(100)
             .style(ui.fg(color));
         f.render_widget(spark, s);

@@ -841,6 +841,7 @@ pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
         ["set", "joints"] => vec!["euler".into(), "ball".into()],
         ["set", "contact"] => vec!["auto".into(), "feet".into(), "none".into()],
         ["set", "consistent"] => vec!["auto".into(), "on".into(), "off".into()],
+        ["set", "edges"] => vec!["exclude".into(), "include".into()],
         ["set", "joint_translations"] => vec!["weld".into(), "keep".into()],
         ["set", "integrator"] => ["euler", "semi-implicit", "rk4", "dopri5"]
             .map(String::from)
