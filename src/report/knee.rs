@@ -291,7 +291,7 @@ fn knee_svg_impl(joint: &str, runs: &[MassRun], table: Option<&Table>) -> Result
             series: &series,
             mark_min_max: true,
             shaded: &shaded,
-            shaded_label: "not quoted: edges, beyond feet",
+            shaded_label: "not quoted (edge/feet)",
         }],
         table,
     )

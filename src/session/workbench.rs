@@ -1694,7 +1694,7 @@ pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> 
             series: &torque,
             mark_min_max: true,
             shaded: &shaded,
-            shaded_label: "not quoted: edges, beyond feet",
+            shaded_label: "not quoted (edge/feet)",
         },
     ];
     Ok(stacked_svg(&panels, None)?)
