@@ -294,8 +294,15 @@ pub fn apply_frontend(
             let out = wb.out_path(path);
             let text = frontend.screen(wb);
             crate::io::write_atomic(&out, text.as_bytes())?;
+            // said in the status line too: the TUI shows the last message
+            let rows = text.lines().count();
+            let message = format!(
+                "wrote the screen as text ({rows} lines) to {}",
+                out.display()
+            );
+            wb.messages.push(message.clone());
             Ok(Outcome {
-                message: format!("wrote {}", out.display()),
+                message,
                 written: vec![out],
                 quit: false,
             })

@@ -459,13 +459,25 @@ impl Job {
             let sel = self
                 .selection(analysis)
                 .ok_or_else(|| err("report motor: select a joint first"))?;
-            let joint = joint_of_name(m, &sel).unwrap_or_else(|| sel.to_string());
+            let joint = joint_of_selection(&r, &sel).unwrap_or_else(|| sel.to_string());
             let coords = coords_of_joint(m, &joint);
             revolute
                 .into_iter()
                 .filter(|&k| coords.contains(&m.v_names[k]))
                 .collect()
         };
+        // an avatar's root hangs from the world: its "torques" are the residual forces and
+        // moments no joint gives (near zero for a consistent take), so no motor drives them
+        if !robot
+            && m.nv > 0
+            && let Some(&k) = chosen.first()
+            && joint_of(m, k) == joint_of(m, 0)
+        {
+            return Err(err(format!(
+                "report motor: {} is the root; its coordinates carry the residual forces and                  moments that no motor gives: select a joint of a limb (select knee_l, select                  LeftLeg)",
+                joint_of(m, 0)
+            )));
+        }
         if chosen.is_empty() {
             return Err(err(
                 "report motor: the selection has no revolute coordinate",
@@ -734,7 +746,8 @@ impl Workbench {
         }
     }
 
-    fn in_path(&self, p: &Path) -> PathBuf {
+    /// Where an input path is read: relative paths under the input folder.
+    pub fn in_path(&self, p: &Path) -> PathBuf {
         resolve_in(&self.in_dir, p)
     }
 
@@ -1008,7 +1021,11 @@ impl Workbench {
             r.model.nv,
             r.model.total_mass()
         );
-        if !r.note.is_empty() {
+        // a long note after a short first line (the status line shows the first line,
+        // the TUI's help all of it)
+        if !r.brief.is_empty() {
+            msg = format!("{msg}; {}\n{}", r.brief, r.note);
+        } else if !r.note.is_empty() {
             msg = format!("{msg}, {}", r.note);
         }
         self.selection = selection_for(&r, self.selection.as_deref());
@@ -1425,11 +1442,50 @@ impl Workbench {
         )
     }
 
+    /// The joint of the selection, as the joint tree names it: the BVH joint at an
+    /// anatomical joint's centre (`knee_l:flexion` → `LeftLeg`), the joint of a coordinate
+    /// (`LeftLeg.Xrotation`, `LeftLeg:wx`, a robot's `j2`).
+    pub fn selected_joint(&self) -> Option<String> {
+        let sel = self.selection.as_deref()?;
+        if let Some(r) = self.latest_results()
+            && is_anatomical(r, sel)
+        {
+            return joint_of_selection(r, sel);
+        }
+        let r = self.latest_results();
+        r.and_then(|r| joint_of_name(&r.model, sel)).or_else(|| {
+            // before results: the name up to the coordinate's separator
+            let tree = self.take()?.joint_tree();
+            tree.into_iter()
+                .map(|(n, _)| n)
+                .filter(|n| {
+                    sel == n
+                        || sel
+                            .strip_prefix(n.as_str())
+                            .is_some_and(|r| r.starts_with(['.', ':']))
+                })
+                .max_by_key(|n| n.len())
+        })
+    }
+
     pub fn joint_coords(&self, joint: &str) -> Vec<String> {
         match self.latest_results() {
             Some(r) => coords_of_joint(&r.model, joint),
             None => vec![],
         }
+    }
+
+    /// True when the latest results were computed for the model the current parameters
+    /// build (same joint model, locks, subtree and joint translations): their coordinates are
+    /// those of the next results.
+    fn results_model_current(&self) -> bool {
+        self.results.as_ref().is_some_and(|(_, p)| {
+            let (a, b) = (&p.take, &self.params.take);
+            a.joints == b.joints
+                && a.lock == b.lock
+                && a.subtree == b.subtree
+                && a.joint_translations == b.joint_translations
+        })
     }
 
     /// A coordinate name from a coordinate or a joint name. A joint gives its coordinate with
@@ -1441,7 +1497,12 @@ impl Workbench {
         let take = self
             .take()
             .ok_or_else(|| err("no take loaded (load PATH first)"))?;
-        if let Some(r) = self.latest_results()
+        // results of another model (computed before `set joints`, `lock`, `subtree`, …) name
+        // coordinates the next results will not have: then choose from the take's channels
+        let current = self
+            .latest_results()
+            .filter(|_| self.results_model_current());
+        if let Some(r) = current
             && r.model.v_index(name).is_some()
         {
             return Ok(name.to_string());
@@ -1463,7 +1524,7 @@ impl Workbench {
                 });
         }
         let bvh = take.bvh().ok_or_else(|| err("no take loaded"))?;
-        let Some(r) = self.latest_results() else {
+        let Some(r) = current else {
             return channel_by_range(bvh, name, self.params.take.joints);
         };
         if let Some(c) = best_coordinate(r, name) {
@@ -1724,6 +1785,20 @@ fn joint_of(model: &Model, k: usize) -> &str {
         Some((j, c)) if crate::io::bvh::Channel::ALL.iter().any(|ch| ch.name() == c) => j,
         _ => name,
     }
+}
+
+/// The joint of a selection in results `r`: the BVH joint at an anatomical joint's centre
+/// (`knee_l:flexion` → `LeftLeg`), the joint of a coordinate of the model.
+fn joint_of_selection(r: &Analysis, sel: &str) -> Option<String> {
+    if is_anatomical(r, sel) {
+        let joint = sel.split(':').next()?;
+        return r
+            .anatomy_joints
+            .iter()
+            .find(|(a, _)| a == joint)
+            .map(|(_, j)| j.clone());
+    }
+    joint_of_name(&r.model, sel)
 }
 
 /// The joint of a coordinate name, if the model has that coordinate.

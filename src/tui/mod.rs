@@ -89,7 +89,7 @@ pub fn run(initial: Vec<Command>) -> Result<(), Error> {
     let mut terminal = ratatui::Terminal::new(backend).map_err(io_err)?;
     terminal.clear().map_err(io_err)?;
 
-    let mut wb = Workbench::new(Arc::new(Builtin), ".", ".");
+    let mut wb = workbench_here();
     let mut ui = Ui::new();
     for c in &initial {
         ui.exec(&mut wb, c);
@@ -101,6 +101,14 @@ pub fn run(initial: Vec<Command>) -> Result<(), Error> {
             Ok(None)
         }
     })
+}
+
+/// The workbench of the terminal: relative paths of `:` commands are read from and written
+/// under the current folder, which messages name in full (`wrote /home/me/knee.svg`), so the
+/// user sees where an export landed.
+pub fn workbench_here() -> Workbench {
+    let here = std::env::current_dir().unwrap_or_else(|_| ".".into());
+    Workbench::new(Arc::new(Builtin), here.clone(), here)
 }
 
 /// How long [`event_loop`] waits for an event before it draws again (progress, playback).
