@@ -1,7 +1,7 @@
 //! The workbench state and the one function that changes it, [`Workbench::apply`].
 
 use super::SessionError;
-use super::command::{Command, Expectation, ExportKind, Quantity, RunKind, Statistic};
+use super::command::{Command, Expectation, ExportKind, Quantity, RunKind, Statistic, TakeRef};
 use super::engine::{Analysis, Builtin, Control, Engine, Params, Take, TakeData};
 use super::units::{self, Bare, Kind, Measure};
 use crate::model::{JointKind, Model};
@@ -776,13 +776,14 @@ impl Workbench {
                 let label = format!("loading {}", path.display());
                 (Task::Motion { file, index, model }, label)
             }
-            Command::Load { path, name } => (
-                Task::Load {
-                    file: self.in_path(path),
-                    name: name.clone(),
-                },
-                format!("loading {}", path.display()),
-            ),
+            Command::Load { path, name } => {
+                let file = self.in_path(path);
+                let name = name.clone().or_else(|| self.second_name(&file));
+                (
+                    Task::Load { file, name },
+                    format!("loading {}", path.display()),
+                )
+            }
             Command::Scene { path } => (
                 Task::Scene {
                     file: self.in_path(path),
@@ -1073,6 +1074,7 @@ impl Workbench {
                 self.set(key, value)?;
                 Ok(self.say(format!("{key} = {value}")))
             }
+            Command::Take(which) => self.switch_take(which),
             Command::Select(name) => {
                 let coord = self.resolve_coord(name)?;
                 self.selection = Some(coord.clone());
@@ -1117,6 +1119,70 @@ impl Workbench {
                 self.finish(job.run(&Control::default()))
             }
         }
+    }
+
+    /// `take`: makes another loaded take active, from its first frame. The results were the
+    /// old take's (they go); the selection stays when the take has it.
+    fn switch_take(&mut self, which: &TakeRef) -> Result<Outcome, SessionError> {
+        let n = self.takes.len();
+        if n == 0 {
+            return Err(err("no take loaded (load PATH first)"));
+        }
+        let cur = self.active.unwrap_or(0);
+        let i = match which {
+            TakeRef::Next => (cur + 1) % n,
+            TakeRef::Prev => (cur + n - 1) % n,
+            TakeRef::Index(k) if *k <= n => k - 1,
+            TakeRef::Index(k) => {
+                return Err(err(format!("take {k}: {n} take(s) are loaded")));
+            }
+            TakeRef::Name(name) => {
+                self.takes
+                    .iter()
+                    .position(|t| t.name == *name)
+                    .ok_or_else(|| {
+                        err(format!(
+                            "no take called '{name}' (loaded: {})",
+                            self.take_names().join(", ")
+                        ))
+                    })?
+            }
+        };
+        if self.active != Some(i) {
+            self.active = Some(i);
+            self.results = None;
+            self.sim = None;
+            self.frame = 0;
+            self.selection = selection_on_load(&self.takes[i], self.selection.as_deref());
+        }
+        let t = &self.takes[i];
+        Ok(self.say(format!(
+            "take {}/{n}: {} ({} frames)",
+            i + 1,
+            t.name,
+            t.frames()
+        )))
+    }
+
+    /// A name for the take of `file` when another file already gave its name (`a/walk.bvh`
+    /// and `b/walk.bvh` are `walk` and `walk-2`); `None` to keep the file's (a new name, or
+    /// the same file loaded again, which replaces its take).
+    fn second_name(&self, file: &Path) -> Option<String> {
+        let source = file.to_string_lossy();
+        let stem = file.file_stem()?.to_string_lossy().replace("demo:", "");
+        let taken = |n: &str| self.takes.iter().find(|t| t.name == n);
+        match taken(&stem) {
+            Some(t) if t.source != source => {}
+            _ => return None,
+        }
+        (2..)
+            .map(|k| format!("{stem}-{k}"))
+            .find(|n| taken(n).is_none_or(|t| t.source == source))
+    }
+
+    /// The names of the loaded takes, in load order.
+    pub fn take_names(&self) -> Vec<String> {
+        self.takes.iter().map(|t| t.name.clone()).collect()
     }
 
     /// Checks a `trajectory` for the active take: a robot of revolute and prismatic joints,

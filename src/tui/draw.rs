@@ -273,9 +273,15 @@ fn body_poses(r: &Analysis, k: usize) -> Vec<SpatialTransform> {
 }
 
 fn draw_view(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
-    let title = match wb.take() {
-        Some(t) => format!(" {} ", t.name),
-        None => " Avatar ".into(),
+    // with several takes: which one of how many, and the key to the next
+    let title = match (wb.take(), wb.active) {
+        (Some(t), Some(i)) if wb.takes.len() > 1 => {
+            let which = format!(" [{}/{}, t: next] ", i + 1, wb.takes.len());
+            let room = (area.width as usize).saturating_sub(which.chars().count() + 3);
+            format!(" {}{which}", elide_middle(&t.name, room.max(4)))
+        }
+        (Some(t), _) => format!(" {} ", t.name),
+        _ => " Avatar ".into(),
     };
     let block = ui.pane(title, Focus::View);
     let inner = block.inner(area);
@@ -462,6 +468,23 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
                 ""
             }
         )));
+    }
+    // several takes: the list, the active one marked (`take N|NAME`, t and T switch)
+    if wb.takes.len() > 1 {
+        lines.push(Line::from("takes (t/T):"));
+        for (i, name) in wb.take_names().into_iter().enumerate() {
+            let active = wb.active == Some(i);
+            let text = elide_middle(
+                &format!("{}{} {name}", if active { "▸" } else { " " }, i + 1),
+                w,
+            );
+            let style = if active {
+                Style::default().add_modifier(Modifier::BOLD)
+            } else {
+                Style::default()
+            };
+            lines.push(Line::from(Span::styled(text, style)));
+        }
     }
     f.render_widget(Paragraph::new(lines).block(block), area);
 }
@@ -691,7 +714,8 @@ joints        ↑/↓ or k/j select a joint, ←/→ or h/l its coordinate, mous
 avatar        ←/→ yaw, ↑/↓ pitch (also < and > anywhere), r resets the view
 parameters    ↑/↓ choose, ←/→ or -/+ change (results recompute), Enter edits as :set
 timeline      ←/→ one frame, ↑/↓ ten frames, click to jump
-anywhere      Space play/pause, [ ] one frame, { } ten frames, g/G first/last frame
+anywhere      Space play/pause, [ ] one frame, { } ten frames, g/G first/last frame,
+              t/T the next/previous loaded take (:take N|NAME)
 Esc           cancel the running job (⟳ in the status line) and what waits for it; clear an error
 Commands are the session language: load, set, run, select, frame, export, expect, ...";
 

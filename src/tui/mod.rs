@@ -30,7 +30,7 @@ pub mod ui;
 pub use ui::{Focus, Ui};
 
 use crate::error::Error;
-use crate::session::{Builtin, Command, Workbench};
+use crate::session::{Builtin, Command, TakeRef, Workbench};
 use crossterm::event::{self, DisableMouseCapture, EnableMouseCapture, Event, KeyEventKind};
 use crossterm::execute;
 use crossterm::terminal::{
@@ -93,6 +93,15 @@ pub fn run(initial: Vec<Command>) -> Result<(), Error> {
     let mut ui = Ui::new();
     for c in &initial {
         ui.exec(&mut wb, c);
+    }
+    // several takes open on the first (t and T switch); each load waits for the one before
+    if initial
+        .iter()
+        .filter(|c| matches!(c, Command::Load { .. }))
+        .count()
+        > 1
+    {
+        ui.exec(&mut wb, &Command::Take(TakeRef::Index(1)));
     }
     event_loop(&mut terminal, &mut ui, &mut wb, |timeout| {
         if event::poll(timeout).map_err(io_err)? {

@@ -5,8 +5,8 @@ use crate::session::command::Expectation;
 use crate::session::command::{COMMAND_WORDS, SET_KEYS};
 use crate::session::engine::{Control, SmoothSpec};
 use crate::session::{
-    Command, Frontend, Job, JobResult, Outcome, RunKind, SessionError, Workbench, apply_frontend,
-    apply_with, parse_line,
+    Command, Frontend, Job, JobResult, Outcome, RunKind, SessionError, TakeRef, Workbench,
+    apply_frontend, apply_with, parse_line,
 };
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers, MouseButton, MouseEvent, MouseEventKind};
 use ratatui::layout::Rect;
@@ -97,6 +97,7 @@ fn changes_take(cmd: &Command) -> bool {
     matches!(
         cmd,
         Command::Load { .. }
+            | Command::Take(_)
             | Command::Blend { .. }
             | Command::Trajectory { .. }
             | Command::Scene { .. }
@@ -483,6 +484,9 @@ impl Ui {
             KeyCode::Char('}') => frame_to(self, wb, cur + 10),
             KeyCode::Home | KeyCode::Char('g') => frame_to(self, wb, 0),
             KeyCode::End | KeyCode::Char('G') => frame_to(self, wb, frames as isize - 1),
+            // the next / previous loaded take
+            KeyCode::Char('t') => self.exec(wb, &Command::Take(TakeRef::Next)),
+            KeyCode::Char('T') => self.exec(wb, &Command::Take(TakeRef::Prev)),
             KeyCode::Char('<') => self.yaw -= 0.2,
             KeyCode::Char('>') => self.yaw += 0.2,
             KeyCode::Char('r') => {
@@ -879,6 +883,11 @@ pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
         ["select"] | ["compare", "weights", _, "joint"] if last.contains('.') => coords.clone(),
         ["select"] | ["compare", "weights", _, "joint"] => joints.clone(),
         ["run"] => vec!["id".into(), "sim".into()],
+        ["take"] => ["next", "prev"]
+            .map(String::from)
+            .into_iter()
+            .chain(wb.take_names())
+            .collect(),
         ["export"] => ["csv", "svg", "bvh", "urdf"].map(String::from).to_vec(),
         ["export", "bvh"] => std::iter::once("sim".to_string())
             .chain(paths(wb, last, None))
