@@ -186,7 +186,10 @@ fn torque_extremes_leave_out_edge_frames_and_the_sparkline_shades_them() {
 #[test]
 fn tree_navigation_parameters_and_help() {
     let (mut ui, mut wb) = demo(100, 30);
-    press(&mut ui, &mut wb, "jj");
+    // the knee's anatomical flexion sits on the tree's row of the knee's BVH joint
+    let tree = Ui::tree(&wb);
+    assert_eq!(tree[Ui::tree_cursor(&wb).unwrap()].0, "LeftLeg");
+    press(&mut ui, &mut wb, ":select Hips<Enter>jj");
     let largest = |wb: &Workbench, joint: &str| {
         articula::session::workbench::best_coordinate(wb.latest_results().unwrap(), joint)
     };

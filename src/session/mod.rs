@@ -37,6 +37,7 @@
 //! | `run id` | inverse dynamics over the active take (RNEA at every frame) |
 //! | `run sim` | computed-torque simulation tracking the active take (`kp`, `kv`, `integrator`, `dt`); the message gives the tracking error |
 //! | `blend A B T0:T1` | take A until T0, take B from T1, a C² blend between (s; B's root and heading aligned to A's); the result, named `A+B`, becomes active |
+//! | `take next\|prev\|N\|NAME` | make another loaded take active (N from 1, in load order); its results are computed anew and the selection kept when the take has it (a human's left knee otherwise) |
 //! | `select JOINT` | select a coordinate (`LeftLeg.Xrotation`, `LeftLeg:wx`, `j2`) or a joint: its rotation coordinate with the largest range of motion over the take (the flexion axis of a knee or elbow; `J:wx`… for ball joints) |
 //! | `frame N` | go to frame N (0-based) |
 //! | `play`, `pause` | start / stop playback |
@@ -119,7 +120,7 @@ pub mod trajectory;
 pub mod units;
 pub mod workbench;
 
-pub use command::{Command, Expectation, ExportKind, RunKind, parse_line, parse_session};
+pub use command::{Command, Expectation, ExportKind, RunKind, TakeRef, parse_line, parse_session};
 pub use engine::{Analysis, Builtin, Control, Engine, LeftOut, Params, Take};
 pub use workbench::{Job, JobResult, Outcome, Workbench};
 
@@ -294,8 +295,15 @@ pub fn apply_frontend(
             let out = wb.out_path(path);
             let text = frontend.screen(wb);
             crate::io::write_atomic(&out, text.as_bytes())?;
+            // said in the status line too: the TUI shows the last message
+            let rows = text.lines().count();
+            let message = format!(
+                "wrote the screen as text ({rows} lines) to {}",
+                out.display()
+            );
+            wb.messages.push(message.clone());
             Ok(Outcome {
-                message: format!("wrote {}", out.display()),
+                message,
                 written: vec![out],
                 quit: false,
             })
