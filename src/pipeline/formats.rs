@@ -266,12 +266,30 @@ pub fn export_grf(
     let loads: Vec<(&str, &str)> = prefixes
         .iter()
         .zip(&g.bodies)
-        .map(|(p, &b)| (p.as_str(), take.model.body_names[b].as_str()))
+        .map(|(p, &b)| (p.as_str(), segment_name(take, b)))
         .collect();
     let xml = opensim::external_loads_xml("externalloads", &datafile, &loads);
     let xml_path = path.with_extension("xml");
     crate::io::write_atomic(&xml_path, xml.as_bytes())?;
     Ok(ExternalLoadsXml::Written(xml_path))
+}
+
+/// The BVH joint whose segment body `b` is: the euler model names its bodies
+/// `<joint>.<channel>`, one per channel, the ball model `<joint>`.
+fn segment_name(take: &Take, b: usize) -> &str {
+    let body = take.model.body_names[b].as_str();
+    take.bvh
+        .joints
+        .iter()
+        .map(|j| j.name.as_str())
+        .filter(|j| {
+            body == *j
+                || body
+                    .strip_prefix(j)
+                    .is_some_and(|rest| rest.starts_with('.'))
+        })
+        .max_by_key(|j| j.len())
+        .unwrap_or(body)
 }
 
 /// A foot's name as a column prefix: no spaces or tabs.
