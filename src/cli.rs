@@ -89,6 +89,21 @@ pub enum Cmd {
         /// Table format: csv or sto. Default: the output's extension (.sto, .mot), else csv.
         #[arg(long, value_name = "csv|sto")]
         format: Option<String>,
+        /// Measured ground reactions instead of the estimate: an OpenSim external-loads .mot
+        /// (`<foot>_ground_force_v[xyz]`, `_p[xyz]`, `<foot>_ground_torque_[xyz]`) or a CSV
+        /// with `grf:<foot>:x|y|z`, `cop:…`, `moment:…` (as `export grf` writes); N, m, N·m in
+        /// the take's world axes, resampled to the take's frames.
+        #[arg(long, value_name = "FILE")]
+        grf: Option<PathBuf>,
+        /// Time (s) of the take's frame at time 0 on the --grf file's clock: the file's time
+        /// of frame k is t_k + offset.
+        #[arg(
+            long,
+            value_name = "S",
+            allow_negative_numbers = true,
+            requires = "grf"
+        )]
+        grf_offset: Option<f64>,
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -759,9 +774,18 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             opts,
             consistency,
             format,
+            grf,
+            grf_offset,
             output,
         } => {
             let format = TableFormat::choose(&output, format.as_deref())?;
+            if grf.is_some() && (consistency.consistent.is_some() || consistency.json) {
+                bail!(
+                    "--consistent and --json report on the estimated ground reactions; with \
+                     --grf the residual columns say what the measured forces leave to the \
+                     root: remove them"
+                );
+            }
             let o = opts.options_for_source("id", &src)?;
             let mut job = pipeline::load_source(&src.source()?, src.states.as_deref(), &o)?;
             if let Some(t) = job.take.as_mut() {
@@ -771,11 +795,26 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 .take
                 .as_ref()
                 .is_some_and(|t| t.options.contact == pipeline::Contact::Feet);
-            let reduce = consistency.reduce(contact, false)?;
-            let c = pipeline::consistency::consistent_job(&mut job, reduce, src.states.is_none())?;
+            let c = match &grf {
+                Some(path) => {
+                    need(path)?;
+                    pipeline::measured::use_measured_grf(
+                        &mut job,
+                        path,
+                        grf_offset.unwrap_or(0.0),
+                    )?;
+                    None
+                }
+                None => {
+                    let reduce = consistency.reduce(contact, false)?;
+                    pipeline::consistency::consistent_job(&mut job, reduce, src.states.is_none())?
+                }
+            };
             let quality = formats::write_inverse_dynamics_as(&job, &output, format)?;
             print_notes(job.take.as_ref());
-            if let Some(q) = quality {
+            // the estimate's quality figure (how far the feet could give the needed force) says
+            // nothing of measured forces: their residual columns do
+            if let (Some(q), None) = (quality, &grf) {
                 eprintln!("{q}");
             }
             if let Some(c) = c {

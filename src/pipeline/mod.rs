@@ -22,6 +22,7 @@ pub mod consistency;
 mod contact;
 mod edit;
 pub mod formats;
+pub mod measured;
 mod sim;
 
 pub use contact::{
@@ -1094,6 +1095,9 @@ pub struct Job {
     pub states: States,
     /// The take, when the source is one (for contact and reports).
     pub take: Option<Take>,
+    /// Measured ground reactions (`id --grf`, [`measured::use_measured_grf`]), used instead
+    /// of the estimate.
+    pub measured: Option<crate::dynamics::grf::GroundReactions>,
 }
 
 /// Loads only the model of a source (for `bench`).
@@ -1153,6 +1157,7 @@ pub fn load_source_with(
         model,
         states,
         take,
+        measured: None,
     })
 }
 
@@ -1425,9 +1430,10 @@ pub fn write_inverse_dynamics(
 pub fn job_torques(
     job: &Job,
 ) -> Result<(Torques, Option<crate::dynamics::grf::GroundReactions>), Error> {
-    let grf = match &job.take {
-        Some(t) => ground_reactions(t)?,
-        None => None,
+    let grf = match (&job.measured, &job.take) {
+        (Some(m), _) => Some(m.clone()),
+        (None, Some(t)) => ground_reactions(t)?,
+        (None, None) => None,
     };
     let mut t = inverse_dynamics(&job.model, &job.states);
     if let Some(g) = &grf {
