@@ -95,7 +95,12 @@ fn the_estimates_own_forces_read_back_give_the_same_torques() {
     );
     assert!(compare(&estimated, &shifted) > 1.0);
     let (r0, r1) = (residual_rms(&from_csv), residual_rms(&shifted));
-    assert!(r1 > 1.2 * r0, "residual {r0} N in step, {r1} N a frame off");
+    // in step the feet carry all the force the motion needs (the estimate's loads give the
+    // root no force); a frame off, tens of newtons are left to the root
+    assert!(
+        r0 < 1e-6 && r1 > 10.0,
+        "residual {r0} N in step, {r1} N a frame off"
+    );
 }
 
 #[test]
