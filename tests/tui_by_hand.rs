@@ -4,12 +4,13 @@
 //! the absolute path they wrote; `select` after `set joints` chooses on the model the
 //! parameters now build; Tab completes file paths.
 
+mod common;
+
+use common::tui::{buffer, press};
+
 use articula::session::{Builtin, Command, Workbench, apply_with, parse_line};
-use articula::tui::keys::parse_keys;
 use articula::tui::ui::complete;
 use articula::tui::{Ui, draw};
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
 use ratatui::buffer::Buffer;
 use ratatui::style::Modifier;
 use std::path::Path;
@@ -29,18 +30,6 @@ fn demo(out: &Path) -> (Ui, Workbench) {
     );
     assert!(ui.error.is_none(), "{:?}", ui.error);
     (ui, wb)
-}
-
-fn press(ui: &mut Ui, wb: &mut Workbench, keys: &str) {
-    for k in parse_keys(keys).unwrap() {
-        ui.handle_key(wb, k);
-    }
-}
-
-fn buffer(ui: &Ui, wb: &Workbench, w: u16, h: u16) -> Buffer {
-    let mut term = Terminal::new(TestBackend::new(w, h)).unwrap();
-    term.draw(|f| draw::draw(ui, wb, f)).unwrap();
-    term.backend().buffer().clone()
 }
 
 /// The row of `buf` holding `text`.

@@ -4,21 +4,18 @@
 //! a motor for the root's residual coordinates; the status line's contact verdicts read at
 //! 80 columns.
 
+mod common;
+
+use common::tui::{press, screen};
+
 use articula::session::{Builtin, Command, Workbench};
-use articula::tui::keys::parse_keys;
 use articula::tui::{Ui, draw};
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
 use std::path::Path;
 use std::sync::Arc;
 
-fn repo(p: &str) -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
-}
-
 /// The demo walk with every joint renamed as Mixamo names them (`mixamorig:LeftLeg`), in `dir`.
 fn mixamo_walk(dir: &Path) -> std::path::PathBuf {
-    let text = std::fs::read_to_string(repo("data/demo_walk.bvh")).unwrap();
+    let text = std::fs::read_to_string(common::repo("data/demo_walk.bvh")).unwrap();
     let renamed: String = text
         .lines()
         .map(|l| {
@@ -51,18 +48,6 @@ fn open(path: &Path, w: u16, h: u16) -> (Ui, Workbench) {
     );
     assert!(ui.error.is_none(), "{:?}", ui.error);
     (ui, wb)
-}
-
-fn screen(ui: &Ui, wb: &Workbench, w: u16, h: u16) -> String {
-    let mut term = Terminal::new(TestBackend::new(w, h)).unwrap();
-    term.draw(|f| draw::draw(ui, wb, f)).unwrap();
-    draw::buffer_text(term.backend().buffer())
-}
-
-fn press(ui: &mut Ui, wb: &mut Workbench, keys: &str) {
-    for k in parse_keys(keys).unwrap() {
-        ui.handle_key(wb, k);
-    }
 }
 
 /// Regression: the tree was 24 columns whatever the names, so a Mixamo rig read as rows of
@@ -102,7 +87,7 @@ fn a_mixamo_tree_drops_the_shared_prefix_and_opens_on_the_left_knee() {
 
 #[test]
 fn the_selected_knee_is_marked_in_the_avatar() {
-    let (ui, wb) = open(&repo("data/demo_walk.bvh"), 100, 30);
+    let (ui, wb) = open(&common::repo("data/demo_walk.bvh"), 100, 30);
     assert_eq!(wb.selection.as_deref(), Some("knee_l:flexion"));
     assert_eq!(wb.selected_joint().as_deref(), Some("LeftLeg"));
     let s = screen(&ui, &wb, 100, 30);
@@ -113,7 +98,7 @@ fn the_selected_knee_is_marked_in_the_avatar() {
 fn report_motor_refuses_the_root_and_sizes_the_selected_knee() {
     let dir = tempfile::tempdir().unwrap();
     let mut ui = Ui::headless(100, 30);
-    let mut wb = Workbench::new(Arc::new(Builtin), repo("data"), dir.path());
+    let mut wb = Workbench::new(Arc::new(Builtin), common::repo("data"), dir.path());
     ui.exec(
         &mut wb,
         &Command::Load {
@@ -142,7 +127,7 @@ fn report_motor_refuses_the_root_and_sizes_the_selected_knee() {
 
 #[test]
 fn the_contact_verdicts_read_in_the_status_line_at_80_columns() {
-    let (mut ui, mut wb) = open(&repo("data/demo_walk.bvh"), 80, 24);
+    let (mut ui, mut wb) = open(&common::repo("data/demo_walk.bvh"), 80, 24);
     press(&mut ui, &mut wb, ":set contact feet<Enter>");
     let s = screen(&ui, &wb, 80, 24);
     let status = s.lines().last().unwrap();

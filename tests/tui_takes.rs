@@ -3,33 +3,18 @@
 //! selected; the avatar's title and the parameter panel list them; two files of one name
 //! stay two takes.
 
+mod common;
+
+use common::tui::{press, screen};
+
 use articula::session::{Builtin, Command, Workbench};
-use articula::tui::keys::parse_keys;
-use articula::tui::{Ui, draw};
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
+use articula::tui::Ui;
 use std::path::Path;
 use std::sync::Arc;
 
-fn repo(p: &str) -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
-}
-
-fn press(ui: &mut Ui, wb: &mut Workbench, keys: &str) {
-    for k in parse_keys(keys).unwrap() {
-        ui.handle_key(wb, k);
-    }
-}
-
-fn screen(ui: &Ui, wb: &Workbench, w: u16, h: u16) -> String {
-    let mut term = Terminal::new(TestBackend::new(w, h)).unwrap();
-    term.draw(|f| draw::draw(ui, wb, f)).unwrap();
-    draw::buffer_text(term.backend().buffer())
-}
-
 /// Two takes in `dir`: `a/walk.bvh` (the demo walk) and `b/walk.bvh`, its second half.
 fn two_walks(dir: &Path) {
-    let text = std::fs::read_to_string(repo("data/demo_walk.bvh")).unwrap();
+    let text = std::fs::read_to_string(common::repo("data/demo_walk.bvh")).unwrap();
     let (head, motion) = text.split_once("MOTION").unwrap();
     let rows: Vec<&str> = motion.lines().skip(3).filter(|l| !l.is_empty()).collect();
     let half = &rows[rows.len() / 2..];
