@@ -204,6 +204,9 @@ pub enum ExportWhat {
     Positions,
     /// The model as URDF.
     Urdf,
+    /// The model as MuJoCo MJCF: a free root, ball or hinge joints, ellipsoid links, a floor,
+    /// gravity along −up, a motor per joint DoF (gear 1).
+    Mjcf,
     /// q, v, a per frame, exactly as inverse dynamics uses them.
     States,
 }
@@ -408,6 +411,11 @@ const UNUSED_TAKE_FLAGS: &[(&str, &[&str], &str)] = &[
         "export urdf",
         &["--smooth", "--contact", "--damping", "--keep-first-frame"],
         "a URDF holds the model, not the motion",
+    ),
+    (
+        "export mjcf",
+        &["--smooth", "--contact", "--keep-first-frame"],
+        "an MJCF holds the model, not the motion",
     ),
     (
         "simulate",
@@ -649,12 +657,14 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             let command = match what {
                 ExportWhat::Positions => "export positions",
                 ExportWhat::Urdf => "export urdf",
+                ExportWhat::Mjcf => "export mjcf",
                 ExportWhat::States => "export states",
             };
             let take = pipeline::load_take(&take, &opts.options_for(command)?)?;
             match what {
                 ExportWhat::Positions => pipeline::export_positions(&take, &output)?,
                 ExportWhat::Urdf => pipeline::export_urdf(&take, &output)?,
+                ExportWhat::Mjcf => pipeline::export_mjcf(&take, &output)?,
                 ExportWhat::States => pipeline::export_states(&take, &output)?,
             }
             wrote(&output);

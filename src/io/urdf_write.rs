@@ -16,29 +16,10 @@
 //! the file back ([`read_urdf`](crate::model::urdf::read_urdf), fixed base) gives the same model.
 
 use crate::error::Error;
+use crate::io::xml::{attr, comment, num, vec3};
 use crate::model::{JointKind, Model};
 use crate::rotation::{EulerOrder, matrix_to_euler};
 use std::fmt::Write;
-
-/// Shortest exact decimal form of `x`.
-fn num(x: f64) -> String {
-    let x = if x == 0.0 { 0.0 } else { x };
-    let mut b = ryu::Buffer::new();
-    let s = b.format(x);
-    s.strip_suffix(".0").unwrap_or(s).to_string()
-}
-
-fn vec3(v: &nalgebra::Vector3<f64>) -> String {
-    format!("{} {} {}", num(v.x), num(v.y), num(v.z))
-}
-
-/// Escapes an XML attribute value.
-fn attr(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
 
 /// The URDF text of `model` (see the module doc).
 ///
@@ -62,7 +43,7 @@ pub fn model_to_urdf(model: &Model) -> Result<String, Error> {
         "<!-- {} as URDF, written by articula: {} bodies, nq = {}, nv = {}, total mass {} kg.\n     \
          gravity (world frame, m/s^2): {} {} {}\n     \
          SI units; one joint per coordinate; massless links have no inertial. -->",
-        attr(&model.name).replace("--", "- -"),
+        comment(&model.name),
         model.nbodies() - 1,
         model.nq,
         model.nv,

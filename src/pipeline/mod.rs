@@ -21,6 +21,7 @@ pub mod anatomy;
 pub mod consistency;
 mod contact;
 mod edit;
+mod mujoco;
 mod sim;
 
 pub use contact::{
@@ -29,6 +30,7 @@ pub use contact::{
     take_feet,
 };
 pub use edit::{blend_files, export_smoothed_bvh};
+pub use mujoco::{export_mjcf, floor_level};
 pub use sim::{
     Bench, SimSettings, SimSummary, Tradeoff, TradeoffRow, bench, bench_batches,
     passive_energy_drift, reference, simulate, simulate_states, tradeoff, tradeoff_grid,
