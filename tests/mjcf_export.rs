@@ -6,6 +6,9 @@
 //! root, link masses that add up to the model's mass, and gravity of 9.81 m/s² along the take's
 //! −up. That MuJoCo's `mj_inverse` gives articula's torques is `tools/check_mujoco.py`'s job
 //! (it needs the `mujoco` wheel).
+//!
+//! The URDF export says the same gravity in MuJoCo's `<mujoco><option gravity>` extension and
+//! gives every link with a shape visual and collision geometry.
 
 use articula::model::JointKind;
 use articula::model::bvh::JointModel;
@@ -191,4 +194,35 @@ fn links_collide_with_the_floor_but_not_with_each_other() {
         assert!(touch(*l, floor[0]));
         assert!(!touch(*l, links[0]));
     }
+}
+
+#[test]
+fn urdf_has_link_geometry_and_gravity_in_mujocos_option() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path());
+    let out = dir.path().join("walk.urdf");
+    articula()
+        .args(["export", "urdf"])
+        .arg(&take)
+        .args(["--up", "z", "-o"])
+        .arg(&out)
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(out).unwrap();
+    let doc = roxmltree::Document::parse(&text).expect("well-formed XML");
+    let option = doc
+        .descendants()
+        .find(|n| n.has_tag_name("option") && n.parent().is_some_and(|p| p.has_tag_name("mujoco")))
+        .expect("<mujoco><option>");
+    assert_eq!(
+        numbers(option.attribute("gravity").unwrap()),
+        vec![0.0, 0.0, -9.81]
+    );
+    let model = model_of(&take, JointModel::Euler);
+    let shaped = model.shapes.iter().filter(|s| s.is_some()).count();
+    for tag in ["visual", "collision"] {
+        let n = doc.descendants().filter(|n| n.has_tag_name(tag)).count();
+        assert_eq!(n, shaped, "{tag}");
+    }
+    assert!(shaped > 0);
 }

@@ -21,8 +21,13 @@ Coordinate conversions (MuJoCo's conventions, https://mujoco.readthedocs.io):
     by the recursion w = R_k^T w + a_k qd_k, dw = R_k^T dw + a_k qdd_k + w x a_k qd_k; forces
     slide_k = (R0 e_k) . qfrc[0:3], hinge_k = S_k . qfrc[3:6] with S_k = (R_k+1 .. R_3)^T a_k.
 
-Usage: check_mujoco.py TAKE.bvh [--articula BIN] [--tol 1e-8] [--keep DIR] -- [take options]
-(e.g. `-- --joints ball`). Needs `pip install mujoco numpy`.
+With `--format urdf` the same is done on `articula export urdf` (the euler model: its root is
+articula's own slides and hinges, every coordinate maps 1:1; MuJoCo gives the massless links
+1e-9 kg, the file's `boundmass`), which also checks that MuJoCo's URDF import reads the
+gravity of the file's `<mujoco><option gravity>` (it is printed, and enters every torque).
+
+Usage: check_mujoco.py TAKE.bvh [--articula BIN] [--tol 1e-8] [--keep DIR] [--format urdf]
+-- [take options] (e.g. `-- --joints ball`). Needs `pip install mujoco numpy`.
 """
 
 import argparse
@@ -191,6 +196,9 @@ def run(argv):
     p.add_argument("--articula", default=os.environ.get("ARTICULA", "target/release/articula"))
     p.add_argument("--tol", type=float, default=1e-8)
     p.add_argument("--keep", help="write the MJCF, states and torques here")
+    p.add_argument("--format", choices=["mjcf", "urdf"], default="mjcf",
+                   help="the export MuJoCo loads (urdf: the euler model only; its root is "
+                        "articula's own 3 slides + 3 hinges, so every coordinate maps 1:1)")
     extra = []
     if "--" in argv:
         k = argv.index("--")
@@ -199,9 +207,10 @@ def run(argv):
     a.opts = extra
     out = a.keep or tempfile.mkdtemp(prefix="check_mujoco_")
     os.makedirs(out, exist_ok=True)
-    xml, states, tau = (os.path.join(out, n) for n in ("model.xml", "states.csv", "id.csv"))
+    model_file = "model.xml" if a.format == "mjcf" else "model.urdf"
+    xml, states, tau = (os.path.join(out, n) for n in (model_file, "states.csv", "id.csv"))
     art = [a.articula]
-    for cmd in (["export", "mjcf", a.take, "-o", xml],
+    for cmd in (["export", a.format, a.take, "-o", xml],
                 ["export", "states", a.take, "-o", states],
                 ["id", a.take, "--contact", "none", "-o", tau]):
         subprocess.run(art + cmd + a.opts, check=True, stdout=subprocess.DEVNULL,
@@ -230,8 +239,8 @@ def run(argv):
             if rel > worst_rel:
                 worst_rel, where = rel, (k, name, x, y)
     missing = [c for c in t if c != "time" and c not in compared]
-    print(f"{a.take} {' '.join(a.opts)}: MuJoCo {mujoco.__version__}, nq {m.nq}, nv {m.nv}, "
-          f"nu {m.nu}, {n} frames, {len(compared)} coordinates compared"
+    print(f"{a.take} {' '.join(a.opts)} ({a.format}): MuJoCo {mujoco.__version__}, nq {m.nq}, "
+          f"nv {m.nv}, nu {m.nu}, ngeom {m.ngeom}, gravity {m.opt.gravity}, {n} frames, {len(compared)} coordinates compared"
           + (f", NOT compared: {missing}" if missing else ""))
     print(f"  max |tau_mujoco - tau_articula| / max|tau_articula| (per frame) = {worst_rel:.3e}; "
           f"max abs {worst_abs:.3e}")
