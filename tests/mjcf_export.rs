@@ -8,13 +8,16 @@
 //! (it needs the `mujoco` wheel).
 //!
 //! The URDF export says the same gravity in MuJoCo's `<mujoco><option gravity>` extension and
-//! gives every link with a shape visual and collision geometry.
+//! gives every link with a shape visual and collision geometry. The workbench's `export mjcf`
+//! takes each motor's gear from its drives (`N·η`).
 
 use articula::model::JointKind;
 use articula::model::bvh::JointModel;
 use articula::pipeline::{TakeOptions, load_take};
 use assert_cmd::Command;
 use std::path::{Path, PathBuf};
+
+mod common;
 
 fn articula() -> Command {
     Command::cargo_bin("articula").expect("binary")
@@ -225,4 +228,28 @@ fn urdf_has_link_geometry_and_gravity_in_mujocos_option() {
         assert_eq!(n, shaped, "{tag}");
     }
     assert!(shaped > 0);
+}
+
+#[test]
+fn workbench_export_takes_motor_gears_from_the_drives() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut wb = common::workbench::wb_in(dir.path());
+    common::workbench::ok(&mut wb, "load demo:walk");
+    common::workbench::ok(&mut wb, "set motor.gear 50");
+    common::workbench::ok(&mut wb, "set motor.efficiency 0.9");
+    common::workbench::ok(&mut wb, "set motor.LeftLeg.Xrotation.gear 120");
+    common::workbench::ok(&mut wb, "export mjcf walk.xml");
+    let xml = std::fs::read_to_string(dir.path().join("walk.xml")).unwrap();
+    let doc = roxmltree::Document::parse(&xml).expect("well-formed XML");
+    let gear = |motor: &str| -> f64 {
+        doc.descendants()
+            .find(|n| n.has_tag_name("motor") && n.attribute("name") == Some(motor))
+            .and_then(|n| n.attribute("gear"))
+            .unwrap_or_else(|| panic!("motor {motor}"))
+            .parse()
+            .unwrap()
+    };
+    assert_eq!(gear("LeftLeg.Xrotation"), 120.0 * 0.9);
+    assert_eq!(gear("RightLeg.Xrotation"), 50.0 * 0.9);
+    assert_eq!(counts(&xml).free, 1);
 }

@@ -160,9 +160,22 @@ def free_root(m, d, jid, entries, f, pairs):
     return forces
 
 
+def inner_free_slides(m, ball):
+    """The slides `BALL:x|y|z` the MJCF writes before a ball joint for a free joint below the
+    root: [(component, qpos address, dof address)], empty if none."""
+    out = []
+    for c in "xyz":
+        j = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"{ball}:{c}")
+        if j < 0:
+            return []
+        out.append((c, m.jnt_qposadr[j], m.jnt_dofadr[j]))
+    return out
+
+
 def set_frame(m, d, f, roots, pairs):
     """Sets d.qpos/qvel/qacc from frame f; returns the functions that collect torque pairs."""
     collect = []
+    balls = {m.joint(j).name for j in range(m.njnt) if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL}
     for j in range(m.njnt):
         name = m.joint(j).name
         qa, va, kind = m.jnt_qposadr[j], m.jnt_dofadr[j], m.jnt_type[j]
@@ -174,11 +187,33 @@ def set_frame(m, d, f, roots, pairs):
             for k, c in enumerate("xyz"):
                 d.qvel[va + k] = f.s[f"v:{name}:w{c}"]
                 d.qacc[va + k] = f.s[f"a:{name}:w{c}"]
+            slides = inner_free_slides(m, name)
+            if slides:
+                # a free joint below the root: three slides (position in the parent) then this
+                # ball; articula's linear v is in the child frame, MuJoCo's slide rates in the
+                # parent's: pdot = R v, pddot = R (a + w x v); forces f = R^T (slide forces)
+                r = quat_to_mat(d.qpos[qa:qa + 4])
+                v = np.array([f.s[f"v:{name}:v{c}"] for c in "xyz"])
+                acc = np.array([f.s[f"a:{name}:v{c}"] for c in "xyz"])
+                w = np.array([f.s[f"v:{name}:w{c}"] for c in "xyz"])
+                pd, pdd = r @ v, r @ (acc + np.cross(w, v))
+                for k, (c, sq, sv) in enumerate(slides):
+                    d.qpos[sq] = f.s[f"q:{name}:{c}"]
+                    d.qvel[sv] = pd[k]
+                    d.qacc[sv] = pdd[k]
+
+                def lin(name=name, slides=slides, r=r):
+                    fl = r.T @ np.array([d.qfrc_inverse[sv] for _, _, sv in slides])
+                    for k, c in enumerate("xyz"):
+                        pairs.append((f"{name}:v{c}", f.t[f"{name}:v{c}"], fl[k]))
+                collect.append(lin)
 
             def ball(name=name, va=va):
                 for k, c in enumerate("xyz"):
                     pairs.append((f"{name}:w{c}", f.t[f"{name}:w{c}"], d.qfrc_inverse[va + k]))
             collect.append(ball)
+        elif name.rsplit(":", 1)[0] in balls:
+            continue  # a slide of a free joint below the root, set with its ball
         else:
             d.qpos[qa] = f.s[f"q:{name}"]
             d.qvel[va] = f.s[f"v:{name}"]
