@@ -63,6 +63,8 @@ struct Counts {
     bodies: usize,
     mass: f64,
     gravity: Vec<f64>,
+    /// Numbers in the keyframe's qpos (MuJoCo's nq).
+    key_qpos: usize,
 }
 
 fn counts(xml: &str) -> Counts {
@@ -95,6 +97,12 @@ fn counts(xml: &str) -> Counts {
                 .find_map(|o| o.attribute("gravity"))
                 .expect("option gravity"),
         ),
+        key_qpos: numbers(
+            all("key")
+                .find_map(|k| k.attribute("qpos"))
+                .expect("keyframe"),
+        )
+        .len(),
     }
 }
 
@@ -122,6 +130,8 @@ fn euler_model_is_a_free_root_and_hinge_chains_with_the_models_mass() {
     assert_eq!(c.bodies, massive);
     assert!((c.mass - model.total_mass()).abs() <= 1e-12 * model.total_mass());
     assert_eq!(c.gravity, vec![0.0, -9.81, 0.0]);
+    // the first frame as a keyframe: the free root's 7 numbers in place of the 6 coordinates
+    assert_eq!(c.key_qpos, model.nq + 1);
 }
 
 #[test]
@@ -140,6 +150,7 @@ fn ball_model_is_a_free_root_and_a_ball_per_joint_with_three_motors_each() {
     assert_eq!(c.hinges, 0);
     assert_eq!(c.motors, 3 * spherical);
     assert_eq!(model.nv, 6 + 3 * spherical);
+    assert_eq!(c.key_qpos, model.nq);
     assert!((c.mass - model.total_mass()).abs() <= 1e-12 * model.total_mass());
 }
 

@@ -25,7 +25,14 @@
 //!   a, b, c) is an ellipsoid of the same semi-axes, centre and axes; links collide with the
 //!   floor but not with each other (`contype="2" conaffinity="1"`, the floor the reverse);
 //! - a floor plane at the given height, normal along up (−gravity); `<option gravity>` is the
-//!   model's gravity; lengths are metres, angles radians;
+//!   model's gravity, the integrator RK4 (at MuJoCo's 2 ms step a passive ball-model avatar
+//!   falls and settles on the floor with it; with Euler its light hands go unstable); lengths
+//!   are metres, angles radians. The euler model's hinge chains are singular at gimbal lock, as
+//!   articula's D(q) is: a passive ragdoll of it reaches that within a fraction of a second, so
+//!   simulate the ball model (`armature` on the joints would regularize it, but changes the
+//!   dynamics `mj_inverse` computes);
+//! - the first frame of the take as the keyframe `first_frame` (MuJoCo's `qpos0` is the rest
+//!   pose at the world's origin, half under the floor);
 //! - one `<motor>` per degree of freedom of every joint but the free root (a ball joint has
 //!   three, about its x, y and z axes: `gear="g 0 0"` …), named as articula's velocity
 //!   coordinate, with the gear given (1 when none is: the control is then the joint torque,
@@ -36,6 +43,7 @@
 use crate::error::Error;
 use crate::io::xml::{attr, comment, num, nums, vec3};
 use crate::model::{JointKind, Model, Superquadric};
+use crate::spatial::SpatialTransform;
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use std::fmt::Write;
 
@@ -48,6 +56,10 @@ pub struct MjcfOptions {
     pub gear: Vec<f64>,
     /// Where the gears come from, for the file's header (e.g. "the workbench's motor drives").
     pub gear_source: Option<String>,
+    /// A configuration (articula's `q`, `nq` entries) written as the keyframe `first_frame`
+    /// in MuJoCo's coordinates (a viewer's "load key" poses the avatar there; `qpos0` is the
+    /// rest pose at the world's origin); `None`: no keyframe.
+    pub keyframe: Option<Vec<f64>>,
 }
 
 /// How one MuJoCo body moves relative to its parent.
@@ -74,6 +86,13 @@ struct Group {
 /// Errors: two bodies with the same name, or a `gear` list of the wrong length.
 pub fn model_to_mjcf(model: &Model, opts: &MjcfOptions) -> Result<String, Error> {
     check_names(model)?;
+    if opts.keyframe.as_ref().is_some_and(|q| q.len() != model.nq) {
+        return Err(Error::Invalid(format!(
+            "a keyframe of {} coordinates for a model with nq = {}",
+            opts.keyframe.as_ref().map_or(0, Vec::len),
+            model.nq
+        )));
+    }
     if !opts.gear.is_empty() && opts.gear.len() != model.nv {
         return Err(Error::Invalid(format!(
             "{} motor gears for {} degrees of freedom",
@@ -94,7 +113,13 @@ pub fn model_to_mjcf(model: &Model, opts: &MjcfOptions) -> Result<String, Error>
         "  <compiler angle=\"radian\" inertiafromgeom=\"false\" autolimits=\"true\" \
          boundmass=\"1e-9\" boundinertia=\"1e-12\"/>"
     );
-    let _ = writeln!(w, "  <option gravity=\"{}\"/>", vec3(&model.gravity));
+    // RK4: a passive ball-model avatar falls and settles at MuJoCo's 2 ms step, where Euler's
+    // light hands and feet go unstable; the integrator leaves mj_inverse unchanged
+    let _ = writeln!(
+        w,
+        "  <option gravity=\"{}\" integrator=\"RK4\"/>",
+        vec3(&model.gravity)
+    );
     let _ = writeln!(w, "  <worldbody>");
     if let Some(h) = opts.floor {
         let _ = writeln!(
@@ -112,6 +137,16 @@ pub fn model_to_mjcf(model: &Model, opts: &MjcfOptions) -> Result<String, Error>
     }
     let _ = writeln!(w, "  </worldbody>");
     write_root_map(w, model, &groups);
+    if let Some(q) = &opts.keyframe {
+        let qpos = mujoco_qpos(model, &groups, q);
+        let _ = writeln!(w, "  <keyframe>");
+        let _ = writeln!(
+            w,
+            "    <key name=\"first_frame\" qpos=\"{}\"/>",
+            nums(&qpos)
+        );
+        let _ = writeln!(w, "  </keyframe>");
+    }
     write_actuators(w, model, opts, &groups);
     let _ = writeln!(w, "</mujoco>");
     Ok(out)
@@ -459,6 +494,50 @@ fn write_actuators(w: &mut String, model: &Model, opts: &MjcfOptions, groups: &[
         let _ = writeln!(w, "{l}");
     }
     let _ = writeln!(w, "  </actuator>");
+}
+
+/// Articula's configuration `q` as MuJoCo's `qpos`, joint by joint in the file's order (the
+/// groups depth first): a free root's world position and quaternion (w first), its members'
+/// transforms composed (its parent is the world); hinge and slide angles as they are; a ball's quaternion w first; a free joint
+/// below the root its position then its quaternion.
+fn mujoco_qpos(model: &Model, groups: &[Group], q: &[f64]) -> Vec<f64> {
+    let mut out = Vec::with_capacity(model.nq + 1);
+    let mut stack: Vec<usize> = (0..groups.len())
+        .rev()
+        .filter(|&g| model.parent[groups[g].members[0]] == 0)
+        .collect();
+    while let Some(g) = stack.pop() {
+        let group = &groups[g];
+        if group.root == Root::Free {
+            let x = group
+                .members
+                .iter()
+                .fold(SpatialTransform::IDENTITY, |x, &i| {
+                    let (j, iq) = (&model.joints[i], model.idx_q[i]);
+                    x.compose(&model.placement[i])
+                        .compose(&j.transform(&q[iq..iq + j.nq()]))
+                });
+            let r = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(x.rot));
+            out.extend([x.trans.x, x.trans.y, x.trans.z, r.w, r.i, r.j, r.k]);
+        } else {
+            for &i in &group.members {
+                let iq = model.idx_q[i];
+                match model.joints[i] {
+                    JointKind::Revolute { .. } | JointKind::Prismatic { .. } => out.push(q[iq]),
+                    JointKind::Spherical => {
+                        out.extend([q[iq + 3], q[iq], q[iq + 1], q[iq + 2]]);
+                    }
+                    JointKind::Free => {
+                        out.extend(&q[iq..iq + 3]);
+                        out.extend([q[iq + 6], q[iq + 3], q[iq + 4], q[iq + 5]]);
+                    }
+                    JointKind::Fixed => {}
+                }
+            }
+        }
+        stack.extend(group.children.iter().rev());
+    }
+    out
 }
 
 /// The up direction: −gravity, normalized; +z without gravity.

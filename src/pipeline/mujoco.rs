@@ -9,7 +9,8 @@ use crate::motion::contact::detect_floor;
 use std::path::Path;
 
 /// `articula export mjcf`: the take's model ([`model_to_mjcf`]) with the floor plane at
-/// [`floor_level`] over the take's frames, every motor's gear 1 (the command line has no drive
+/// [`floor_level`] over the take's frames, its first frame as the keyframe `first_frame`, every
+/// motor's gear 1 (the command line has no drive
 /// settings; the workbench's `export mjcf` uses its motor drives).
 pub fn export_mjcf(take: &Take, path: &Path) -> Result<(), Error> {
     let opts = MjcfOptions {
@@ -17,6 +18,7 @@ pub fn export_mjcf(take: &Take, path: &Path) -> Result<(), Error> {
             &take.model,
             take.states.q.iter().map(Vec::as_slice),
         )),
+        keyframe: take.states.q.first().cloned(),
         ..MjcfOptions::default()
     };
     let text = model_to_mjcf(&take.model, &opts)?;

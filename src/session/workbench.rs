@@ -410,8 +410,10 @@ impl Job {
             .take()?
             .bvh()
             .map(|_| crate::pipeline::floor_level(&r.model, (0..r.q.rows()).map(|k| r.q.row(k))));
+        let keyframe = (r.q.rows() > 0).then(|| r.q.row(0).to_vec());
         let opts = crate::io::mjcf_write::MjcfOptions {
             floor,
+            keyframe,
             gear,
             gear_source: Some(
                 "the workbench's motor drives (gear = N * efficiency: the control is the motor \
