@@ -83,7 +83,7 @@ struct Group {
 
 /// The MJCF text of `model` (see the module doc).
 ///
-/// Errors: two bodies with the same name, or a `gear` list of the wrong length.
+/// Errors: two bodies with the same name, or a `gear` list or keyframe of the wrong length.
 pub fn model_to_mjcf(model: &Model, opts: &MjcfOptions) -> Result<String, Error> {
     check_names(model)?;
     if opts.keyframe.as_ref().is_some_and(|q| q.len() != model.nq) {
