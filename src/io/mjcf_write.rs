@@ -18,7 +18,9 @@
 //!   the ball model) is three slides along the parent's axes then a ball, since MuJoCo allows
 //!   free joints only on bodies of the world;
 //! - `<inertial>` is the group's link: `pos` its centre of mass, `mass`, `fullinertia` about
-//!   the centre of mass in body axes. `inertiafromgeom="false"`: geometry never adds mass. A
+//!   the centre of mass in body axes. MuJoCo refuses principal moments with `A + B < C`
+//!   (Corke's Puma 560 link 3 has them): the file then asks for `balanceinertia` and a comment
+//!   names the links MuJoCo changes. `inertiafromgeom="false"`: geometry never adds mass. A
 //!   massless moving body (none in a BVH model: fictitious links are merged) gets MuJoCo's
 //!   `boundmass`/`boundinertia` floors, 1e-9 kg and 1e-12 kg·m²;
 //! - each link's superquadric shape ([`Superquadric`](crate::model::Superquadric), semi-axes
@@ -108,10 +110,26 @@ pub fn model_to_mjcf(model: &Model, opts: &MjcfOptions) -> Result<String, Error>
     let _ = writeln!(w, "<?xml version=\"1.0\"?>");
     header(w, model, opts, &groups);
     let _ = writeln!(w, "<mujoco model=\"{}\">", attr(&model.name));
+    // MuJoCo refuses principal moments that break A + B >= C (Corke's Puma 560 link 3 does):
+    // it balances them, saying so, rather than not loading
+    let unbalanced = unbalanced_links(model, &groups);
+    if !unbalanced.is_empty() {
+        let _ = writeln!(
+            w,
+            "  <!-- {}: principal moments of inertia break A + B >= C, which MuJoCo refuses; \
+             balanceinertia raises the smallest, so these links differ from articula's -->",
+            comment(&unbalanced.join(", "))
+        );
+    }
     let _ = writeln!(
         w,
         "  <compiler angle=\"radian\" inertiafromgeom=\"false\" autolimits=\"true\" \
-         boundmass=\"1e-9\" boundinertia=\"1e-12\"/>"
+         boundmass=\"1e-9\" boundinertia=\"1e-12\"{}/>",
+        if unbalanced.is_empty() {
+            ""
+        } else {
+            " balanceinertia=\"true\""
+        }
     );
     // RK4: a passive ball-model avatar falls and settles at MuJoCo's 2 ms step, where Euler's
     // light hands and feet go unstable; the integrator leaves mj_inverse unchanged
@@ -203,6 +221,26 @@ fn header(w: &mut String, model: &Model, opts: &MjcfOptions, groups: &[Group]) {
             ))
         }
     );
+}
+
+/// The groups whose link's principal moments of inertia `A ≤ B ≤ C` have `A + B < C`.
+fn unbalanced_links(model: &Model, groups: &[Group]) -> Vec<String> {
+    groups
+        .iter()
+        .filter(|g| {
+            let last = *g.members.last().unwrap_or(&g.members[0]);
+            let i = &model.inertia[last];
+            let mut m: Vec<f64> = i
+                .inertia_com
+                .symmetric_eigenvalues()
+                .iter()
+                .copied()
+                .collect();
+            m.sort_by(f64::total_cmp);
+            i.mass > 0.0 && m[0] + m[1] < m[2]
+        })
+        .map(|g| g.name.clone())
+        .collect()
 }
 
 /// The velocity coordinate names of body `i`'s joint.
@@ -568,6 +606,58 @@ fn quat_attr(rot: &Matrix3<f64>) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    use crate::model::ModelBuilder;
+    use crate::spatial::{SpatialInertia, SpatialTransform};
+
+    /// Three revolute bodies in a chain at one point, only the last with mass (one BVH joint of
+    /// the euler model), under a link of inertia `diag`.
+    fn chain(diag: [f64; 3]) -> Model {
+        let mut b = ModelBuilder::new("chain", Vector3::new(0.0, 0.0, -9.81));
+        let link = SpatialInertia::new(
+            2.0,
+            Vector3::new(0.0, 0.0, 0.1),
+            Matrix3::from_diagonal(&Vector3::from(diag)),
+        );
+        let mut parent = 0;
+        for (k, axis) in [Vector3::z(), Vector3::x(), Vector3::y()]
+            .into_iter()
+            .enumerate()
+        {
+            let name = format!("j.{k}");
+            parent = b.add_body(
+                parent,
+                name.clone(),
+                name,
+                JointKind::Revolute { axis },
+                if k == 0 {
+                    SpatialTransform::from_translation(Vector3::new(0.0, 0.0, 1.0))
+                } else {
+                    SpatialTransform::IDENTITY
+                },
+                if k == 2 { link } else { SpatialInertia::ZERO },
+            );
+        }
+        b.build()
+    }
+
+    #[test]
+    fn massless_links_at_one_point_are_consecutive_joints_of_one_body() {
+        let xml = model_to_mjcf(&chain([0.1, 0.1, 0.05]), &MjcfOptions::default()).unwrap();
+        assert_eq!(xml.matches("<body ").count(), 1, "{xml}");
+        assert_eq!(xml.matches("type=\"hinge\"").count(), 3);
+        assert_eq!(xml.matches("<motor ").count(), 3);
+        assert!(xml.contains("<body name=\"j\" pos=\"0 0 1\">"), "{xml}");
+        assert!(!xml.contains("balanceinertia"));
+    }
+
+    #[test]
+    fn inertia_mujoco_would_refuse_is_balanced_and_said() {
+        // A + B < C: Corke's Stanford arm link 5 has a zero moment
+        let xml = model_to_mjcf(&chain([0.003, 0.0, 0.0004]), &MjcfOptions::default()).unwrap();
+        assert!(xml.contains("balanceinertia=\"true\""), "{xml}");
+        assert!(xml.contains("<!-- j: principal moments"), "{xml}");
+    }
 
     #[test]
     fn floor_normal_is_up() {
