@@ -119,6 +119,37 @@ fn assert_gait(path: &Path) {
             share * 100.0
         );
     }
+    // what `articula anatomy` prints, residuals reduced (its default): per knee over the
+    // strides, the swing peak and the loading-response extensor moment (the largest internal
+    // extensor moment of the first half of stance, the quoted frames only), both within the
+    // normal bands (swing 50–75°; the moment positive, 0.3–2 N·m/kg: Winter 2009's mean is
+    // about 0.5–1, Schwartz et al. 2008's subjects span 0.2–1.6)
+    let reduced = pipeline::consistency::anatomy_consistent(&take, true).unwrap();
+    let cycles = pipeline::anatomy::knee_cycles(&reduced);
+    for c in &cycles {
+        eprintln!(
+            "{}: {} (reduced): {} strides, swing {:.1}°, loading response {:.2} N·m/kg",
+            path.display(),
+            c.knee,
+            c.strides,
+            c.swing_flexion_deg,
+            c.loading_extensor_nm_kg
+        );
+        assert!(
+            (50.0..=75.0).contains(&c.swing_flexion_deg),
+            "{}: {} swing peak {:.1}°",
+            path.display(),
+            c.knee,
+            c.swing_flexion_deg
+        );
+        assert!(
+            (0.3..=2.0).contains(&c.loading_extensor_nm_kg),
+            "{}: {} loading-response extensor moment {:.2} N·m/kg",
+            path.display(),
+            c.knee,
+            c.loading_extensor_nm_kg
+        );
+    }
 }
 
 #[test]

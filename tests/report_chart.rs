@@ -139,6 +139,8 @@ fn stacked_panels_and_table() {
             y_label: "τ (N·m)",
             series: &s,
             mark_min_max: true,
+            shaded: &[(0.0, 0.1)],
+            shaded_label: "not quoted",
         },
         Panel {
             title: "speed",
@@ -146,6 +148,8 @@ fn stacked_panels_and_table() {
             y_label: "q̇ (rad/s)",
             series: &s[..1],
             mark_min_max: false,
+            shaded: &[],
+            shaded_label: "",
         },
     ];
     let table = Table {

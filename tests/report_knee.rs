@@ -22,6 +22,7 @@ fn runs() -> Vec<MassRun> {
                 .map(|&t| m / 80.0 * (10.0 + 40.0 * (2.0 * PI * t).sin()))
                 .collect(),
             t: t.clone(),
+            quoted: vec![],
         })
         .collect()
 }
@@ -54,6 +55,7 @@ fn rms_is_time_weighted_on_uneven_samples() {
         mass_kg: 70.0,
         t: vec![0.0, 0.1, 1.0, 3.0],
         tau: vec![2.0, 2.0, 2.0, 0.0],
+        quoted: vec![],
     };
     let row = load_row(&run).unwrap();
     // trapezoid: 0.1·4 + 0.9·4 + 2·(4 + 0)/2 = 8 over T = 3
@@ -65,6 +67,7 @@ fn rms_is_time_weighted_on_uneven_samples() {
         mass_kg: 70.0,
         t: vec![0.0, 1.0],
         tau: vec![1.0, -3.0],
+        quoted: vec![],
     };
     let row = load_row(&neg).unwrap();
     assert_eq!((row.peak_nm, row.peak_time_s), (3.0, 1.0));
@@ -73,13 +76,21 @@ fn rms_is_time_weighted_on_uneven_samples() {
         mass_kg: 70.0,
         t: vec![0.0],
         tau: vec![-4.0],
+        quoted: vec![],
     };
     assert_eq!(load_row(&one).unwrap().rms_nm, 4.0);
 }
 
 #[test]
 fn bad_runs_are_errors() {
-    let bad = |mass_kg: f64, t: Vec<f64>, tau: Vec<f64>| load_row(&MassRun { mass_kg, t, tau });
+    let bad = |mass_kg: f64, t: Vec<f64>, tau: Vec<f64>| {
+        load_row(&MassRun {
+            mass_kg,
+            t,
+            tau,
+            quoted: vec![],
+        })
+    };
     assert!(bad(0.0, vec![0.0], vec![1.0]).is_err());
     assert!(bad(f64::NAN, vec![0.0], vec![1.0]).is_err());
     assert!(bad(60.0, vec![], vec![]).is_err());
@@ -160,4 +171,56 @@ fn curves_csv_has_time_and_one_column_per_mass() {
 fn mass_labels() {
     assert_eq!(mass_label(60.0), "60 kg");
     assert_eq!(mass_label(62.5), "62.5 kg");
+}
+
+/// Issue 14: the samples a run does not quote (edge frames, frames beyond what the feet can
+/// give) are out of its peak and RMS, and shaded in the chart, whose markers skip them.
+#[test]
+fn samples_left_out_are_not_quoted_and_are_shaded() {
+    // a spike at the first sample, left out; τ = 1 elsewhere
+    let run = MassRun {
+        mass_kg: 70.0,
+        t: vec![0.0, 0.5, 1.0, 1.5],
+        tau: vec![-9.0, 1.0, 1.0, 1.0],
+        quoted: vec![false, true, true, true],
+    };
+    let row = load_row(&run).unwrap();
+    assert_eq!((row.peak_nm, row.peak_time_s), (1.0, 0.5));
+    assert!((row.rms_nm - 1.0).abs() < 1e-12);
+    let all = load_row(&MassRun {
+        quoted: vec![],
+        ..run.clone()
+    })
+    .unwrap();
+    assert_eq!(all.peak_nm, 9.0);
+    // every sample left out, or more flags than samples: errors
+    let none = MassRun {
+        quoted: vec![false; 4],
+        ..run.clone()
+    };
+    assert!(load_row(&none).is_err());
+    let long = MassRun {
+        quoted: vec![true; 5],
+        ..run.clone()
+    };
+    assert!(load_row(&long).is_err());
+    // the chart: a shading rectangle and its legend, no marker at the spike
+    let svg = knee_svg_with_table("knee", std::slice::from_ref(&run)).unwrap();
+    let t = texts(&svg);
+    assert!(t.iter().any(|s| s.starts_with("not quoted")), "{t:?}");
+    assert!(!t.iter().any(|s| s.starts_with("min -9")), "{t:?}");
+    assert!(t.iter().any(|s| s.starts_with("min 1")), "{t:?}");
+    assert!(
+        svg.contains("#DDDDDD") || svg.contains("#dddddd"),
+        "a shaded span"
+    );
+    let clean = knee_svg_with_table(
+        "knee",
+        &[MassRun {
+            quoted: vec![],
+            ..run
+        }],
+    )
+    .unwrap();
+    assert!(!clean.contains("#DDDDDD") && !clean.contains("#dddddd"));
 }

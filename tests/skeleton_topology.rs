@@ -114,6 +114,62 @@ fn a_prop_in_a_hand_is_massless_welded_and_named() {
     assert_eq!(segments[t.bvh.joints.len() - 1].class, None);
 }
 
+/// A face rig (MakeHuman's: eyes, ears, the jaw's sides, every end in a mirrored pair, none of
+/// the head's own) keeps the head at the joint where the pairs branch, not at an eye: the head
+/// was MakeHuman's `oculi01.R` before, and its stature the eye's height.
+#[test]
+fn a_head_whose_ends_all_come_in_pairs_is_where_they_branch() {
+    let mut b = demo();
+    let head = b.joint_index("Head").unwrap();
+    b.joints[head].end_sites.clear();
+    let mut first = b.channel_count;
+    let mut add = |b: &mut Bvh, name: &str, offset: [f64; 3], end: [f64; 3]| {
+        b.joints.push(BvhJoint {
+            name: name.into(),
+            parent: Some(head),
+            offset: Vector3::from(offset),
+            channels: vec![Channel::Zrotation, Channel::Xrotation, Channel::Yrotation],
+            first_channel: first,
+            end_sites: vec![Vector3::from(end)],
+            line: 0,
+        });
+        first += 3;
+    };
+    for (side, x) in [("L", 1.0), ("R", -1.0)] {
+        add(
+            &mut b,
+            &format!("eye.{side}"),
+            [3.0 * x, 9.0, 8.0],
+            [0.0, 0.0, 2.0],
+        );
+        add(
+            &mut b,
+            &format!("ear.{side}"),
+            [7.0 * x, 8.0, 0.0],
+            [1.5 * x, 0.0, 0.0],
+        );
+        add(
+            &mut b,
+            &format!("jaw.{side}"),
+            [4.0 * x, 1.0, 6.0],
+            [0.0, -2.0, 3.0],
+        );
+    }
+    // the six face joints hold still: three zero channels each
+    let mut motion = vec![];
+    for k in 0..b.frames {
+        motion.extend_from_slice(b.frame(k));
+        motion.extend([0.0; 18]);
+    }
+    b.channel_count = first;
+    b.motion = motion;
+    assert_eq!(b.motion.len(), b.frames * b.channel_count);
+    let (_, t) = masses(b);
+    let human = t.human.as_ref().unwrap();
+    let spine = human.spine.as_ref().unwrap();
+    assert_eq!(t.bvh.joints[spine.head].name, "Head");
+}
+
 /// On the shared takes, whose joint names are plain, the shape finds the joints the names say:
 /// the names are the oracle here, the shape's own test (a take of one pose, a T-pose whose
 /// clavicle lies in line with the arm, is left out: without motion nothing tells them apart).

@@ -73,24 +73,123 @@ fn the_demo_screen_shows_tree_sparklines_timeline_and_status() {
         assert!(s.contains(text), "missing {text:?} in\n{s}");
     }
     // the labels carry the running min/max up to the current frame and the current value
-    let r = wb.fresh_results().unwrap();
+    let r = wb.fresh_results().unwrap().clone();
     let j = r.tau.col_index("LeftLeg.Xrotation").unwrap();
     let tau = r.tau.column(j);
-    let (min, max, now) = draw::running_stats(&tau, 30).unwrap();
+    let (Some((min, max)), now) = draw::running_stats(&tau, 30, |k| r.quoted(k)).unwrap() else {
+        panic!("frames 0..=30 have quoted frames")
+    };
     // rounded as every value the workbench shows (0.1 N·m, 3 significant digits below 100)
     let n = |x| units::format_number(units::Kind::Torque, x);
     let label = format!("min {}  max {}  now {}", n(min), n(max), n(now));
     assert!(s.contains(&label), "missing {label:?} in\n{s}");
     // stepping forward widens (never narrows) the running range
     press(&mut ui, &mut wb, "}}}}}}");
-    let (min2, max2, _) = draw::running_stats(&tau, 90).unwrap();
+    let (Some((min2, max2)), _) = draw::running_stats(&tau, 90, |k| r.quoted(k)).unwrap() else {
+        panic!("frames 0..=90 have quoted frames")
+    };
     assert!(min2 <= min && max2 >= max);
+}
+
+/// Issue 14: a torque's running min/max leave out the frames the workbench does not quote (the
+/// edge frames, where the smoothed accelerations see past the take; those whose residuals stay
+/// beyond what the feet can give), its sparkline shades them, and `expect` never quotes them
+/// unless `set edges include`.
+#[test]
+fn torque_extremes_leave_out_edge_frames_and_the_sparkline_shades_them() {
+    let (mut ui, mut wb) = demo(100, 30);
+    press(&mut ui, &mut wb, ":select LeftLeg.Xrotation<Enter>");
+    let r = wb.fresh_results().unwrap().clone();
+    let n = r.time.len();
+    // the demo's 120 fps, butterworth:6hz: 8 edge frames at each end
+    let edge = (0..n).take_while(|&k| r.left_out[k].is_some()).count();
+    assert!((4..=12).contains(&edge), "{edge} edge frames");
+    assert!((n - edge..n).all(|k| !r.quoted(k)));
+    let j = r.tau.col_index("LeftLeg.Xrotation").unwrap();
+    let tau = r.tau.column(j);
+    // on the first frames only the current value is shown
+    assert!(
+        draw::running_stats(&tau, 0, |k| r.quoted(k))
+            .unwrap()
+            .0
+            .is_none()
+    );
+    let all = draw::running_stats(&tau, n - 1, |_| true)
+        .unwrap()
+        .0
+        .unwrap();
+    let quoted = draw::running_stats(&tau, n - 1, |k| r.quoted(k))
+        .unwrap()
+        .0
+        .unwrap();
+    let inner: Vec<f64> = (0..n).filter(|&k| r.quoted(k)).map(|k| tau[k]).collect();
+    let lo = inner.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = inner.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(quoted, (lo, hi));
+    assert!(all.0 <= quoted.0 && all.1 >= quoted.1);
+    // the sparkline's first and last columns (edge frames) are dim, a middle one is not
+    press(&mut ui, &mut wb, "G");
+    let mut term = Terminal::new(TestBackend::new(100, 30)).unwrap();
+    term.draw(|f| draw::draw(&ui, &wb, f)).unwrap();
+    let buf = term.backend().buffer().clone();
+    let text = draw::buffer_text(&buf);
+    let row = text
+        .lines()
+        .position(|l| l.contains("LeftLeg.Xrotation torque"))
+        .expect("the torque label");
+    assert!(text.contains("shaded frames not quoted"), "{text}");
+    let bars = (row + 1) as u16;
+    let line: Vec<_> = (0..100).map(|x| &buf[(x, bars + 1)]).collect();
+    let first = line.iter().position(|c| c.symbol() != " ").expect("bars");
+    let last = line.iter().rposition(|c| c.symbol() != " ").expect("bars");
+    let dim = |c: &ratatui::buffer::Cell| c.modifier.contains(ratatui::style::Modifier::DIM);
+    assert!(
+        dim(line[first]) && dim(line[last]),
+        "edge columns are shaded"
+    );
+    // as many shaded columns as the share of frames left out, give or take the sampling
+    let shaded = line[first..=last].iter().filter(|c| dim(c)).count() as f64;
+    let share = (0..n).filter(|&k| !r.quoted(k)).count() as f64 / n as f64;
+    let width = (last - first + 1) as f64;
+    assert!(
+        (shaded / width - share).abs() < 0.05 && shaded < width,
+        "{shaded} of {width} columns shaded, {share} of the frames left out"
+    );
+    // expect: the peak is of the quoted frames; `set edges include` quotes the edge frames, never
+    // those beyond the feet
+    for setting in ["include", "exclude"] {
+        press(&mut ui, &mut wb, &format!(":set edges {setting}<Enter>"));
+        let got = wb.fresh_results().unwrap().clone();
+        assert_eq!(got.quoted(0), setting == "include");
+        assert!(
+            got.left_out
+                .iter()
+                .all(|w| setting == "exclude" || *w != Some(articula::session::LeftOut::Edge))
+        );
+        let tau = got.tau.column(j);
+        let want = (0..n)
+            .filter(|&k| got.quoted(k))
+            .fold(0.0f64, |m, k| m.max(tau[k].abs()));
+        let line = format!(
+            "expect peak LeftLeg.Xrotation torque between {} {}",
+            want - 0.06,
+            want + 0.06
+        );
+        let cmd = articula::session::command::parse_line(&line, 1)
+            .unwrap()
+            .unwrap();
+        ui.exec(&mut wb, &cmd);
+        assert!(ui.error.is_none(), "edges {setting}: {:?}", ui.error);
+    }
 }
 
 #[test]
 fn tree_navigation_parameters_and_help() {
     let (mut ui, mut wb) = demo(100, 30);
-    press(&mut ui, &mut wb, "jj");
+    // the knee's anatomical flexion sits on the tree's row of the knee's BVH joint
+    let tree = Ui::tree(&wb);
+    assert_eq!(tree[Ui::tree_cursor(&wb).unwrap()].0, "LeftLeg");
+    press(&mut ui, &mut wb, ":select Hips<Enter>jj");
     let largest = |wb: &Workbench, joint: &str| {
         articula::session::workbench::best_coordinate(wb.latest_results().unwrap(), joint)
     };
@@ -202,7 +301,10 @@ fn ball_joints_show_a_rotation_vector_angle_sparkline() {
     let r = wb.fresh_results().unwrap();
     let angle = articula::session::workbench::angle_series(r, "LeftLeg:wx").unwrap();
     let deg: Vec<f64> = angle.iter().map(|x| x.to_degrees()).collect();
-    let (min, max, now) = draw::running_stats(&angle, 60).unwrap();
+    // an angle's extremes are of every frame (the edge frames are left out of forces only)
+    let (Some((min, max)), now) = draw::running_stats(&angle, 60, |_| true).unwrap() else {
+        panic!("an angle's frames are all quoted")
+    };
     let n = |x| units::format_number(units::Kind::Angle, x);
     let label = format!("min {}  max {}  now {}", n(min), n(max), n(now));
     assert!(s.contains(&label), "missing {label:?} in\n{s}");

@@ -16,7 +16,9 @@
 //!   joint from which the chain runs straight to the knee (twist helpers along a femur lie on
 //!   that line; a pelvis bone such as CMU's `LHipJoint` does not);
 //! - the **head** is the highest end outside the legs without a mirror image (hands and eyes
-//!   come in pairs of ends equally far from the pelvis); the spine is the path to it from the
+//!   come in pairs of ends equally far from the pelvis); when every end comes in a pair (a face
+//!   rig: eyes, ears, the jaw's sides, none of the head's own, as MakeHuman's), the joint where
+//!   the highest end's pair branches; the spine is the path to it from the
 //!   pelvis's branch, its first joint the **lumbar** joint; **arms** are the two longest
 //!   branches that leave the spine (one trunk joint may carry them all), their branching joint the
 //!   **thorax**, their **wrist** the common joint of the branch's ends that reach at least
@@ -553,7 +555,25 @@ fn find_spine(
     };
     let highest =
         |c: &mut dyn Iterator<Item = usize>| c.max_by(|&a, &b| height(a).total_cmp(&height(b)));
+    // every end paired (a face rig: eyes, ears, lids, the jaw's sides, and no end of the head's
+    // own): the head is where the highest end's pair branches, its nearest mirror image's
+    // common ancestor with it (MakeHuman's eyes meet at `head`)
+    let paired_head = || {
+        let i = (0..upper.len()).max_by(|&a, &b| height(upper[a]).total_cmp(&height(upper[b])))?;
+        let partner = (0..upper.len())
+            .filter(|&k| {
+                let l = topo.lca(upper[i], upper[k]);
+                k != i && l != upper[i] && l != upper[k]
+            })
+            .min_by(|&a, &b| {
+                (reaches[a] - reaches[i])
+                    .abs()
+                    .total_cmp(&(reaches[b] - reaches[i]).abs())
+            })?;
+        Some(topo.lca(upper[i], upper[partner]))
+    };
     let head = highest(&mut (0..upper.len()).filter(|&i| !mirrored(i)).map(|i| upper[i]))
+        .or_else(paired_head)
         .or_else(|| highest(&mut upper.iter().copied()))?;
     let base = topo.lca(pelvis, head);
     let spine = topo.chain(base, head)?;

@@ -57,6 +57,12 @@ pub struct Panel<'a> {
     pub series: &'a [Series],
     /// Mark and label the minimum and maximum of every curve.
     pub mark_min_max: bool,
+    /// Spans of the abscissa `[from, to]` drawn shaded and left out of the minimum and maximum
+    /// (issue 14: frames whose forces are not quoted), with what the shading means in the
+    /// legend; none: `&[]`.
+    pub shaded: &'a [(f64, f64)],
+    /// The legend entry of the shading (e.g. `"not quoted"`).
+    pub shaded_label: &'a str,
 }
 
 /// A table drawn as text under the panels: one `<text>` per cell, columns left-aligned.
@@ -132,6 +138,8 @@ pub fn time_series_svg(
             y_label,
             series,
             mark_min_max,
+            shaded: &[],
+            shaded_label: "",
         }],
         None,
     )
@@ -340,18 +348,26 @@ fn plot_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> E
     Error::Invalid(format!("drawing the chart failed: {e}"))
 }
 
-/// Index of the first minimum and of the first maximum of `y` (non-empty, finite).
-fn arg_min_max(y: &[f64]) -> (usize, usize) {
-    let (mut imin, mut imax) = (0, 0);
-    for (i, &v) in y.iter().enumerate() {
-        if v < y[imin] {
+/// Index of the first minimum and of the first maximum of `y` (finite) among the samples
+/// `keep` keeps; `None` when it keeps none.
+fn arg_min_max(y: &[f64], keep: impl Fn(usize) -> bool) -> Option<(usize, usize)> {
+    let mut kept = (0..y.len()).filter(|&i| keep(i));
+    let first = kept.next()?;
+    let (mut imin, mut imax) = (first, first);
+    for i in kept {
+        if y[i] < y[imin] {
             imin = i;
         }
-        if v > y[imax] {
+        if y[i] > y[imax] {
             imax = i;
         }
     }
-    (imin, imax)
+    Some((imin, imax))
+}
+
+/// Whether `x` lies in one of the `spans` `[from, to]`.
+fn in_spans(spans: &[(f64, f64)], x: f64) -> bool {
+    spans.iter().any(|&(a, b)| (a..=b).contains(&x))
 }
 
 /// Draws one validated panel into `area`.
@@ -384,6 +400,7 @@ where
         .series
         .iter()
         .map(|s| s.label.chars().count())
+        .chain((!p.shaded.is_empty()).then(|| p.shaded_label.chars().count()))
         .max()
         .unwrap_or(0);
     // at most a quarter of the width: longer labels are shortened with an ellipsis
@@ -411,6 +428,16 @@ where
         .draw()
         .map_err(plot_err)?;
 
+    // the spans not quoted, light grey under the curves
+    for &(a, b) in p.shaded {
+        chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(a.max(x0), y0), (b.min(x1), y1)],
+                SHADE.filled(),
+            )))
+            .map_err(plot_err)?;
+    }
+
     // curves, long ones reduced to what the pixels can show
     let columns = chart.plotting_area().dim_in_pixel().0 as usize;
     for (k, s) in p.series.iter().enumerate() {
@@ -434,7 +461,9 @@ where
         let mut placed: Vec<[f64; 4]> = vec![];
         for (k, s) in p.series.iter().enumerate() {
             let color = PALETTE[k % PALETTE.len()];
-            let (imin, imax) = arg_min_max(&s.y);
+            let Some((imin, imax)) = arg_min_max(&s.y, |i| !in_spans(p.shaded, s.x[i])) else {
+                continue;
+            };
             for (what, i, up) in [("max", imax, true), ("min", imin, false)] {
                 let text = format!("{what} {} @ {}", fmt_value(s.y[i]), fmt_value(s.x[i]));
                 let (dot_x, dot_y) = chart.backend_coord(&(s.x[i], s.y[i]));
@@ -510,8 +539,25 @@ where
         area.draw(&Text::new(label, (lx + 30, y), style))
             .map_err(plot_err)?;
     }
+    if !p.shaded.is_empty() {
+        let y = 48 + 20 * p.series.len() as i32;
+        area.draw(&Rectangle::new(
+            [(lx, y - 6), (lx + 22, y + 6)],
+            SHADE.filled(),
+        ))
+        .map_err(plot_err)?;
+        let style = TextStyle::from((FONT, LEGEND_FONT).into_font())
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Left, VPos::Center));
+        let label: String = p.shaded_label.chars().take(legend_chars).collect();
+        area.draw(&Text::new(label, (lx + 30, y), style))
+            .map_err(plot_err)?;
+    }
     Ok(())
 }
+
+/// The shading of spans left out of the quoted figures.
+const SHADE: RGBColor = RGBColor(0xDD, 0xDD, 0xDD);
 
 /// True when the boxes `[left, top, right, bottom]` (pixels) overlap.
 fn overlaps(a: &[f64; 4], b: &[f64; 4]) -> bool {

@@ -4,6 +4,8 @@
 //!
 //! The input is plain data (a time series of one joint's torque per body mass), so this module
 //! does not depend on how the torques were computed. Statistics are over the whole time series:
+//! - only the samples a run quotes count ([`MassRun::quoted`]: the edge frames and those
+//!   beyond what the feet can give are not, issue 14; the chart shades them);
 //! - peak `|τ|` = `max_i |τ_i|` and the time of its first occurrence;
 //! - RMS `τ` = `sqrt( (1/T) ∫ τ² dt )` by the trapezoid rule over the samples (the usual
 //!   duty-cycle RMS of motor sizing, independent of the sampling rate), with `T = t_last −
@@ -21,6 +23,17 @@ pub struct MassRun {
     pub t: Vec<f64>,
     /// Joint torque at each sample (N·m).
     pub tau: Vec<f64>,
+    /// Per sample, whether its torque is quoted (issue 14: the edge frames and the frames
+    /// beyond what the feet can give are not); empty: every sample is. The peak and RMS are of
+    /// the quoted samples, the chart shades the others.
+    pub quoted: Vec<bool>,
+}
+
+impl MassRun {
+    /// Whether sample `i` is quoted.
+    pub fn is_quoted(&self, i: usize) -> bool {
+        self.quoted.get(i).is_none_or(|q| *q)
+    }
 }
 
 /// Peak and RMS torque of one [`MassRun`].
@@ -124,11 +137,50 @@ pub fn load_row(run: &MassRun) -> Result<LoadRow, Error> {
         &run.t,
         &[("torque", &run.tau)],
     )?;
-    let (peak_nm, i) = peak_abs(&run.tau);
+    if run.quoted.len() > run.t.len() || !(0..run.t.len()).any(|i| run.is_quoted(i)) {
+        return Err(Error::Invalid(format!(
+            "knee load at {}: {} flags for {} samples, or every sample left out of the \
+             quoted figures",
+            mass_label(run.mass_kg),
+            run.quoted.len(),
+            run.t.len()
+        )));
+    }
+    if run.quoted.is_empty() {
+        let (peak_nm, i) = peak_abs(&run.tau);
+        return Ok(LoadRow {
+            mass_kg: run.mass_kg,
+            peak_nm,
+            rms_nm: rms(&run.t, &run.tau),
+            peak_time_s: run.t[i],
+        });
+    }
+    // the quoted samples only: the peak among them, the RMS over the intervals between two
+    // quoted samples (the plain RMS of their values when no such interval spans time)
+    let kept: Vec<usize> = (0..run.t.len()).filter(|&i| run.is_quoted(i)).collect();
+    let i = kept.iter().copied().fold(kept[0], |b, i| {
+        if run.tau[i].abs() > run.tau[b].abs() {
+            i
+        } else {
+            b
+        }
+    });
+    let (mut integral, mut span) = (0.0, 0.0);
+    for w in kept.windows(2).filter(|w| w[1] == w[0] + 1) {
+        let (a, b) = (w[0], w[1]);
+        let dt = run.t[b] - run.t[a];
+        integral += 0.5 * dt * (run.tau[a].powi(2) + run.tau[b].powi(2));
+        span += dt;
+    }
+    let rms_nm = if span > 0.0 {
+        (integral / span).sqrt()
+    } else {
+        (kept.iter().map(|&k| run.tau[k].powi(2)).sum::<f64>() / kept.len() as f64).sqrt()
+    };
     Ok(LoadRow {
         mass_kg: run.mass_kg,
-        peak_nm,
-        rms_nm: rms(&run.t, &run.tau),
+        peak_nm: run.tau[i].abs(),
+        rms_nm,
         peak_time_s: run.t[i],
     })
 }
@@ -218,6 +270,19 @@ fn knee_svg_impl(joint: &str, runs: &[MassRun], table: Option<&Table>) -> Result
     }
     let series = to_series(runs);
     let title = panel_title(joint);
+    // the samples any run leaves out, shaded (half a sample beyond each, so one shows)
+    let t = &runs[0].t;
+    let half = t.get(1).map_or(0.0, |t1| (t1 - t[0]) / 2.0);
+    let mut shaded: Vec<(f64, f64)> = vec![];
+    for (i, &ti) in t.iter().enumerate() {
+        if runs.iter().all(|r| r.is_quoted(i)) {
+            continue;
+        }
+        match shaded.last_mut() {
+            Some(s) if i > 0 && !runs.iter().all(|r| r.is_quoted(i - 1)) => s.1 = ti + half,
+            _ => shaded.push((ti - half, ti + half)),
+        }
+    }
     stacked_svg(
         &[Panel {
             title: &title,
@@ -225,6 +290,8 @@ fn knee_svg_impl(joint: &str, runs: &[MassRun], table: Option<&Table>) -> Result
             y_label: "joint torque (N·m)",
             series: &series,
             mark_min_max: true,
+            shaded: &shaded,
+            shaded_label: "not quoted (edge/feet)",
         }],
         table,
     )

@@ -391,6 +391,8 @@ pub fn motor_svg(
         y_label,
         series,
         mark_min_max: true,
+        shaded: &[],
+        shaded_label: "",
     };
     let table = Table {
         header: [

@@ -144,6 +144,9 @@ pub enum Command {
         b: String,
         window: (f64, f64),
     },
+    /// `take next|prev|N|NAME`: make another loaded take active (N counts from 1, in load
+    /// order).
+    Take(TakeRef),
     /// `select JOINT`: a coordinate (`LeftLeg.Xrotation`) or a BVH joint (its first coordinate).
     Select(String),
     /// `frame N` (0-based).
@@ -173,6 +176,16 @@ pub enum Command {
     Quit,
 }
 
+/// Which loaded take `take` makes active.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TakeRef {
+    Next,
+    Prev,
+    /// 1-based, in load order.
+    Index(usize),
+    Name(String),
+}
+
 /// Every command word, for completion and error messages.
 pub const COMMAND_WORDS: &[&str] = &[
     "load",
@@ -181,6 +194,7 @@ pub const COMMAND_WORDS: &[&str] = &[
     "run",
     "trajectory",
     "blend",
+    "take",
     "select",
     "frame",
     "play",
@@ -208,6 +222,7 @@ pub const SET_KEYS: &[&str] = &[
     "smooth",
     "contact",
     "consistent",
+    "edges",
     "keep_first_frame",
     "joint_translations",
     "kp",
@@ -428,6 +443,18 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
                 b: args[1].clone(),
                 window: parse_window(&args[2], lineno)?,
             }
+        }
+        "take" => {
+            arity(&[1], "take next|prev|N|NAME")?;
+            Command::Take(match args[0].as_str() {
+                "next" => TakeRef::Next,
+                "prev" => TakeRef::Prev,
+                n => match n.parse::<usize>() {
+                    Ok(i) if i >= 1 => TakeRef::Index(i),
+                    Ok(_) => return Err(syntax(lineno, "take N: takes count from 1")),
+                    Err(_) => TakeRef::Name(n.to_string()),
+                },
+            })
         }
         "select" => {
             arity(&[1], "select JOINT")?;

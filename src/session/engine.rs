@@ -149,6 +149,9 @@ pub struct Params {
     /// Residual reduction with ground contact (`set consistent auto|on|off`, the CLI's
     /// `--consistent`): `None` is on with `contact feet`, as `articula anatomy`.
     pub consistent: Option<bool>,
+    /// Quote the edge frames' accelerations and torques too (`set edges include`, the CLI's
+    /// `anatomy --edges include`); by default they are [`LeftOut::Edge`].
+    pub include_edges: bool,
 }
 
 impl Default for Params {
@@ -169,6 +172,7 @@ impl Default for Params {
             motor_joint: BTreeMap::new(),
             motor_catalogue: None,
             consistent: None,
+            include_edges: false,
         }
     }
 }
@@ -179,6 +183,7 @@ impl Params {
     pub fn same_results(&self, other: &Params) -> bool {
         self.take == other.take
             && self.consistent == other.consistent
+            && self.include_edges == other.include_edges
             && self.kp == other.kp
             && self.kv == other.kv
             && self.integrator == other.integrator
@@ -300,6 +305,47 @@ impl Take {
     }
 }
 
+/// The ground contact's verdicts in a few words: how often the foot gives the force the
+/// motion needs in single support (its centre of pressure within `COP_GAP_TOLERANCE` of the
+/// foot), and whether the residuals meet Hicks et al.'s thresholds.
+fn contact_brief(q: &crate::dynamics::grf::GroundQuality, meets: bool) -> String {
+    let feet = if q.single_support_frames == 0 {
+        "contact: no single support".to_string()
+    } else {
+        format!(
+            "feet give the force in {:.0} % of single support",
+            100.0 * (1.0 - q.outside_share())
+        )
+    };
+    let residuals = if meets { "within" } else { "beyond" };
+    format!("{feet}; residuals {residuals} Hicks et al.")
+}
+
+/// The anatomical joints of human `h` (`pipeline::anatomy`'s names: `pelvis`, `lumbar`,
+/// `hip_l`, `knee_l`, `ankle_l`, `shoulder_l`, `elbow_l`, …) and the BVH joint at each one's
+/// centre, whose channels turn the distal segment.
+fn anatomical_joints(h: &crate::model::skeleton::Human, bvh: &Bvh) -> Vec<(String, String)> {
+    use crate::model::anthropometry::Side;
+    let name = |j: usize| bvh.joints[j].name.clone();
+    let suffix = |s: Side| if s == Side::Left { "_l" } else { "_r" };
+    let mut out = vec![("pelvis".to_string(), name(h.pelvis))];
+    for leg in &h.legs {
+        let side = suffix(leg.side);
+        out.push((format!("hip{side}"), name(leg.hip)));
+        out.push((format!("knee{side}"), name(leg.knee)));
+        out.push((format!("ankle{side}"), name(leg.ankle)));
+    }
+    if let Some(s) = &h.spine {
+        out.push(("lumbar".into(), name(s.lumbar)));
+        for arm in s.arms.iter().flatten() {
+            let side = suffix(arm.side);
+            out.push((format!("shoulder{side}"), name(arm.shoulder)));
+            out.push((format!("elbow{side}"), name(arm.elbow)));
+        }
+    }
+    out
+}
+
 /// The anatomical angles (rad) and moments (N·m) of a human take as a table
 /// ([`Analysis::anatomy`]); empty for a take that is not a human's, or whose segments have no
 /// frame somewhere (the inverse dynamics stands without them).
@@ -394,9 +440,60 @@ pub struct Analysis {
     pub scale: f64,
     /// A one-line summary for messages (a simulation's tracking error), or empty.
     pub note: String,
+    /// [`note`](Self::note) in a few words for a status line (`feet give the force in 88 % of
+    /// single support; residuals within Hicks et al.`), or empty.
+    pub brief: String,
     /// A human take's anatomical series (`pipeline::anatomy`): `<joint>:<axis>:angle` (rad)
     /// and `<joint>:<axis>:moment` (N·m) per frame, `knee_l:flexion:angle`; empty otherwise.
     pub anatomy: Table,
+    /// Per frame, why its accelerations and torques are not quoted (issue 14: peaks, minima,
+    /// maxima and the charts' markers leave these frames out, the charts shade them); `None`
+    /// for a frame that is. Empty: every frame is quoted.
+    pub left_out: Vec<Option<LeftOut>>,
+    /// A human take's anatomical joints and the BVH joint at each one's centre (`knee_l` →
+    /// `LeftLeg`), from the landmarks the take's human was found by; empty otherwise.
+    pub anatomy_joints: Vec<(String, String)>,
+}
+
+/// Why a frame's accelerations and torques are left out of the figures quoted from them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LeftOut {
+    /// Within the smoothing's reach of the take's ends, where the smoothed accelerations see
+    /// past the take (`pipeline::edge_frames`); quoted with `set edges include`.
+    Edge,
+    /// The residuals stay beyond Hicks et al.'s thresholds: the motion needs a force the feet
+    /// cannot give (`pipeline::consistency`, the CSV column `residual:beyond`).
+    Beyond,
+}
+
+impl LeftOut {
+    /// A short name for messages and legends.
+    pub fn name(self) -> &'static str {
+        match self {
+            LeftOut::Edge => "edge",
+            LeftOut::Beyond => "beyond the feet",
+        }
+    }
+}
+
+impl Analysis {
+    /// Whether frame `k`'s accelerations and torques are quoted (not [`left_out`](Self::left_out)).
+    pub fn quoted(&self, k: usize) -> bool {
+        self.left_out.get(k).is_none_or(Option::is_none)
+    }
+
+    /// The runs of frames left out, as `(first, last, why)` with `first..=last` one reason.
+    pub fn left_out_runs(&self) -> Vec<(usize, usize, LeftOut)> {
+        let mut runs: Vec<(usize, usize, LeftOut)> = vec![];
+        for (k, w) in self.left_out.iter().enumerate() {
+            let Some(w) = *w else { continue };
+            match runs.last_mut() {
+                Some(r) if r.1 + 1 == k && r.2 == w => r.1 = k,
+                _ => runs.push((k, k, w)),
+            }
+        }
+        runs
+    }
 }
 
 /// The computations behind the workbench. Implementations must be deterministic.
@@ -521,6 +618,9 @@ impl Engine for Builtin {
         ctl.check()?;
         let mut note = String::new();
         let mut anatomy = Table::zeros(vec![], 0);
+        let mut left_out = vec![];
+        let mut anatomy_joints = vec![];
+        let mut brief = String::new();
         let (model, states, scale, grf) = match &take.data {
             TakeData::Bvh(bvh) => {
                 // the pipeline's stages: axes and unit, model, q, unwrap, smooth, differentiate
@@ -536,6 +636,15 @@ impl Engine for Builtin {
                 ctl.check()?;
                 pipeline::resolve_contact(&mut t);
                 let scale = t.scale_to_m;
+                // the frames within the smoothing's reach of the ends, unless `edges include`
+                left_out = vec![None; t.states.len()];
+                if !params.include_edges {
+                    let e = pipeline::edge_frames(&t);
+                    let n = left_out.len();
+                    for k in (0..e.min(n)).chain(n.saturating_sub(e)..n) {
+                        left_out[k] = Some(LeftOut::Edge);
+                    }
+                }
                 note = summarize_notes(&t.notes);
                 // with `contact feet`: the torques with the estimated ground reactions
                 // (and how far the feet could give the ground force the motion needs), of the
@@ -543,6 +652,12 @@ impl Engine for Builtin {
                 let (t, g) = if t.options.contact == pipeline::Contact::Feet {
                     let reduce = params.consistent.unwrap_or(true);
                     let (adjusted, g, c) = pipeline::consistency::consistent_take(&t, reduce)?;
+                    for (k, b) in c.beyond.iter().enumerate() {
+                        if *b && k < left_out.len() {
+                            left_out[k] = Some(LeftOut::Beyond);
+                        }
+                    }
+                    brief = contact_brief(&g.quality(), c.last().meets());
                     let said = format!("{}; {}", g.quality(), c.headline());
                     note = if note.is_empty() {
                         said
@@ -556,6 +671,11 @@ impl Engine for Builtin {
                 };
                 ctl.check()?;
                 anatomy = anatomy_table(&t, g.as_ref());
+                if !anatomy.names.is_empty()
+                    && let Ok(h) = &t.human
+                {
+                    anatomy_joints = anatomical_joints(h, &t.bvh);
+                }
                 ctl.check()?;
                 let grf = g.map(|g| g.tau);
                 (Arc::new(t.model), Arc::new(t.states), scale, grf)
@@ -596,8 +716,11 @@ impl Engine for Builtin {
             time: states.time.clone(),
             scale,
             note,
+            brief,
             model,
             anatomy,
+            left_out,
+            anatomy_joints,
         })
     }
 
@@ -658,8 +781,11 @@ impl Engine for Builtin {
                 super::units::format_value(super::units::Kind::Angle, r.rms_error_rad()),
                 super::units::format_value(super::units::Kind::Angle, r.max_error_rad())
             ),
+            brief: String::new(),
             model,
             anatomy: Table::zeros(vec![], 0),
+            left_out: vec![],
+            anatomy_joints: vec![],
         })
     }
 

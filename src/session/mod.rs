@@ -37,6 +37,7 @@
 //! | `run id` | inverse dynamics over the active take (RNEA at every frame) |
 //! | `run sim` | computed-torque simulation tracking the active take (`kp`, `kv`, `integrator`, `dt`); the message gives the tracking error |
 //! | `blend A B T0:T1` | take A until T0, take B from T1, a C² blend between (s; B's root and heading aligned to A's); the result, named `A+B`, becomes active |
+//! | `take next\|prev\|N\|NAME` | make another loaded take active (N from 1, in load order); its results are computed anew and the selection kept when the take has it (a human's left knee otherwise) |
 //! | `select JOINT` | select a coordinate (`LeftLeg.Xrotation`, `LeftLeg:wx`, `j2`) or a joint: its rotation coordinate with the largest range of motion over the take (the flexion axis of a knee or elbow; `J:wx`… for ball joints) |
 //! | `frame N` | go to frame N (0-based) |
 //! | `play`, `pause` | start / stop playback |
@@ -58,7 +59,10 @@
 //! `joints euler|ball`, `smooth none|gaussian:W|butterworth:F[hz][:ORDER]` (W in s, F in Hz),
 //! `contact auto|feet|none`, `consistent auto|on|off` (residual reduction with ground contact,
 //! as `--consistent`: auto is on when contact is feet, or auto settled on feet; the status line
-//! then says the take's residuals against Hicks et al.'s thresholds), `link.<joint>.mass KG`,
+//! then says the take's residuals against Hicks et al.'s thresholds), `edges exclude|include`
+//! (whether the frames within the smoothing's reach of the take's ends count in the
+//! accelerations' and torques' min, max, peak, mean and RMS, as `anatomy --edges`; frames whose
+//! residuals stay beyond the thresholds never count), `link.<joint>.mass KG`,
 //! `lock J1,J2,…` (or `none`),
 //! `keep_first_frame true|false` (keep a rest pose stored as frame 0, `--keep-first-frame`; it
 //! acts when a take is read, so it applies to the takes loaded after it),
@@ -116,8 +120,8 @@ pub mod trajectory;
 pub mod units;
 pub mod workbench;
 
-pub use command::{Command, Expectation, ExportKind, RunKind, parse_line, parse_session};
-pub use engine::{Analysis, Builtin, Control, Engine, Params, Take};
+pub use command::{Command, Expectation, ExportKind, RunKind, TakeRef, parse_line, parse_session};
+pub use engine::{Analysis, Builtin, Control, Engine, LeftOut, Params, Take};
 pub use workbench::{Job, JobResult, Outcome, Workbench};
 
 use std::path::{Path, PathBuf};
@@ -291,8 +295,15 @@ pub fn apply_frontend(
             let out = wb.out_path(path);
             let text = frontend.screen(wb);
             crate::io::write_atomic(&out, text.as_bytes())?;
+            // said in the status line too: the TUI shows the last message
+            let rows = text.lines().count();
+            let message = format!(
+                "wrote the screen as text ({rows} lines) to {}",
+                out.display()
+            );
+            wb.messages.push(message.clone());
             Ok(Outcome {
-                message: format!("wrote {}", out.display()),
+                message,
                 written: vec![out],
                 quit: false,
             })

@@ -1,7 +1,7 @@
 //! The workbench state and the one function that changes it, [`Workbench::apply`].
 
 use super::SessionError;
-use super::command::{Command, Expectation, ExportKind, Quantity, RunKind, Statistic};
+use super::command::{Command, Expectation, ExportKind, Quantity, RunKind, Statistic, TakeRef};
 use super::engine::{Analysis, Builtin, Control, Engine, Params, Take, TakeData};
 use super::units::{self, Bare, Kind, Measure};
 use crate::model::{JointKind, Model};
@@ -446,6 +446,7 @@ impl Job {
             runs.push(MassRun {
                 mass_kg,
                 tau,
+                quoted: (0..r.time.len()).map(|k| r.quoted(k)).collect(),
                 t: r.time,
             });
         }
@@ -494,13 +495,25 @@ impl Job {
             let sel = self
                 .selection(analysis)
                 .ok_or_else(|| err("report motor: select a joint first"))?;
-            let joint = joint_of_name(m, &sel).unwrap_or_else(|| sel.to_string());
+            let joint = joint_of_selection(&r, &sel).unwrap_or_else(|| sel.to_string());
             let coords = coords_of_joint(m, &joint);
             revolute
                 .into_iter()
                 .filter(|&k| coords.contains(&m.v_names[k]))
                 .collect()
         };
+        // an avatar's root hangs from the world: its "torques" are the residual forces and
+        // moments no joint gives (near zero for a consistent take), so no motor drives them
+        if !robot
+            && m.nv > 0
+            && let Some(&k) = chosen.first()
+            && joint_of(m, k) == joint_of(m, 0)
+        {
+            return Err(err(format!(
+                "report motor: {} is the root; its coordinates carry the residual forces and                  moments that no motor gives: select a joint of a limb (select knee_l, select                  LeftLeg)",
+                joint_of(m, 0)
+            )));
+        }
         if chosen.is_empty() {
             return Err(err(
                 "report motor: the selection has no revolute coordinate",
@@ -769,7 +782,8 @@ impl Workbench {
         }
     }
 
-    fn in_path(&self, p: &Path) -> PathBuf {
+    /// Where an input path is read: relative paths under the input folder.
+    pub fn in_path(&self, p: &Path) -> PathBuf {
         resolve_in(&self.in_dir, p)
     }
 
@@ -798,13 +812,14 @@ impl Workbench {
                 let label = format!("loading {}", path.display());
                 (Task::Motion { file, index, model }, label)
             }
-            Command::Load { path, name } => (
-                Task::Load {
-                    file: self.in_path(path),
-                    name: name.clone(),
-                },
-                format!("loading {}", path.display()),
-            ),
+            Command::Load { path, name } => {
+                let file = self.in_path(path);
+                let name = name.clone().or_else(|| self.second_name(&file));
+                (
+                    Task::Load { file, name },
+                    format!("loading {}", path.display()),
+                )
+            }
             Command::Scene { path } => (
                 Task::Scene {
                     file: self.in_path(path),
@@ -1044,7 +1059,11 @@ impl Workbench {
             r.model.nv,
             r.model.total_mass()
         );
-        if !r.note.is_empty() {
+        // a long note after a short first line (the status line shows the first line,
+        // the TUI's help all of it)
+        if !r.brief.is_empty() {
+            msg = format!("{msg}; {}\n{}", r.brief, r.note);
+        } else if !r.note.is_empty() {
             msg = format!("{msg}, {}", r.note);
         }
         self.selection = selection_for(&r, self.selection.as_deref());
@@ -1092,6 +1111,7 @@ impl Workbench {
                 self.set(key, value)?;
                 Ok(self.say(format!("{key} = {value}")))
             }
+            Command::Take(which) => self.switch_take(which),
             Command::Select(name) => {
                 let coord = self.resolve_coord(name)?;
                 self.selection = Some(coord.clone());
@@ -1136,6 +1156,70 @@ impl Workbench {
                 self.finish(job.run(&Control::default()))
             }
         }
+    }
+
+    /// `take`: makes another loaded take active, from its first frame. The results were the
+    /// old take's (they go); the selection stays when the take has it.
+    fn switch_take(&mut self, which: &TakeRef) -> Result<Outcome, SessionError> {
+        let n = self.takes.len();
+        if n == 0 {
+            return Err(err("no take loaded (load PATH first)"));
+        }
+        let cur = self.active.unwrap_or(0);
+        let i = match which {
+            TakeRef::Next => (cur + 1) % n,
+            TakeRef::Prev => (cur + n - 1) % n,
+            TakeRef::Index(k) if *k <= n => k - 1,
+            TakeRef::Index(k) => {
+                return Err(err(format!("take {k}: {n} take(s) are loaded")));
+            }
+            TakeRef::Name(name) => {
+                self.takes
+                    .iter()
+                    .position(|t| t.name == *name)
+                    .ok_or_else(|| {
+                        err(format!(
+                            "no take called '{name}' (loaded: {})",
+                            self.take_names().join(", ")
+                        ))
+                    })?
+            }
+        };
+        if self.active != Some(i) {
+            self.active = Some(i);
+            self.results = None;
+            self.sim = None;
+            self.frame = 0;
+            self.selection = selection_on_load(&self.takes[i], self.selection.as_deref());
+        }
+        let t = &self.takes[i];
+        Ok(self.say(format!(
+            "take {}/{n}: {} ({} frames)",
+            i + 1,
+            t.name,
+            t.frames()
+        )))
+    }
+
+    /// A name for the take of `file` when another file already gave its name (`a/walk.bvh`
+    /// and `b/walk.bvh` are `walk` and `walk-2`); `None` to keep the file's (a new name, or
+    /// the same file loaded again, which replaces its take).
+    fn second_name(&self, file: &Path) -> Option<String> {
+        let source = file.to_string_lossy();
+        let stem = file.file_stem()?.to_string_lossy().replace("demo:", "");
+        let taken = |n: &str| self.takes.iter().find(|t| t.name == n);
+        match taken(&stem) {
+            Some(t) if t.source != source => {}
+            _ => return None,
+        }
+        (2..)
+            .map(|k| format!("{stem}-{k}"))
+            .find(|n| taken(n).is_none_or(|t| t.source == source))
+    }
+
+    /// The names of the loaded takes, in load order.
+    pub fn take_names(&self) -> Vec<String> {
+        self.takes.iter().map(|t| t.name.clone()).collect()
     }
 
     /// Checks a `trajectory` for the active take: a robot of revolute and prismatic joints,
@@ -1313,6 +1397,17 @@ impl Workbench {
                     }
                 }
             }
+            "edges" => {
+                p.include_edges = match value {
+                    "exclude" => false,
+                    "include" => true,
+                    _ => {
+                        return Err(err(format!(
+                            "set edges: expected exclude or include, found '{value}'"
+                        )));
+                    }
+                }
+            }
             "keep_first_frame" => p.take.keep_first_frame = parsed::<bool>(key, value)?,
             "joint_translations" => p.take.joint_translations = parsed(key, value)?,
             "kp" => p.kp.all = num(None, "a gain in 1/s²")?,
@@ -1450,11 +1545,50 @@ impl Workbench {
         )
     }
 
+    /// The joint of the selection, as the joint tree names it: the BVH joint at an
+    /// anatomical joint's centre (`knee_l:flexion` → `LeftLeg`), the joint of a coordinate
+    /// (`LeftLeg.Xrotation`, `LeftLeg:wx`, a robot's `j2`).
+    pub fn selected_joint(&self) -> Option<String> {
+        let sel = self.selection.as_deref()?;
+        if let Some(r) = self.latest_results()
+            && is_anatomical(r, sel)
+        {
+            return joint_of_selection(r, sel);
+        }
+        let r = self.latest_results();
+        r.and_then(|r| joint_of_name(&r.model, sel)).or_else(|| {
+            // before results: the name up to the coordinate's separator
+            let tree = self.take()?.joint_tree();
+            tree.into_iter()
+                .map(|(n, _)| n)
+                .filter(|n| {
+                    sel == n
+                        || sel
+                            .strip_prefix(n.as_str())
+                            .is_some_and(|r| r.starts_with(['.', ':']))
+                })
+                .max_by_key(|n| n.len())
+        })
+    }
+
     pub fn joint_coords(&self, joint: &str) -> Vec<String> {
         match self.latest_results() {
             Some(r) => coords_of_joint(&r.model, joint),
             None => vec![],
         }
+    }
+
+    /// True when the latest results were computed for the model the current parameters
+    /// build (same joint model, locks, subtree and joint translations): their coordinates are
+    /// those of the next results.
+    fn results_model_current(&self) -> bool {
+        self.results.as_ref().is_some_and(|(_, p)| {
+            let (a, b) = (&p.take, &self.params.take);
+            a.joints == b.joints
+                && a.lock == b.lock
+                && a.subtree == b.subtree
+                && a.joint_translations == b.joint_translations
+        })
     }
 
     /// A coordinate name from a coordinate or a joint name. A joint gives its coordinate with
@@ -1466,7 +1600,12 @@ impl Workbench {
         let take = self
             .take()
             .ok_or_else(|| err("no take loaded (load PATH first)"))?;
-        if let Some(r) = self.latest_results()
+        // results of another model (computed before `set joints`, `lock`, `subtree`, …) name
+        // coordinates the next results will not have: then choose from the take's channels
+        let current = self
+            .latest_results()
+            .filter(|_| self.results_model_current());
+        if let Some(r) = current
             && r.model.v_index(name).is_some()
         {
             return Ok(name.to_string());
@@ -1488,7 +1627,7 @@ impl Workbench {
                 });
         }
         let bvh = take.bvh().ok_or_else(|| err("no take loaded"))?;
-        let Some(r) = self.latest_results() else {
+        let Some(r) = current else {
             return channel_by_range(bvh, name, self.params.take.joints);
         };
         if let Some(c) = best_coordinate(r, name) {
@@ -1613,9 +1752,22 @@ impl Workbench {
                         .ok_or_else(|| err(format!("no moment for '{coord}'")))?,
                     _ => table.column(j),
                 };
+                // accelerations and torques: never of the frames left out (issue 14)
+                let forces = matches!(quantity, Quantity::Acceleration | Quantity::Torque);
+                let quoted: Vec<f64> = x
+                    .iter()
+                    .enumerate()
+                    .filter(|&(k, _)| !forces || r.quoted(k))
+                    .map(|(_, v)| *v)
+                    .collect();
                 let value = match stat {
                     Statistic::Now => x.get(self.frame).copied().unwrap_or(0.0),
-                    _ => statistic(*stat, &x),
+                    _ if quoted.is_empty() => {
+                        return Err(err(format!(
+                            "{coord}: every frame is left out of the quoted figures (edge                              frames or residuals beyond the feet; `set edges include` quotes                              the edges)"
+                        )));
+                    }
+                    _ => statistic(*stat, &quoted),
                 };
                 let name = format!(
                     "{} {coord} {}",
@@ -1676,6 +1828,17 @@ pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> 
         q.iter().map(|x| x * factor).collect(),
     )];
     let torque = [Series::new(coord, r.time.clone(), tau)];
+    // the frames whose forces are not quoted (edge frames, residuals beyond the feet)
+    let half = r
+        .time
+        .get(1)
+        .zip(r.time.first())
+        .map_or(0.0, |(b, a)| (b - a) / 2.0);
+    let shaded: Vec<(f64, f64)> = r
+        .left_out_runs()
+        .iter()
+        .map(|&(a, b, _)| (r.time[a] - half, r.time[b] + half))
+        .collect();
     let title_a = format!("{coord} {}", angle_label.split(' ').next().unwrap_or(""));
     let title_t = format!("{coord} {}", torque_label.split(' ').next().unwrap_or(""));
     let panels = [
@@ -1685,6 +1848,8 @@ pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> 
             y_label: angle_label,
             series: &angle,
             mark_min_max: true,
+            shaded: &[],
+            shaded_label: "",
         },
         Panel {
             title: &title_t,
@@ -1692,6 +1857,8 @@ pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> 
             y_label: torque_label,
             series: &torque,
             mark_min_max: true,
+            shaded: &shaded,
+            shaded_label: "not quoted (edge/feet)",
         },
     ];
     Ok(stacked_svg(&panels, None)?)
@@ -1721,6 +1888,20 @@ fn joint_of(model: &Model, k: usize) -> &str {
         Some((j, c)) if crate::io::bvh::Channel::ALL.iter().any(|ch| ch.name() == c) => j,
         _ => name,
     }
+}
+
+/// The joint of a selection in results `r`: the BVH joint at an anatomical joint's centre
+/// (`knee_l:flexion` → `LeftLeg`), the joint of a coordinate of the model.
+fn joint_of_selection(r: &Analysis, sel: &str) -> Option<String> {
+    if is_anatomical(r, sel) {
+        let joint = sel.split(':').next()?;
+        return r
+            .anatomy_joints
+            .iter()
+            .find(|(a, _)| a == joint)
+            .map(|(_, j)| j.clone());
+    }
+    joint_of_name(&r.model, sel)
 }
 
 /// The joint of a coordinate name, if the model has that coordinate.

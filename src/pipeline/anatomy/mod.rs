@@ -74,6 +74,20 @@ impl Anatomy {
         }
     }
 
+    /// Whether frame `k` lies beyond Hicks et al.'s thresholds (the motion needs a force the
+    /// feet cannot give there).
+    pub fn beyond(&self, k: usize) -> bool {
+        self.consistency
+            .as_ref()
+            .is_some_and(|c| c.beyond.get(k) == Some(&true))
+    }
+
+    /// Whether frame `k`'s moments are quoted: [`reported`](Self::reported) and not
+    /// [`beyond`](Self::beyond).
+    pub fn quoted(&self, k: usize) -> bool {
+        self.reported().contains(&k) && !self.beyond(k)
+    }
+
     /// The column called `name`.
     pub fn column(&self, name: &str) -> Option<&[f64]> {
         let i = self.names.iter().position(|n| n == name)?;
