@@ -611,11 +611,13 @@ fn draw_sparks(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
 fn draw_timeline(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     let frames = wb.frames();
     let dt = wb.take().map_or(0.0, |t| t.frame_time());
+    // times on the file's clock, as every output writes them (a dropped rest frame 0: from dt)
+    let t0 = wb.take().and_then(|t| t.bvh()).map_or(0.0, |b| b.time(0));
     let state = if wb.playing { "▶" } else { "⏸" };
     let label = format!(
         "{state} {:.2}/{:.2} s  frame {}/{} ",
-        wb.frame as f64 * dt,
-        frames.saturating_sub(1) as f64 * dt,
+        t0 + wb.frame as f64 * dt,
+        t0 + frames.saturating_sub(1) as f64 * dt,
         wb.frame,
         frames.saturating_sub(1)
     );
