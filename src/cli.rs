@@ -234,6 +234,9 @@ pub enum ExportWhat {
     Positions,
     /// The model as URDF.
     Urdf,
+    /// The model as MuJoCo MJCF: a free root, ball or hinge joints, ellipsoid links, a floor,
+    /// gravity along −up, a motor per joint DoF (gear 1).
+    Mjcf,
     /// q, v, a per frame, exactly as inverse dynamics uses them (.sto: degrees for rotations,
     /// `<coord>`, `<coord>_u`, `<coord>_dudt`).
     States,
@@ -248,6 +251,7 @@ pub enum ExportWhat {
 const EXPORTS: &[(ExportWhat, &str)] = &[
     (ExportWhat::Positions, "export positions"),
     (ExportWhat::Urdf, "export urdf"),
+    (ExportWhat::Mjcf, "export mjcf"),
     (ExportWhat::States, "export states"),
     (ExportWhat::Grf, "export grf"),
     (ExportWhat::Trc, "export trc"),
@@ -475,6 +479,11 @@ const UNUSED_TAKE_FLAGS: &[(&str, &[&str], &str)] = &[
         "export urdf",
         &["--smooth", "--contact", "--damping", "--keep-first-frame"],
         "a URDF holds the model, not the motion",
+    ),
+    (
+        "export mjcf",
+        &["--smooth", "--contact", "--keep-first-frame"],
+        "an MJCF holds the model, not the motion",
     ),
     (
         "simulate",
@@ -719,7 +728,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 .iter()
                 .find(|(w, _)| *w == what)
                 .map_or("export", |e| e.1);
-            let table = !matches!(what, ExportWhat::Urdf | ExportWhat::Trc);
+            let table = !matches!(what, ExportWhat::Urdf | ExportWhat::Mjcf | ExportWhat::Trc);
             if format.is_some() && !table {
                 bail!("--format has no effect on `articula {command}`; remove it");
             }
@@ -737,6 +746,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             match what {
                 ExportWhat::Positions => pipeline::export_positions(&take, &output)?,
                 ExportWhat::Urdf => pipeline::export_urdf(&take, &output)?,
+                ExportWhat::Mjcf => pipeline::export_mjcf(&take, &output)?,
                 ExportWhat::States => formats::export_states_as(&take, &output, format)?,
                 ExportWhat::Grf => {
                     pipeline::resolve_contact(&mut take);

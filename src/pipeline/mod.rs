@@ -23,6 +23,7 @@ mod contact;
 mod edit;
 pub mod formats;
 pub mod measured;
+mod mujoco;
 mod sim;
 
 pub use contact::{
@@ -31,6 +32,7 @@ pub use contact::{
     take_feet,
 };
 pub use edit::{blend_files, export_smoothed_bvh};
+pub use mujoco::{export_mjcf, floor_level};
 pub use sim::{
     Bench, SimSettings, SimSummary, Tradeoff, TradeoffRow, bench, bench_batches,
     passive_energy_drift, reference, simulate, simulate_states, tradeoff, tradeoff_grid,

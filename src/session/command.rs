@@ -19,6 +19,8 @@ pub enum ExportKind {
     BvhSim,
     /// The current model as URDF.
     Urdf,
+    /// The current model as MuJoCo MJCF, motor gears from the drives (`set motor.gear`).
+    Mjcf,
 }
 
 /// What a computation runs.
@@ -153,7 +155,7 @@ pub enum Command {
     Play,
     /// `pause`.
     Pause,
-    /// `export csv|svg|bvh|urdf PATH`.
+    /// `export csv|svg|bvh|urdf|mjcf PATH`.
     Export { kind: ExportKind, path: PathBuf },
     /// `compare weights 60,80,100 [joint J] PATH`.
     CompareWeights {
@@ -475,7 +477,7 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
             Command::Quit
         }
         "export" => {
-            let usage = "export csv|svg|bvh|urdf PATH, or export bvh sim PATH";
+            let usage = "export csv|svg|bvh|urdf|mjcf PATH, or export bvh sim PATH";
             arity(&[2, 3], usage)?;
             if args.len() == 3 && (args[0] != "bvh" || args[1] != "sim") {
                 return Err(syntax(lineno, format!("usage: {usage}")));
@@ -486,10 +488,11 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
                 "bvh" if args.len() == 3 => ExportKind::BvhSim,
                 "bvh" => ExportKind::Bvh,
                 "urdf" => ExportKind::Urdf,
+                "mjcf" => ExportKind::Mjcf,
                 o => {
                     return Err(syntax(
                         lineno,
-                        format!("export: expected csv, svg, bvh or urdf, found '{o}'"),
+                        format!("export: expected csv, svg, bvh, urdf or mjcf, found '{o}'"),
                     ));
                 }
             };

@@ -381,11 +381,47 @@ impl Job {
                 ctl.check()?;
                 crate::io::write_atomic(out, urdf.as_bytes())?;
             }
+            ExportKind::Mjcf => {
+                let r = self.results(ctl, analysis, 0.9)?;
+                let mjcf = self.mjcf(&r)?;
+                ctl.check()?;
+                crate::io::write_atomic(out, mjcf.as_bytes())?;
+            }
         }
         Ok(Output::Wrote {
             path: out.to_path_buf(),
             message: format!("wrote {}", out.display()),
         })
+    }
+
+    /// The results' model as MJCF: every motor's gear the drive's `N·η` (so the control is the
+    /// motor shaft's torque), a floor under a BVH take's frames (none under a robot).
+    fn mjcf(&self, r: &Analysis) -> Result<String, SessionError> {
+        let gear = r
+            .model
+            .v_names
+            .iter()
+            .map(|n| {
+                let m = self.params.motor_of(n);
+                m.gear_ratio * m.eta()
+            })
+            .collect();
+        let floor = self
+            .take()?
+            .bvh()
+            .map(|_| crate::pipeline::floor_level(&r.model, (0..r.q.rows()).map(|k| r.q.row(k))));
+        let keyframe = (r.q.rows() > 0).then(|| r.q.row(0).to_vec());
+        let opts = crate::io::mjcf_write::MjcfOptions {
+            floor,
+            keyframe,
+            gear,
+            gear_source: Some(
+                "the workbench's motor drives (gear = N * efficiency: the control is the motor \
+                 shaft's torque)"
+                    .into(),
+            ),
+        };
+        Ok(crate::io::mjcf_write::model_to_mjcf(&r.model, &opts)?)
     }
 
     /// Inverse dynamics at each body mass, one span of the progress per mass; the torque of
@@ -828,6 +864,7 @@ impl Workbench {
                     ExportKind::Bvh => "bvh",
                     ExportKind::BvhSim => "bvh sim",
                     ExportKind::Urdf => "urdf",
+                    ExportKind::Mjcf => "mjcf",
                 };
                 let task = Task::Export {
                     kind: *kind,
