@@ -1,5 +1,5 @@
 //! `articula batch`: one take command over many takes (and a sweep of settings), each run as a
-//! child process of this same executable, N at a time, with a summary table.
+//! child process of this same executable, N at a time (largest takes first), with a summary table.
 //!
 //! This lives in the binary beside `cli.rs`, not in the library: it spawns processes, reads the
 //! clock and draws a progress bar, none of which the library's pure layers do. A child process
@@ -13,7 +13,6 @@ use anyhow::{Context, Result, bail};
 use articula::report::csv::{read_columns, write_table};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use rayon::prelude::*;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::{ExitCode, Stdio};
@@ -230,19 +229,11 @@ pub fn run(args: BatchArgs) -> Result<ExitCode> {
     if threads == 0 {
         bail!("--jobs 0: give at least 1");
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .context("batch: starting the worker threads")?;
     let progress = Progress::new(jobs.len());
-    let rows: Vec<Row> = pool.install(|| {
-        jobs.par_iter()
-            .map(|job| {
-                let row = run_job(job, spec, &of, args.force);
-                progress.done(&row);
-                row
-            })
-            .collect()
+    let rows = run_all(&jobs, threads, |job| {
+        let row = run_job(job, spec, &of, args.force);
+        progress.done(&row);
+        row
     });
     progress.finish();
 
@@ -266,6 +257,35 @@ pub fn run(args: BatchArgs) -> Result<ExitCode> {
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// Runs `work` on every job from `threads` worker threads, the largest takes first (longest
+/// processing time first: a big take started last would leave the other workers idle while it
+/// runs alone), and returns the rows in the jobs' order.
+fn run_all(jobs: &[Job], threads: usize, work: impl Fn(&Job) -> Row + Sync) -> Vec<Row> {
+    use std::sync::Mutex;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    // the queue: job indices by take size, largest first (stable: ties keep their order)
+    let size = |j: &Job| std::fs::metadata(&j.take.path).map_or(0, |m| m.len());
+    let mut order: Vec<usize> = (0..jobs.len()).collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(size(&jobs[i])));
+    let next = AtomicUsize::new(0);
+    let rows: Mutex<Vec<Option<Row>>> = Mutex::new((0..jobs.len()).map(|_| None).collect());
+    std::thread::scope(|scope| {
+        for _ in 0..threads.min(jobs.len()) {
+            scope.spawn(|| {
+                while let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) {
+                    let row = work(&jobs[i]);
+                    rows.lock().unwrap_or_else(|e| e.into_inner())[i] = Some(row);
+                }
+            });
+        }
+    });
+    rows.into_inner()
+        .unwrap_or_else(|e| e.into_inner())
+        .into_iter()
+        .flatten()
+        .collect()
 }
 
 /// The settings of the sweep: the cross product of every `KEY=V1,V2,…` (one empty setting
