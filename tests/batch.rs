@@ -213,3 +213,26 @@ fn a_command_batch_cannot_run_is_refused_up_front() {
         .code(2)
         .stderr(predicates::str::contains("not a take command"));
 }
+
+#[test]
+fn a_diverged_simulation_is_a_failed_row_beside_the_settings_that_track() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    articula()
+        .arg("batch")
+        .arg(demo())
+        .arg("-o")
+        .arg(&out)
+        .args(["--jobs", "2", "--vary", "dt=0.001,0.2", "--"])
+        .args(["simulate", "--integrator", "euler", "--duration", "1"])
+        .assert()
+        .code(1);
+    let (h, rows) = summary(&out);
+    assert_eq!(rows.len(), 2);
+    let fine = rows.iter().find(|r| cell(&h, r, "dt") == "0.001").unwrap();
+    let coarse = rows.iter().find(|r| cell(&h, r, "dt") == "0.2").unwrap();
+    assert_eq!(cell(&h, fine, "status"), "ok");
+    assert_eq!(cell(&h, coarse, "status"), "failed");
+    assert!(cell(&h, coarse, "error").contains("diverged"), "{coarse:?}");
+    assert!(out.join("demo_walk__dt=0.001.csv").exists());
+}
