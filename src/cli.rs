@@ -4,6 +4,7 @@
 //! into `pipeline` options and calls the library. Nothing computes here.
 
 use anyhow::{Context, Result, bail};
+use articula::pipeline::formats::{self, TableFormat};
 use articula::pipeline::{self, ModelSource, TakeOptions};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::{Path, PathBuf};
@@ -42,12 +43,21 @@ pub enum Cmd {
         #[arg(long)]
         json: bool,
     },
-    /// Write positions, the euler model as URDF, or the states inverse dynamics uses.
+    /// Write positions, the euler model as URDF, the states inverse dynamics uses, the ground
+    /// reactions, or the joint centres as TRC markers. Tables are CSV, or OpenSim's .sto/.mot
+    /// when the output ends so (or --format says so).
     Export {
         what: ExportWhat,
         take: PathBuf,
         #[command(flatten)]
         opts: TakeArgs,
+        /// Table format: csv, sto or mot (states, grf). Default: the output's extension
+        /// (.sto, .mot), else csv; `-o -` is csv unless given.
+        #[arg(long, value_name = "csv|sto|mot")]
+        format: Option<String>,
+        /// Length unit of `export trc`, declared in its header: mm (default) or m.
+        #[arg(long, value_name = "mm|m")]
+        trc_units: Option<String>,
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -66,7 +76,9 @@ pub enum Cmd {
         #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
         scale: f64,
     },
-    /// Inverse dynamics (RNEA): the torque of every coordinate, frame by frame.
+    /// Inverse dynamics (RNEA): the torque of every coordinate, frame by frame. CSV, or
+    /// OpenSim's .sto (`<coord>_moment` N·m, `<coord>_force` N) when the output ends in .sto
+    /// (or --format sto).
     Id {
         #[command(flatten)]
         src: SourceArgs,
@@ -74,6 +86,24 @@ pub enum Cmd {
         opts: TakeArgs,
         #[command(flatten)]
         consistency: ConsistencyArgs,
+        /// Table format: csv or sto. Default: the output's extension (.sto, .mot), else csv.
+        #[arg(long, value_name = "csv|sto")]
+        format: Option<String>,
+        /// Measured ground reactions instead of the estimate: an OpenSim external-loads .mot
+        /// (`<foot>_ground_force_v[xyz]`, `_p[xyz]`, `<foot>_ground_torque_[xyz]`) or a CSV
+        /// with `grf:<foot>:x|y|z`, `cop:…`, `moment:…` (as `export grf` writes); N, m, N·m in
+        /// the take's world axes, resampled to the take's frames.
+        #[arg(long, value_name = "FILE")]
+        grf: Option<PathBuf>,
+        /// Time (s) of the take's frame at time 0 on the --grf file's clock: the file's time
+        /// of frame k is t_k + offset.
+        #[arg(
+            long,
+            value_name = "S",
+            allow_negative_numbers = true,
+            requires = "grf"
+        )]
+        grf_offset: Option<f64>,
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -202,15 +232,34 @@ pub enum Cmd {
     },
 }
 
-#[derive(Debug, Clone, Copy, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum ExportWhat {
     /// World position of every joint, per frame (m, the take's axes).
     Positions,
     /// The model as URDF.
     Urdf,
-    /// q, v, a per frame, exactly as inverse dynamics uses them.
+    /// The model as MuJoCo MJCF: a free root, ball or hinge joints, ellipsoid links, a floor,
+    /// gravity along −up, a motor per joint DoF (gear 1).
+    Mjcf,
+    /// q, v, a per frame, exactly as inverse dynamics uses them (.sto: degrees for rotations,
+    /// `<coord>`, `<coord>_u`, `<coord>_dudt`).
     States,
+    /// Ground reactions per foot (force N, centre of pressure m, free moment N·m; world axes);
+    /// .mot: OpenSim external loads, with the ExternalLoads XML `NAME.xml` beside it.
+    Grf,
+    /// Every joint's world position as a marker, OpenSim's .trc (--trc-units mm|m).
+    Trc,
 }
+
+/// Every export: its command name (for flag checks and messages) and what it writes.
+const EXPORTS: &[(ExportWhat, &str)] = &[
+    (ExportWhat::Positions, "export positions"),
+    (ExportWhat::Urdf, "export urdf"),
+    (ExportWhat::Mjcf, "export mjcf"),
+    (ExportWhat::States, "export states"),
+    (ExportWhat::Grf, "export grf"),
+    (ExportWhat::Trc, "export trc"),
+];
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
 pub enum GenerateWhat {
@@ -409,9 +458,36 @@ const UNUSED_TAKE_FLAGS: &[(&str, &[&str], &str)] = &[
         "states are kinematics: no mass, contact or friction enters",
     ),
     (
+        "export trc",
+        &[
+            "--mass",
+            "--sex",
+            "--segments",
+            "--link-mass",
+            "--smooth",
+            "--joints",
+            "--contact",
+            "--damping",
+            "--lock",
+        ],
+        "markers are the joints' positions from the file's channels (those below the root \
+         welded at their mean unless --joint-translations keep); no model, mass or smoothing \
+         enters",
+    ),
+    (
+        "export grf",
+        &["--damping"],
+        "joint friction changes the joint torques, not what the ground gives",
+    ),
+    (
         "export urdf",
         &["--smooth", "--contact", "--damping", "--keep-first-frame"],
         "a URDF holds the model, not the motion",
+    ),
+    (
+        "export mjcf",
+        &["--smooth", "--contact", "--keep-first-frame"],
+        "an MJCF holds the model, not the motion",
     ),
     (
         "simulate",
@@ -649,18 +725,52 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             what,
             take,
             opts,
+            format,
+            trc_units,
             output,
         } => {
-            let command = match what {
-                ExportWhat::Positions => "export positions",
-                ExportWhat::Urdf => "export urdf",
-                ExportWhat::States => "export states",
-            };
-            let take = pipeline::load_take(&take, &opts.options_for(command)?)?;
+            let command = EXPORTS
+                .iter()
+                .find(|(w, _)| *w == what)
+                .map_or("export", |e| e.1);
+            let table = !matches!(what, ExportWhat::Urdf | ExportWhat::Mjcf | ExportWhat::Trc);
+            if format.is_some() && !table {
+                bail!("--format has no effect on `articula {command}`; remove it");
+            }
+            if trc_units.is_some() && !matches!(what, ExportWhat::Trc) {
+                bail!("--trc-units is for `articula export trc`; remove it");
+            }
+            let format = TableFormat::choose(&output, format.as_deref())?;
+            if format != TableFormat::Csv && matches!(what, ExportWhat::Positions) {
+                bail!(
+                    "positions as OpenSim data are markers: use `articula export trc`, or write \
+                     positions as CSV"
+                );
+            }
+            let mut take = pipeline::load_take(&take, &opts.options_for(command)?)?;
             match what {
                 ExportWhat::Positions => pipeline::export_positions(&take, &output)?,
                 ExportWhat::Urdf => pipeline::export_urdf(&take, &output)?,
-                ExportWhat::States => pipeline::export_states(&take, &output)?,
+                ExportWhat::Mjcf => pipeline::export_mjcf(&take, &output)?,
+                ExportWhat::States => formats::export_states_as(&take, &output, format)?,
+                ExportWhat::Grf => {
+                    pipeline::resolve_contact(&mut take);
+                    print_notes(Some(&take));
+                    match formats::export_grf(&take, &output, format)? {
+                        formats::ExternalLoadsXml::Written(xml) => wrote(&xml),
+                        formats::ExternalLoadsXml::None(why) if format != TableFormat::Csv => {
+                            eprintln!("note: no ExternalLoads XML: {why}")
+                        }
+                        formats::ExternalLoadsXml::None(_) => {}
+                    }
+                }
+                ExportWhat::Trc => {
+                    let units = match trc_units.as_deref() {
+                        Some(u) => u.parse()?,
+                        None => articula::report::opensim::TrcUnits::Mm,
+                    };
+                    formats::export_trc(&take, &output, units)?
+                }
             }
             wrote(&output);
         }
@@ -678,8 +788,19 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             src,
             opts,
             consistency,
+            format,
+            grf,
+            grf_offset,
             output,
         } => {
+            let format = TableFormat::choose(&output, format.as_deref())?;
+            if grf.is_some() && (consistency.consistent.is_some() || consistency.json) {
+                bail!(
+                    "--consistent and --json report on the estimated ground reactions; with \
+                     --grf the residual columns say what the measured forces leave to the \
+                     root: remove them"
+                );
+            }
             let o = opts.options_for_source("id", &src)?;
             let mut job = pipeline::load_source(&src.source()?, src.states.as_deref(), &o)?;
             if let Some(t) = job.take.as_mut() {
@@ -689,11 +810,26 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 .take
                 .as_ref()
                 .is_some_and(|t| t.options.contact == pipeline::Contact::Feet);
-            let reduce = consistency.reduce(contact, false)?;
-            let c = pipeline::consistency::consistent_job(&mut job, reduce, src.states.is_none())?;
-            let quality = pipeline::write_inverse_dynamics(&job, &output)?;
+            let c = match &grf {
+                Some(path) => {
+                    need(path)?;
+                    pipeline::measured::use_measured_grf(
+                        &mut job,
+                        path,
+                        grf_offset.unwrap_or(0.0),
+                    )?;
+                    None
+                }
+                None => {
+                    let reduce = consistency.reduce(contact, false)?;
+                    pipeline::consistency::consistent_job(&mut job, reduce, src.states.is_none())?
+                }
+            };
+            let quality = formats::write_inverse_dynamics_as(&job, &output, format)?;
             print_notes(job.take.as_ref());
-            if let Some(q) = quality {
+            // the estimate's quality figure (how far the feet could give the needed force) says
+            // nothing of measured forces: their residual columns do
+            if let (Some(q), None) = (quality, &grf) {
                 eprintln!("{q}");
             }
             if let Some(c) = c {

@@ -110,6 +110,7 @@ fn random_bvh() -> impl Strategy<Value = Bvh> {
                     frames,
                     channel_count: count,
                     motion,
+                    first_frame: 0,
                 })
             })
     })
@@ -220,6 +221,7 @@ fn non_depth_first_order_is_written_consistently() {
         frames: 1,
         channel_count: 12,
         motion: (0..12).map(f64::from).collect(),
+        first_frame: 0,
     };
     let back = reparse(&b);
     let names: Vec<&str> = back.joints.iter().map(|j| j.name.as_str()).collect();

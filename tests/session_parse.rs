@@ -186,6 +186,13 @@ fn every_command_parses() {
             },
         ),
         (
+            "export mjcf o.xml",
+            Command::Export {
+                kind: ExportKind::Mjcf,
+                path: p("o.xml"),
+            },
+        ),
+        (
             "compare weights 60,80,100 knee.csv",
             Command::CompareWeights {
                 masses: vec![60.0, 80.0, 100.0],
@@ -432,7 +439,7 @@ fn malformed_lines_name_their_line_and_what_was_expected() {
         ("frame -1", "expected a frame index"),
         ("frame x", "expected a frame index"),
         ("play now", "usage: play"),
-        ("export pdf a.pdf", "expected csv, svg, bvh or urdf"),
+        ("export pdf a.pdf", "expected csv, svg, bvh, urdf or mjcf"),
         (
             "compare weights 60,x,100 k.csv",
             "expected a body mass in kg",
@@ -446,7 +453,7 @@ fn malformed_lines_name_their_line_and_what_was_expected() {
         ),
         (
             "export bvh simulated a.bvh",
-            "usage: export csv|svg|bvh|urdf PATH",
+            "usage: export csv|svg|bvh|urdf|mjcf PATH",
         ),
         ("set motor.j1.speed 3", "unknown setting 'motor.j1.speed'"),
         ("set motor..km 3", "unknown setting"),

@@ -202,3 +202,54 @@ fn a_session_keeps_the_rest_frame_on_request() {
     let e = articula::session::run_session(&session, dir.path()).unwrap_err();
     assert!(e.to_string().contains("keep_first_frame"), "{e}");
 }
+
+/// The file's clock: frame k of the file is at k·dt in every output, also when the rest frame
+/// 0 was dropped (the first row is then the file's frame 1, at 1·dt, not 0). Regression: the
+/// dropped frame used to shift every output one frame off the video and force plates the take
+/// came with.
+#[test]
+fn a_dropped_rest_frame_keeps_the_files_clock() {
+    let dir = tempfile::tempdir().unwrap();
+    let with = write_take(dir.path(), "rest.bvh", true);
+    let dt = 0.0166667;
+
+    // the pipeline: the states start at the file's frame 1; kept, at frame 0
+    let dropped = load_take(&with, &TakeOptions::default()).unwrap();
+    assert_eq!(dropped.bvh.first_frame, 1);
+    assert_eq!(dropped.states.time[0], dt);
+    assert!((dropped.states.time[59] - 60.0 * dt).abs() < 1e-12);
+    let keep = TakeOptions {
+        keep_first_frame: true,
+        ..TakeOptions::default()
+    };
+    let kept = load_take(&with, &keep).unwrap();
+    assert_eq!(kept.states.time[0], 0.0);
+    assert_eq!(kept.states.time[1], dropped.states.time[0]);
+
+    // every CSV the binary writes: its `time` column starts at 1·dt
+    for args in [
+        &["export", "states"][..],
+        &["export", "positions"],
+        &["id", "--contact", "none"],
+    ] {
+        let out = Command::cargo_bin("articula")
+            .unwrap()
+            .args(args)
+            .arg(&with)
+            .args(["-o", "-"])
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{args:?}: {out:?}");
+        let text = String::from_utf8(out.stdout).unwrap();
+        let first: f64 = text
+            .lines()
+            .nth(1)
+            .unwrap()
+            .split(',')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert_eq!(first, dt, "{args:?}: the first row's time");
+    }
+}

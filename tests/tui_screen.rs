@@ -2,8 +2,11 @@
 //! workbench, and what the user needs is on screen (joint tree, sparkline labels with running
 //! min/max and the current value, timeline, status), at 80×24 and larger, across resizes.
 
+mod common;
+
+use common::tui::{press, screen};
+
 use articula::session::{Command, Workbench, units};
-use articula::tui::keys::parse_keys;
 use articula::tui::{Focus, Ui, draw};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
@@ -21,18 +24,6 @@ fn demo(width: u16, height: u16) -> (Ui, Workbench) {
     );
     assert!(ui.error.is_none(), "{:?}", ui.error);
     (ui, wb)
-}
-
-fn press(ui: &mut Ui, wb: &mut Workbench, keys: &str) {
-    for k in parse_keys(keys).unwrap() {
-        ui.handle_key(wb, k);
-    }
-}
-
-fn screen(ui: &Ui, wb: &Workbench, w: u16, h: u16) -> String {
-    let mut term = Terminal::new(TestBackend::new(w, h)).unwrap();
-    term.draw(|f| draw::draw(ui, wb, f)).unwrap();
-    draw::buffer_text(term.backend().buffer())
 }
 
 #[test]
@@ -186,7 +177,10 @@ fn torque_extremes_leave_out_edge_frames_and_the_sparkline_shades_them() {
 #[test]
 fn tree_navigation_parameters_and_help() {
     let (mut ui, mut wb) = demo(100, 30);
-    press(&mut ui, &mut wb, "jj");
+    // the knee's anatomical flexion sits on the tree's row of the knee's BVH joint
+    let tree = Ui::tree(&wb);
+    assert_eq!(tree[Ui::tree_cursor(&wb).unwrap()].0, "LeftLeg");
+    press(&mut ui, &mut wb, ":select Hips<Enter>jj");
     let largest = |wb: &Workbench, joint: &str| {
         articula::session::workbench::best_coordinate(wb.latest_results().unwrap(), joint)
     };

@@ -8,11 +8,14 @@
 //! cancelled) holds a job mid-way for as long as the test needs; waits poll with a generous
 //! limit that only guards against a hang.
 
+mod common;
+
+use common::tui::{press, screen};
+
 use articula::error::Error;
 use articula::model::Model;
 use articula::session::engine::{Analysis, Control, Engine, Params, States, Take};
 use articula::session::{Builtin, Command, Workbench, parse_line};
-use articula::tui::keys::parse_keys;
 use articula::tui::{Ui, draw};
 use crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
 use ratatui::Terminal;
@@ -94,18 +97,6 @@ impl Engine for Gated {
     ) -> Result<(), Error> {
         Builtin.export_bvh(take, params, motion, path, ctl)
     }
-}
-
-fn press(ui: &mut Ui, wb: &mut Workbench, keys: &str) {
-    for k in parse_keys(keys).unwrap() {
-        ui.handle_key(wb, k);
-    }
-}
-
-fn screen(ui: &Ui, wb: &Workbench, w: u16, h: u16) -> String {
-    let mut term = Terminal::new(TestBackend::new(w, h)).unwrap();
-    term.draw(|f| draw::draw(ui, wb, f)).unwrap();
-    draw::buffer_text(term.backend().buffer())
 }
 
 /// Polls the worker until `done` holds (panics after [`LIMIT`]: a hang, not a slow machine).

@@ -385,6 +385,7 @@ pub fn walk(params: &WalkParams) -> Bvh {
         frames,
         channel_count: first_channel,
         motion,
+        first_frame: 0,
     }
 }
 

@@ -3,8 +3,10 @@
 pub mod bvh;
 pub mod dh;
 pub mod generate;
+pub mod mjcf_write;
 pub mod scene;
 pub mod urdf_write;
+pub mod xml;
 
 use crate::error::Error;
 use std::io::Write;

@@ -603,6 +603,7 @@ pub fn blend(
         frames,
         channel_count: nc,
         motion,
+        first_frame: 0,
     })
 }
 

@@ -19,7 +19,8 @@ use nalgebra::{Rotation3, UnitQuaternion};
 /// A joint-space trajectory sampled at `time`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Trajectory {
-    /// Sample times (s), from 0.
+    /// Sample times (s) on the file's clock ([`Bvh::time`]): from 0, or from the first kept
+    /// frame's time when frames before it were dropped.
     pub time: Vec<f64>,
     /// One configuration (`nq` values, SI) per sample.
     pub q: Vec<Vec<f64>>,
@@ -46,7 +47,7 @@ impl Trajectory {
             q.push(row);
         }
         Trajectory {
-            time: (0..bvh.frames).map(|k| k as f64 * bvh.frame_time).collect(),
+            time: (0..bvh.frames).map(|k| bvh.time(k)).collect(),
             q,
         }
     }

@@ -92,12 +92,14 @@ pub fn rest_first_frame(bvh: &Bvh) -> Option<RestFrame> {
         .then_some(found)
 }
 
-/// Drops frame 0 of `bvh` (the frame time and everything else unchanged; the first kept frame
-/// becomes time 0). Takes of one frame are left as they are.
+/// Drops frame 0 of `bvh` (the frame time and everything else unchanged; the kept frames keep
+/// the file's times, [`Bvh::first_frame`] counts the dropped one). Takes of one frame are left
+/// as they are.
 pub fn drop_first_frame(bvh: &mut Bvh) {
     if bvh.frames > 1 {
         bvh.motion.drain(..bvh.channel_count.min(bvh.motion.len()));
         bvh.frames -= 1;
+        bvh.first_frame += 1;
     }
 }
 
@@ -151,7 +153,16 @@ mod tests {
         assert!(found.rotation_ratio > JUMP_RATIO, "{found:?}");
         let without = take(None);
         assert_eq!(trim_rest_first_frame(&mut with), Some(found));
-        assert_eq!(with, without);
+        // the same frames, on the file's clock: the first kept one is the file's frame 1
+        assert_eq!(with.first_frame, 1);
+        assert_eq!(with.time(0), with.frame_time);
+        assert_eq!(
+            Bvh {
+                first_frame: 0,
+                ..with
+            },
+            without
+        );
     }
 
     #[test]

@@ -21,6 +21,9 @@ pub mod anatomy;
 pub mod consistency;
 mod contact;
 mod edit;
+pub mod formats;
+pub mod measured;
+mod mujoco;
 mod sim;
 
 pub use contact::{
@@ -29,6 +32,7 @@ pub use contact::{
     take_feet,
 };
 pub use edit::{blend_files, export_smoothed_bvh};
+pub use mujoco::{export_mjcf, floor_level};
 pub use sim::{
     Bench, SimSettings, SimSummary, Tradeoff, TradeoffRow, bench, bench_batches,
     passive_energy_drift, reference, simulate, simulate_states, tradeoff, tradeoff_grid,
@@ -1093,6 +1097,9 @@ pub struct Job {
     pub states: States,
     /// The take, when the source is one (for contact and reports).
     pub take: Option<Take>,
+    /// Measured ground reactions (`id --grf`, [`measured::use_measured_grf`]), used instead
+    /// of the estimate.
+    pub measured: Option<crate::dynamics::grf::GroundReactions>,
 }
 
 /// Loads only the model of a source (for `bench`).
@@ -1152,6 +1159,7 @@ pub fn load_source_with(
         model,
         states,
         take,
+        measured: None,
     })
 }
 
@@ -1280,24 +1288,51 @@ pub fn export_states(take: &Take, path: &Path) -> Result<(), Error> {
 /// `articula export positions`: world position of every BVH joint (m, the take's own axes),
 /// straight from the BVH definition (independent of the model).
 pub fn export_positions(take: &Take, path: &Path) -> Result<(), Error> {
-    let b = &as_in_file(take, take.bvh.clone());
+    let c = joint_centres(take);
     let mut header = vec!["time".to_string()];
-    for j in &b.joints {
-        for c in ["x", "y", "z"] {
-            header.push(format!("{}.{c}", j.name));
+    for name in &c.names {
+        for a in ["x", "y", "z"] {
+            header.push(format!("{name}.{a}"));
         }
     }
-    let rows: Vec<Vec<f64>> = (0..b.frames)
+    let rows: Vec<Vec<f64>> = (0..c.time.len())
         .map(|k| {
-            let p = bvh::bvh_world_positions(b, &take.positions, k);
-            let mut r = vec![k as f64 * b.frame_time];
-            for x in p {
-                r.extend([x.x, x.y, x.z].map(|c| c * take.scale_to_m));
-            }
+            let mut r = vec![c.time[k]];
+            r.extend(c.positions[k].iter().flatten());
             r
         })
         .collect();
     write_rows(path, header, &rows)
+}
+
+/// The world positions of a take's joints (`export positions`, `export trc`).
+#[derive(Debug, Clone)]
+pub struct JointCentres {
+    /// The BVH joints' names, in file order.
+    pub names: Vec<String>,
+    /// Frame times (s, the file's clock: [`Bvh::time`]).
+    pub time: Vec<f64>,
+    /// `[frame][joint]`: world position (m, the take's own axes).
+    pub positions: Vec<Vec<[f64; 3]>>,
+}
+
+/// Every BVH joint's world position per frame, straight from the BVH definition (independent
+/// of the model), a folded helper root given its motion back ([`as_in_file`]).
+pub fn joint_centres(take: &Take) -> JointCentres {
+    let b = &as_in_file(take, take.bvh.clone());
+    let positions = (0..b.frames)
+        .map(|k| {
+            bvh::bvh_world_positions(b, &take.positions, k)
+                .iter()
+                .map(|x| [x.x, x.y, x.z].map(|c| c * take.scale_to_m))
+                .collect()
+        })
+        .collect();
+    JointCentres {
+        names: b.joints.iter().map(|j| j.name.clone()).collect(),
+        time: (0..b.frames).map(|k| b.time(k)).collect(),
+        positions,
+    }
 }
 
 /// `b` (the take's skeleton, its frames possibly rewritten) with a folded helper root's motion
@@ -1372,15 +1407,7 @@ pub fn write_inverse_dynamics(
     job: &Job,
     path: &Path,
 ) -> Result<Option<crate::dynamics::grf::GroundQuality>, Error> {
-    let grf = match &job.take {
-        Some(t) => ground_reactions(t)?,
-        None => None,
-    };
-    let mut t = inverse_dynamics(&job.model, &job.states);
-    if let Some(g) = &grf {
-        t.tau.clone_from(&g.tau);
-    }
-    check_finite(&t.tau, &t.names, "torque")?;
+    let (t, grf) = job_torques(job)?;
     let mut header = vec!["time".to_string()];
     header.extend(t.names.iter().cloned());
     if let Some(g) = &grf {
@@ -1398,6 +1425,24 @@ pub fn write_inverse_dynamics(
         .collect();
     write_rows(path, header, &rows)?;
     Ok(grf.map(|g| g.quality()))
+}
+
+/// A job's generalized forces, with the ground reactions applied when the take has contact
+/// (then also those reactions); an error when a torque is not finite.
+pub fn job_torques(
+    job: &Job,
+) -> Result<(Torques, Option<crate::dynamics::grf::GroundReactions>), Error> {
+    let grf = match (&job.measured, &job.take) {
+        (Some(m), _) => Some(m.clone()),
+        (None, Some(t)) => ground_reactions(t)?,
+        (None, None) => None,
+    };
+    let mut t = inverse_dynamics(&job.model, &job.states);
+    if let Some(g) = &grf {
+        t.tau.clone_from(&g.tau);
+    }
+    check_finite(&t.tau, &t.names, "torque")?;
+    Ok((t, grf))
 }
 
 fn check_finite(rows: &[Vec<f64>], names: &[String], what: &str) -> Result<(), Error> {

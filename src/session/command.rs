@@ -19,6 +19,8 @@ pub enum ExportKind {
     BvhSim,
     /// The current model as URDF.
     Urdf,
+    /// The current model as MuJoCo MJCF, motor gears from the drives (`set motor.gear`).
+    Mjcf,
 }
 
 /// What a computation runs.
@@ -142,6 +144,9 @@ pub enum Command {
         b: String,
         window: (f64, f64),
     },
+    /// `take next|prev|N|NAME`: make another loaded take active (N counts from 1, in load
+    /// order).
+    Take(TakeRef),
     /// `select JOINT`: a coordinate (`LeftLeg.Xrotation`) or a BVH joint (its first coordinate).
     Select(String),
     /// `frame N` (0-based).
@@ -150,7 +155,7 @@ pub enum Command {
     Play,
     /// `pause`.
     Pause,
-    /// `export csv|svg|bvh|urdf PATH`.
+    /// `export csv|svg|bvh|urdf|mjcf PATH`.
     Export { kind: ExportKind, path: PathBuf },
     /// `compare weights 60,80,100 [joint J] PATH`.
     CompareWeights {
@@ -171,6 +176,16 @@ pub enum Command {
     Quit,
 }
 
+/// Which loaded take `take` makes active.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TakeRef {
+    Next,
+    Prev,
+    /// 1-based, in load order.
+    Index(usize),
+    Name(String),
+}
+
 /// Every command word, for completion and error messages.
 pub const COMMAND_WORDS: &[&str] = &[
     "load",
@@ -179,6 +194,7 @@ pub const COMMAND_WORDS: &[&str] = &[
     "run",
     "trajectory",
     "blend",
+    "take",
     "select",
     "frame",
     "play",
@@ -428,6 +444,18 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
                 window: parse_window(&args[2], lineno)?,
             }
         }
+        "take" => {
+            arity(&[1], "take next|prev|N|NAME")?;
+            Command::Take(match args[0].as_str() {
+                "next" => TakeRef::Next,
+                "prev" => TakeRef::Prev,
+                n => match n.parse::<usize>() {
+                    Ok(i) if i >= 1 => TakeRef::Index(i),
+                    Ok(_) => return Err(syntax(lineno, "take N: takes count from 1")),
+                    Err(_) => TakeRef::Name(n.to_string()),
+                },
+            })
+        }
         "select" => {
             arity(&[1], "select JOINT")?;
             Command::Select(args[0].clone())
@@ -449,7 +477,7 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
             Command::Quit
         }
         "export" => {
-            let usage = "export csv|svg|bvh|urdf PATH, or export bvh sim PATH";
+            let usage = "export csv|svg|bvh|urdf|mjcf PATH, or export bvh sim PATH";
             arity(&[2, 3], usage)?;
             if args.len() == 3 && (args[0] != "bvh" || args[1] != "sim") {
                 return Err(syntax(lineno, format!("usage: {usage}")));
@@ -460,10 +488,11 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
                 "bvh" if args.len() == 3 => ExportKind::BvhSim,
                 "bvh" => ExportKind::Bvh,
                 "urdf" => ExportKind::Urdf,
+                "mjcf" => ExportKind::Mjcf,
                 o => {
                     return Err(syntax(
                         lineno,
-                        format!("export: expected csv, svg, bvh or urdf, found '{o}'"),
+                        format!("export: expected csv, svg, bvh, urdf or mjcf, found '{o}'"),
                     ));
                 }
             };

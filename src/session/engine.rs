@@ -305,6 +305,47 @@ impl Take {
     }
 }
 
+/// The ground contact's verdicts in a few words: how often the foot gives the force the
+/// motion needs in single support (its centre of pressure within `COP_GAP_TOLERANCE` of the
+/// foot), and whether the residuals meet Hicks et al.'s thresholds.
+fn contact_brief(q: &crate::dynamics::grf::GroundQuality, meets: bool) -> String {
+    let feet = if q.single_support_frames == 0 {
+        "contact: no single support".to_string()
+    } else {
+        format!(
+            "feet give the force in {:.0} % of single support",
+            100.0 * (1.0 - q.outside_share())
+        )
+    };
+    let residuals = if meets { "within" } else { "beyond" };
+    format!("{feet}; residuals {residuals} Hicks et al.")
+}
+
+/// The anatomical joints of human `h` (`pipeline::anatomy`'s names: `pelvis`, `lumbar`,
+/// `hip_l`, `knee_l`, `ankle_l`, `shoulder_l`, `elbow_l`, …) and the BVH joint at each one's
+/// centre, whose channels turn the distal segment.
+fn anatomical_joints(h: &crate::model::skeleton::Human, bvh: &Bvh) -> Vec<(String, String)> {
+    use crate::model::anthropometry::Side;
+    let name = |j: usize| bvh.joints[j].name.clone();
+    let suffix = |s: Side| if s == Side::Left { "_l" } else { "_r" };
+    let mut out = vec![("pelvis".to_string(), name(h.pelvis))];
+    for leg in &h.legs {
+        let side = suffix(leg.side);
+        out.push((format!("hip{side}"), name(leg.hip)));
+        out.push((format!("knee{side}"), name(leg.knee)));
+        out.push((format!("ankle{side}"), name(leg.ankle)));
+    }
+    if let Some(s) = &h.spine {
+        out.push(("lumbar".into(), name(s.lumbar)));
+        for arm in s.arms.iter().flatten() {
+            let side = suffix(arm.side);
+            out.push((format!("shoulder{side}"), name(arm.shoulder)));
+            out.push((format!("elbow{side}"), name(arm.elbow)));
+        }
+    }
+    out
+}
+
 /// The anatomical angles (rad) and moments (N·m) of a human take as a table
 /// ([`Analysis::anatomy`]); empty for a take that is not a human's, or whose segments have no
 /// frame somewhere (the inverse dynamics stands without them).
@@ -399,6 +440,9 @@ pub struct Analysis {
     pub scale: f64,
     /// A one-line summary for messages (a simulation's tracking error), or empty.
     pub note: String,
+    /// [`note`](Self::note) in a few words for a status line (`feet give the force in 88 % of
+    /// single support; residuals within Hicks et al.`), or empty.
+    pub brief: String,
     /// A human take's anatomical series (`pipeline::anatomy`): `<joint>:<axis>:angle` (rad)
     /// and `<joint>:<axis>:moment` (N·m) per frame, `knee_l:flexion:angle`; empty otherwise.
     pub anatomy: Table,
@@ -406,6 +450,9 @@ pub struct Analysis {
     /// maxima and the charts' markers leave these frames out, the charts shade them); `None`
     /// for a frame that is. Empty: every frame is quoted.
     pub left_out: Vec<Option<LeftOut>>,
+    /// A human take's anatomical joints and the BVH joint at each one's centre (`knee_l` →
+    /// `LeftLeg`), from the landmarks the take's human was found by; empty otherwise.
+    pub anatomy_joints: Vec<(String, String)>,
 }
 
 /// Why a frame's accelerations and torques are left out of the figures quoted from them.
@@ -572,6 +619,8 @@ impl Engine for Builtin {
         let mut note = String::new();
         let mut anatomy = Table::zeros(vec![], 0);
         let mut left_out = vec![];
+        let mut anatomy_joints = vec![];
+        let mut brief = String::new();
         let (model, states, scale, grf) = match &take.data {
             TakeData::Bvh(bvh) => {
                 // the pipeline's stages: axes and unit, model, q, unwrap, smooth, differentiate
@@ -608,6 +657,7 @@ impl Engine for Builtin {
                             left_out[k] = Some(LeftOut::Beyond);
                         }
                     }
+                    brief = contact_brief(&g.quality(), c.last().meets());
                     let said = format!("{}; {}", g.quality(), c.headline());
                     note = if note.is_empty() {
                         said
@@ -621,6 +671,11 @@ impl Engine for Builtin {
                 };
                 ctl.check()?;
                 anatomy = anatomy_table(&t, g.as_ref());
+                if !anatomy.names.is_empty()
+                    && let Ok(h) = &t.human
+                {
+                    anatomy_joints = anatomical_joints(h, &t.bvh);
+                }
                 ctl.check()?;
                 let grf = g.map(|g| g.tau);
                 (Arc::new(t.model), Arc::new(t.states), scale, grf)
@@ -661,9 +716,11 @@ impl Engine for Builtin {
             time: states.time.clone(),
             scale,
             note,
+            brief,
             model,
             anatomy,
             left_out,
+            anatomy_joints,
         })
     }
 
@@ -724,9 +781,11 @@ impl Engine for Builtin {
                 super::units::format_value(super::units::Kind::Angle, r.rms_error_rad()),
                 super::units::format_value(super::units::Kind::Angle, r.max_error_rad())
             ),
+            brief: String::new(),
             model,
             anatomy: Table::zeros(vec![], 0),
             left_out: vec![],
+            anatomy_joints: vec![],
         })
     }
 

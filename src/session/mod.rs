@@ -37,10 +37,11 @@
 //! | `run id` | inverse dynamics over the active take (RNEA at every frame) |
 //! | `run sim` | computed-torque simulation tracking the active take (`kp`, `kv`, `integrator`, `dt`); the message gives the tracking error |
 //! | `blend A B T0:T1` | take A until T0, take B from T1, a C² blend between (s; B's root and heading aligned to A's); the result, named `A+B`, becomes active |
+//! | `take next\|prev\|N\|NAME` | make another loaded take active (N from 1, in load order); its results are computed anew and the selection kept when the take has it (a human's left knee otherwise) |
 //! | `select JOINT` | select a coordinate (`LeftLeg.Xrotation`, `LeftLeg:wx`, `j2`) or a joint: its rotation coordinate with the largest range of motion over the take (the flexion axis of a knee or elbow; `J:wx`… for ball joints) |
 //! | `frame N` | go to frame N (0-based) |
 //! | `play`, `pause` | start / stop playback |
-//! | `export csv\|svg\|bvh\|urdf PATH` | write the results (CSV: `time`, `q:`, `v:`, `a:`, `tau:` per coordinate, SI), the angle and torque chart of the selection (the paper's figure 4), the active take's motion as BVH as it is seen (blended, smoothed with the current `smooth`), the model as URDF |
+//! | `export csv\|svg\|bvh\|urdf\|mjcf PATH` | write the results (CSV: `time`, `q:`, `v:`, `a:`, `tau:` per coordinate, SI), the angle and torque chart of the selection (the paper's figure 4), the active take's motion as BVH as it is seen (blended, smoothed with the current `smooth`), the model as URDF, or as MuJoCo MJCF with each motor's gear `N·η` from the drives (`set motor.gear`) |
 //! | `export bvh sim PATH` | the motion of the last `run sim` (under the current parameters) as BVH |
 //! | `compare weights 60,80,100 [joint J] PATH` | re-run inverse dynamics at each body mass; J's torque (default: the selection) per mass: a chart with the peak/RMS table (`.svg`) or the curves (`.csv`, `t_s`, `tau_<m>kg_Nm`) |
 //! | `report motor PATH` | motor sizing (report::motor) of every revolute joint of a robot (or of the selected joint of an avatar): torque, speed, power and current curves with the table of peak/RMS torque, peak speed and power, peak/RMS current and the motor class each needs (`.svg`), or the table alone (`.csv`) |
@@ -119,7 +120,7 @@ pub mod trajectory;
 pub mod units;
 pub mod workbench;
 
-pub use command::{Command, Expectation, ExportKind, RunKind, parse_line, parse_session};
+pub use command::{Command, Expectation, ExportKind, RunKind, TakeRef, parse_line, parse_session};
 pub use engine::{Analysis, Builtin, Control, Engine, LeftOut, Params, Take};
 pub use workbench::{Job, JobResult, Outcome, Workbench};
 
@@ -294,8 +295,15 @@ pub fn apply_frontend(
             let out = wb.out_path(path);
             let text = frontend.screen(wb);
             crate::io::write_atomic(&out, text.as_bytes())?;
+            // said in the status line too: the TUI shows the last message
+            let rows = text.lines().count();
+            let message = format!(
+                "wrote the screen as text ({rows} lines) to {}",
+                out.display()
+            );
+            wb.messages.push(message.clone());
             Ok(Outcome {
-                message: format!("wrote {}", out.display()),
+                message,
                 written: vec![out],
                 quit: false,
             })

@@ -1,7 +1,7 @@
 //! The workbench state and the one function that changes it, [`Workbench::apply`].
 
 use super::SessionError;
-use super::command::{Command, Expectation, ExportKind, Quantity, RunKind, Statistic};
+use super::command::{Command, Expectation, ExportKind, Quantity, RunKind, Statistic, TakeRef};
 use super::engine::{Analysis, Builtin, Control, Engine, Params, Take, TakeData};
 use super::units::{self, Bare, Kind, Measure};
 use crate::model::{JointKind, Model};
@@ -381,11 +381,47 @@ impl Job {
                 ctl.check()?;
                 crate::io::write_atomic(out, urdf.as_bytes())?;
             }
+            ExportKind::Mjcf => {
+                let r = self.results(ctl, analysis, 0.9)?;
+                let mjcf = self.mjcf(&r)?;
+                ctl.check()?;
+                crate::io::write_atomic(out, mjcf.as_bytes())?;
+            }
         }
         Ok(Output::Wrote {
             path: out.to_path_buf(),
             message: format!("wrote {}", out.display()),
         })
+    }
+
+    /// The results' model as MJCF: every motor's gear the drive's `N·η` (so the control is the
+    /// motor shaft's torque), a floor under a BVH take's frames (none under a robot).
+    fn mjcf(&self, r: &Analysis) -> Result<String, SessionError> {
+        let gear = r
+            .model
+            .v_names
+            .iter()
+            .map(|n| {
+                let m = self.params.motor_of(n);
+                m.gear_ratio * m.eta()
+            })
+            .collect();
+        let floor = self
+            .take()?
+            .bvh()
+            .map(|_| crate::pipeline::floor_level(&r.model, (0..r.q.rows()).map(|k| r.q.row(k))));
+        let keyframe = (r.q.rows() > 0).then(|| r.q.row(0).to_vec());
+        let opts = crate::io::mjcf_write::MjcfOptions {
+            floor,
+            keyframe,
+            gear,
+            gear_source: Some(
+                "the workbench's motor drives (gear = N * efficiency: the control is the motor \
+                 shaft's torque)"
+                    .into(),
+            ),
+        };
+        Ok(crate::io::mjcf_write::model_to_mjcf(&r.model, &opts)?)
     }
 
     /// Inverse dynamics at each body mass, one span of the progress per mass; the torque of
@@ -459,13 +495,25 @@ impl Job {
             let sel = self
                 .selection(analysis)
                 .ok_or_else(|| err("report motor: select a joint first"))?;
-            let joint = joint_of_name(m, &sel).unwrap_or_else(|| sel.to_string());
+            let joint = joint_of_selection(&r, &sel).unwrap_or_else(|| sel.to_string());
             let coords = coords_of_joint(m, &joint);
             revolute
                 .into_iter()
                 .filter(|&k| coords.contains(&m.v_names[k]))
                 .collect()
         };
+        // an avatar's root hangs from the world: its "torques" are the residual forces and
+        // moments no joint gives (near zero for a consistent take), so no motor drives them
+        if !robot
+            && m.nv > 0
+            && let Some(&k) = chosen.first()
+            && joint_of(m, k) == joint_of(m, 0)
+        {
+            return Err(err(format!(
+                "report motor: {} is the root; its coordinates carry the residual forces and                  moments that no motor gives: select a joint of a limb (select knee_l, select                  LeftLeg)",
+                joint_of(m, 0)
+            )));
+        }
         if chosen.is_empty() {
             return Err(err(
                 "report motor: the selection has no revolute coordinate",
@@ -734,7 +782,8 @@ impl Workbench {
         }
     }
 
-    fn in_path(&self, p: &Path) -> PathBuf {
+    /// Where an input path is read: relative paths under the input folder.
+    pub fn in_path(&self, p: &Path) -> PathBuf {
         resolve_in(&self.in_dir, p)
     }
 
@@ -763,13 +812,14 @@ impl Workbench {
                 let label = format!("loading {}", path.display());
                 (Task::Motion { file, index, model }, label)
             }
-            Command::Load { path, name } => (
-                Task::Load {
-                    file: self.in_path(path),
-                    name: name.clone(),
-                },
-                format!("loading {}", path.display()),
-            ),
+            Command::Load { path, name } => {
+                let file = self.in_path(path);
+                let name = name.clone().or_else(|| self.second_name(&file));
+                (
+                    Task::Load { file, name },
+                    format!("loading {}", path.display()),
+                )
+            }
             Command::Scene { path } => (
                 Task::Scene {
                     file: self.in_path(path),
@@ -814,6 +864,7 @@ impl Workbench {
                     ExportKind::Bvh => "bvh",
                     ExportKind::BvhSim => "bvh sim",
                     ExportKind::Urdf => "urdf",
+                    ExportKind::Mjcf => "mjcf",
                 };
                 let task = Task::Export {
                     kind: *kind,
@@ -1008,7 +1059,11 @@ impl Workbench {
             r.model.nv,
             r.model.total_mass()
         );
-        if !r.note.is_empty() {
+        // a long note after a short first line (the status line shows the first line,
+        // the TUI's help all of it)
+        if !r.brief.is_empty() {
+            msg = format!("{msg}; {}\n{}", r.brief, r.note);
+        } else if !r.note.is_empty() {
             msg = format!("{msg}, {}", r.note);
         }
         self.selection = selection_for(&r, self.selection.as_deref());
@@ -1056,6 +1111,7 @@ impl Workbench {
                 self.set(key, value)?;
                 Ok(self.say(format!("{key} = {value}")))
             }
+            Command::Take(which) => self.switch_take(which),
             Command::Select(name) => {
                 let coord = self.resolve_coord(name)?;
                 self.selection = Some(coord.clone());
@@ -1100,6 +1156,70 @@ impl Workbench {
                 self.finish(job.run(&Control::default()))
             }
         }
+    }
+
+    /// `take`: makes another loaded take active, from its first frame. The results were the
+    /// old take's (they go); the selection stays when the take has it.
+    fn switch_take(&mut self, which: &TakeRef) -> Result<Outcome, SessionError> {
+        let n = self.takes.len();
+        if n == 0 {
+            return Err(err("no take loaded (load PATH first)"));
+        }
+        let cur = self.active.unwrap_or(0);
+        let i = match which {
+            TakeRef::Next => (cur + 1) % n,
+            TakeRef::Prev => (cur + n - 1) % n,
+            TakeRef::Index(k) if *k <= n => k - 1,
+            TakeRef::Index(k) => {
+                return Err(err(format!("take {k}: {n} take(s) are loaded")));
+            }
+            TakeRef::Name(name) => {
+                self.takes
+                    .iter()
+                    .position(|t| t.name == *name)
+                    .ok_or_else(|| {
+                        err(format!(
+                            "no take called '{name}' (loaded: {})",
+                            self.take_names().join(", ")
+                        ))
+                    })?
+            }
+        };
+        if self.active != Some(i) {
+            self.active = Some(i);
+            self.results = None;
+            self.sim = None;
+            self.frame = 0;
+            self.selection = selection_on_load(&self.takes[i], self.selection.as_deref());
+        }
+        let t = &self.takes[i];
+        Ok(self.say(format!(
+            "take {}/{n}: {} ({} frames)",
+            i + 1,
+            t.name,
+            t.frames()
+        )))
+    }
+
+    /// A name for the take of `file` when another file already gave its name (`a/walk.bvh`
+    /// and `b/walk.bvh` are `walk` and `walk-2`); `None` to keep the file's (a new name, or
+    /// the same file loaded again, which replaces its take).
+    fn second_name(&self, file: &Path) -> Option<String> {
+        let source = file.to_string_lossy();
+        let stem = file.file_stem()?.to_string_lossy().replace("demo:", "");
+        let taken = |n: &str| self.takes.iter().find(|t| t.name == n);
+        match taken(&stem) {
+            Some(t) if t.source != source => {}
+            _ => return None,
+        }
+        (2..)
+            .map(|k| format!("{stem}-{k}"))
+            .find(|n| taken(n).is_none_or(|t| t.source == source))
+    }
+
+    /// The names of the loaded takes, in load order.
+    pub fn take_names(&self) -> Vec<String> {
+        self.takes.iter().map(|t| t.name.clone()).collect()
     }
 
     /// Checks a `trajectory` for the active take: a robot of revolute and prismatic joints,
@@ -1425,11 +1545,50 @@ impl Workbench {
         )
     }
 
+    /// The joint of the selection, as the joint tree names it: the BVH joint at an
+    /// anatomical joint's centre (`knee_l:flexion` → `LeftLeg`), the joint of a coordinate
+    /// (`LeftLeg.Xrotation`, `LeftLeg:wx`, a robot's `j2`).
+    pub fn selected_joint(&self) -> Option<String> {
+        let sel = self.selection.as_deref()?;
+        if let Some(r) = self.latest_results()
+            && is_anatomical(r, sel)
+        {
+            return joint_of_selection(r, sel);
+        }
+        let r = self.latest_results();
+        r.and_then(|r| joint_of_name(&r.model, sel)).or_else(|| {
+            // before results: the name up to the coordinate's separator
+            let tree = self.take()?.joint_tree();
+            tree.into_iter()
+                .map(|(n, _)| n)
+                .filter(|n| {
+                    sel == n
+                        || sel
+                            .strip_prefix(n.as_str())
+                            .is_some_and(|r| r.starts_with(['.', ':']))
+                })
+                .max_by_key(|n| n.len())
+        })
+    }
+
     pub fn joint_coords(&self, joint: &str) -> Vec<String> {
         match self.latest_results() {
             Some(r) => coords_of_joint(&r.model, joint),
             None => vec![],
         }
+    }
+
+    /// True when the latest results were computed for the model the current parameters
+    /// build (same joint model, locks, subtree and joint translations): their coordinates are
+    /// those of the next results.
+    fn results_model_current(&self) -> bool {
+        self.results.as_ref().is_some_and(|(_, p)| {
+            let (a, b) = (&p.take, &self.params.take);
+            a.joints == b.joints
+                && a.lock == b.lock
+                && a.subtree == b.subtree
+                && a.joint_translations == b.joint_translations
+        })
     }
 
     /// A coordinate name from a coordinate or a joint name. A joint gives its coordinate with
@@ -1441,7 +1600,12 @@ impl Workbench {
         let take = self
             .take()
             .ok_or_else(|| err("no take loaded (load PATH first)"))?;
-        if let Some(r) = self.latest_results()
+        // results of another model (computed before `set joints`, `lock`, `subtree`, …) name
+        // coordinates the next results will not have: then choose from the take's channels
+        let current = self
+            .latest_results()
+            .filter(|_| self.results_model_current());
+        if let Some(r) = current
             && r.model.v_index(name).is_some()
         {
             return Ok(name.to_string());
@@ -1463,7 +1627,7 @@ impl Workbench {
                 });
         }
         let bvh = take.bvh().ok_or_else(|| err("no take loaded"))?;
-        let Some(r) = self.latest_results() else {
+        let Some(r) = current else {
             return channel_by_range(bvh, name, self.params.take.joints);
         };
         if let Some(c) = best_coordinate(r, name) {
@@ -1724,6 +1888,20 @@ fn joint_of(model: &Model, k: usize) -> &str {
         Some((j, c)) if crate::io::bvh::Channel::ALL.iter().any(|ch| ch.name() == c) => j,
         _ => name,
     }
+}
+
+/// The joint of a selection in results `r`: the BVH joint at an anatomical joint's centre
+/// (`knee_l:flexion` → `LeftLeg`), the joint of a coordinate of the model.
+fn joint_of_selection(r: &Analysis, sel: &str) -> Option<String> {
+    if is_anatomical(r, sel) {
+        let joint = sel.split(':').next()?;
+        return r
+            .anatomy_joints
+            .iter()
+            .find(|(a, _)| a == joint)
+            .map(|(_, j)| j.clone());
+    }
+    joint_of_name(&r.model, sel)
 }
 
 /// The joint of a coordinate name, if the model has that coordinate.

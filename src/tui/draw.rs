@@ -12,7 +12,7 @@ use crate::session::Workbench;
 use crate::session::command::Quantity;
 use crate::session::engine::Analysis;
 use crate::session::units::{self, Kind};
-use crate::session::workbench::{angle_series, is_angular, torque_series};
+use crate::session::workbench::{angle_series, coords_of_joint, is_angular, torque_series};
 use crate::spatial::SpatialTransform;
 use ratatui::Frame;
 use ratatui::buffer::Buffer;
@@ -24,6 +24,12 @@ use ratatui::widgets::canvas::{Canvas, Line as CLine};
 use ratatui::widgets::{
     Block, Borders, Clear, LineGauge, Paragraph, Sparkline, SparklineBar, Wrap,
 };
+
+/// The glyph over the selected link in the avatar when colours are off.
+pub const SELECTED_GLYPH: &str = "◆";
+/// The timeline's played and unplayed parts.
+pub const PLAYED: &str = "━";
+pub const UNPLAYED: &str = "─";
 
 /// Smallest size drawn in full.
 pub const MIN_SIZE: (u16, u16) = (60, 16);
@@ -49,6 +55,7 @@ impl Ui {
 /// Draws everything.
 pub fn draw(ui: &Ui, wb: &Workbench, f: &mut Frame) {
     let area = f.area();
+    ui.drawn.set((area.width, area.height));
     if area.width < MIN_SIZE.0 || area.height < MIN_SIZE.1 {
         let msg = format!(
             "articula needs at least {}×{} (now {}×{}); q quits",
@@ -66,7 +73,7 @@ pub fn draw(ui: &Ui, wb: &Workbench, f: &mut Frame) {
     .areas(area);
     let side = if area.width >= 100 { 26 } else { 20 };
     let [tree, view, params] = Layout::horizontal([
-        Constraint::Length(side),
+        Constraint::Length(tree_width(&Ui::tree(wb), side, area.width)),
         Constraint::Min(20),
         Constraint::Length(side + 4),
     ])
@@ -143,14 +150,13 @@ fn draw_tree(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         _ => 0,
     };
     ui.tree_scroll.set(scroll);
-    let lines: Vec<Line> = tree
-        .iter()
+    let labels = tree_labels(&tree, inner.width as usize);
+    let lines: Vec<Line> = labels
+        .into_iter()
         .enumerate()
         .skip(scroll)
         .take(h)
-        .map(|(i, (name, depth))| {
-            let indent = " ".repeat((*depth).min(6));
-            let text = format!("{indent}{name}");
+        .map(|(i, text)| {
             if Some(i) == cursor {
                 Line::from(Span::styled(
                     text,
@@ -169,6 +175,93 @@ fn draw_tree(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     f.render_widget(body.block(block), area);
 }
 
+/// Indentation of a tree row at `depth` (one column a level, at most [`MAX_INDENT`]).
+fn indent(depth: usize) -> usize {
+    depth.min(MAX_INDENT)
+}
+
+/// The deepest indentation of the joint tree.
+const MAX_INDENT: usize = 6;
+
+/// The share of the screen's width the joint tree may take to show whole names.
+const TREE_SHARE: f64 = 0.3;
+
+/// The width of the joint tree's pane: its rows whole (after [`common_prefix`]) and its
+/// borders, at least `min` columns and at most [`TREE_SHARE`] of `screen` columns (or `min`).
+pub fn tree_width(tree: &[(String, usize)], min: u16, screen: u16) -> u16 {
+    let cut = common_prefix(tree);
+    let widest = tree
+        .iter()
+        .map(|(n, d)| indent(*d) + n[cut..].chars().count())
+        .max()
+        .unwrap_or(0);
+    let most = ((f64::from(screen) * TREE_SHARE) as u16).max(min);
+    (widest as u16 + 2).clamp(min, most)
+}
+
+/// Length (bytes) of the prefix every joint name shares and no row needs (`mixamorig:`,
+/// `Bip01 `): the common start up to and including its last separator (`:`, `_`, `|`, `.`,
+/// `-`, space), 0 when there is none or for a single joint.
+pub fn common_prefix(tree: &[(String, usize)]) -> usize {
+    let Some(((first, _), rest)) = tree.split_first() else {
+        return 0;
+    };
+    if rest.is_empty() {
+        return 0;
+    }
+    let mut len = first.len();
+    for (n, _) in rest {
+        len = first
+            .char_indices()
+            .zip(n.chars())
+            .take_while(|((_, a), b)| a == b)
+            .map(|((i, a), _)| i + a.len_utf8())
+            .last()
+            .unwrap_or(0)
+            .min(len);
+    }
+    // cut after the last separator inside the common start, leaving every name a rest
+    first[..len]
+        .rfind([':', '_', '|', '.', '-', ' '])
+        .map(|i| i + 1)
+        .filter(|&cut| tree.iter().all(|(n, _)| n.len() > cut))
+        .unwrap_or(0)
+}
+
+/// The text of each tree row in `width` columns: indentation by depth, the name without the
+/// prefix all names share, elided in the middle (`Right…Index3`) when still too long, so that
+/// both ends — side and finger, chain and number — stay readable.
+pub fn tree_labels(tree: &[(String, usize)], width: usize) -> Vec<String> {
+    let cut = common_prefix(tree);
+    tree.iter()
+        .map(|(name, depth)| {
+            let pad = indent(*depth).min(width.saturating_sub(4));
+            let room = width - pad;
+            format!("{}{}", " ".repeat(pad), elide_middle(&name[cut..], room))
+        })
+        .collect()
+}
+
+/// `s` in at most `room` characters: whole, or its start and end around `…` (the end given
+/// the larger half: it tells siblings apart).
+pub fn elide_middle(s: &str, room: usize) -> String {
+    let n = s.chars().count();
+    if n <= room {
+        return s.to_string();
+    }
+    if room <= 1 {
+        return "…".chars().take(room).collect();
+    }
+    let keep = room - 1;
+    let head = keep / 2;
+    let tail = keep - head;
+    let chars: Vec<char> = s.chars().collect();
+    let mut out: String = chars[..head].iter().collect();
+    out.push('…');
+    out.extend(&chars[n - tail..]);
+    out
+}
+
 /// World pose of every body at frame `k` (empty without frames).
 fn body_poses(r: &Analysis, k: usize) -> Vec<SpatialTransform> {
     if r.q.rows() == 0 {
@@ -180,9 +273,15 @@ fn body_poses(r: &Analysis, k: usize) -> Vec<SpatialTransform> {
 }
 
 fn draw_view(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
-    let title = match wb.take() {
-        Some(t) => format!(" {} ", t.name),
-        None => " Avatar ".into(),
+    // with several takes: which one of how many, and the key to the next
+    let title = match (wb.take(), wb.active) {
+        (Some(t), Some(i)) if wb.takes.len() > 1 => {
+            let which = format!(" [{}/{}, t: next] ", i + 1, wb.takes.len());
+            let room = (area.width as usize).saturating_sub(which.chars().count() + 3);
+            format!(" {}{which}", elide_middle(&t.name, room.max(4)))
+        }
+        (Some(t), _) => format!(" {} ", t.name),
+        _ => " Avatar ".into(),
     };
     let block = ui.pane(title, Focus::View);
     let inner = block.inner(area);
@@ -238,10 +337,17 @@ fn draw_view(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
             segments.push((project(&pos[r.model.parent[i]]), project(&pos[i])));
         }
     }
+    // the body of the selected coordinate, or the first body of the selected joint (an
+    // anatomical joint's: the knee's for `knee_l:flexion`)
     let selected_body = wb
         .selection
         .as_deref()
         .and_then(|s| r.model.body_index(s))
+        .or_else(|| {
+            let joint = wb.selected_joint()?;
+            let coord = coords_of_joint(&r.model, &joint).into_iter().next()?;
+            Some(r.model.body_of_v(r.model.v_index(&coord)?))
+        })
         .map(|b| project(&pos[b]));
     let color = if ui.color { Color::White } else { Color::Reset };
     let accent = if ui.color {
@@ -254,6 +360,8 @@ fn draw_view(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     } else {
         Color::Reset
     };
+    let color_on = ui.color;
+    let marked = Style::default().add_modifier(Modifier::REVERSED | Modifier::BOLD);
     let canvas = Canvas::default()
         .block(block)
         .marker(Marker::Braille)
@@ -267,6 +375,10 @@ fn draw_view(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
             if let Some((x, y)) = selected_body {
                 ctx.draw(&CLine::new(x - 0.04, y, x + 0.04, y, accent));
                 ctx.draw(&CLine::new(x, y - 0.04, x, y + 0.04, accent));
+                // without colours the cross is lost among the links: a glyph in reverse
+                if !color_on {
+                    ctx.print(x, y, Line::styled(SELECTED_GLYPH, marked));
+                }
             }
         });
     f.render_widget(canvas, area);
@@ -275,6 +387,9 @@ fn draw_view(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
 fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     let block = ui.pane(" Parameters ".into(), Focus::Params);
     let w = block.inner(area).width as usize;
+    // joint names as the tree shows them (without the prefix all share)
+    let tree = Ui::tree(wb);
+    let prefix = tree.first().map_or("", |(n, _)| &n[..common_prefix(&tree)]);
     let mut lines = vec![];
     for (i, param) in params_of(wb).iter().enumerate() {
         let Some((key, value)) = ui.param_row(wb, i) else {
@@ -282,7 +397,10 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
             continue;
         };
         let label = match key.strip_prefix("link.") {
-            Some(k) => k.trim_end_matches(".mass").to_string(),
+            Some(k) => {
+                let joint = k.trim_end_matches(".mass");
+                joint.strip_prefix(prefix).unwrap_or(joint).to_string()
+            }
             // `motor.j2.gear` → `j2 gear`
             None => match key.strip_prefix("motor.").and_then(|k| k.rsplit_once('.')) {
                 Some((j, f)) => format!("{j} {f}"),
@@ -296,6 +414,8 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
             _ => "",
         };
         let v = format!("{value}{unit}");
+        // the value whole, the label elided in the middle when both do not fit
+        let label = elide_middle(&label, w.saturating_sub(v.chars().count() + 1).max(1));
         let pad = w
             .saturating_sub(label.chars().count() + v.chars().count())
             .max(1);
@@ -348,6 +468,23 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
                 ""
             }
         )));
+    }
+    // several takes: the list, the active one marked (`take N|NAME`, t and T switch)
+    if wb.takes.len() > 1 {
+        lines.push(Line::from("takes (t/T):"));
+        for (i, name) in wb.take_names().into_iter().enumerate() {
+            let active = wb.active == Some(i);
+            let text = elide_middle(
+                &format!("{}{} {name}", if active { "▸" } else { " " }, i + 1),
+                w,
+            );
+            let style = if active {
+                Style::default().add_modifier(Modifier::BOLD)
+            } else {
+                Style::default()
+            };
+            lines.push(Line::from(Span::styled(text, style)));
+        }
     }
     f.render_widget(Paragraph::new(lines).block(block), area);
 }
@@ -474,11 +611,13 @@ fn draw_sparks(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
 fn draw_timeline(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     let frames = wb.frames();
     let dt = wb.take().map_or(0.0, |t| t.frame_time());
+    // times on the file's clock, as every output writes them (a dropped rest frame 0: from dt)
+    let t0 = wb.take().and_then(|t| t.bvh()).map_or(0.0, |b| b.time(0));
     let state = if wb.playing { "▶" } else { "⏸" };
     let label = format!(
         "{state} {:.2}/{:.2} s  frame {}/{} ",
-        wb.frame as f64 * dt,
-        frames.saturating_sub(1) as f64 * dt,
+        t0 + wb.frame as f64 * dt,
+        t0 + frames.saturating_sub(1) as f64 * dt,
         wb.frame,
         frames.saturating_sub(1)
     );
@@ -492,10 +631,14 @@ fn draw_timeline(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     } else {
         ui.fg(Color::Green)
     };
+    // the part played is a thick line, the rest a thin one: the playhead reads without
+    // colours (NO_COLOR) too
     let gauge = LineGauge::default()
         .ratio(ratio.clamp(0.0, 1.0))
         .label(label)
-        .filled_style(style);
+        .filled_symbol(PLAYED)
+        .unfilled_symbol(UNPLAYED)
+        .filled_style(style.add_modifier(Modifier::BOLD));
     let label_w = 34.min(area.width);
     ui.timeline_area.set(Rect {
         x: area.x + label_w,
@@ -534,26 +677,47 @@ fn draw_status(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     } else {
         let msg = wb.last_message();
         let first = msg.lines().next().unwrap_or("");
+        let hint = format!("   [{}]  ? help  : command  q quit", ui.focus.name());
+        let (text, hint) = fit_status(first, &hint, area.width as usize);
         Line::from(vec![
-            Span::raw(first.to_string()),
-            Span::styled(
-                format!("   [{}]  ? help  : command  q quit", ui.focus.name()),
-                ui.fg(Color::DarkGray),
-            ),
+            Span::raw(text),
+            Span::styled(hint, ui.fg(Color::DarkGray)),
         ])
     };
     f.render_widget(Paragraph::new(line), area);
 }
 
+/// A message and the key hint in `width` columns: both whole if they fit; else the short hint
+/// (`? help`, which shows the whole message) or none; else the message without its first
+/// clauses (`; `-separated, the summary first and the verdicts last), the last ones kept.
+pub fn fit_status(msg: &str, hint: &str, width: usize) -> (String, String) {
+    let fits = |m: &str, h: &str| m.chars().count() + h.chars().count() <= width;
+    let hints = [hint, "  ? help", ""];
+    let mut clauses: Vec<&str> = msg.split("; ").collect();
+    let mut text = msg.to_string();
+    loop {
+        if let Some(h) = hints.iter().find(|h| fits(&text, h)) {
+            return (text, h.to_string());
+        }
+        if clauses.len() <= 1 {
+            return (text, String::new());
+        }
+        clauses.remove(0);
+        text = format!("…{}", clauses.join("; "));
+    }
+}
+
 /// The key reference shown by `?`.
 pub const HELP: &str = "\
-q quit   ? help (any key closes)   : command line (Tab completes, ↑/↓ history, Esc closes)
+q quit   ? help (any key closes)   : command line (Tab completes names and paths, ↑/↓
+              history, Ctrl-U clears, Ctrl-W deletes a word, Esc closes)
 Tab / S-Tab   focus the next / previous pane (joints, avatar, parameters, timeline)
 joints        ↑/↓ or k/j select a joint, ←/→ or h/l its coordinate, mouse click, wheel
 avatar        ←/→ yaw, ↑/↓ pitch (also < and > anywhere), r resets the view
 parameters    ↑/↓ choose, ←/→ or -/+ change (results recompute), Enter edits as :set
 timeline      ←/→ one frame, ↑/↓ ten frames, click to jump
-anywhere      Space play/pause, [ ] one frame, { } ten frames, g/G first/last frame
+anywhere      Space play/pause, [ ] one frame, { } ten frames, g/G first/last frame,
+              t/T the next/previous loaded take (:take N|NAME)
 Esc           cancel the running job (⟳ in the status line) and what waits for it; clear an error
 Commands are the session language: load, set, run, select, frame, export, expect, ...";
 
@@ -589,4 +753,77 @@ fn draw_popup(ui: &Ui, f: &mut Frame, area: Rect, title: &str, text: &str, color
                 .border_style(ui.fg(color)),
         );
     f.render_widget(p, rect);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tree(names: &[&str]) -> Vec<(String, usize)> {
+        names
+            .iter()
+            .enumerate()
+            .map(|(i, n)| (n.to_string(), i.min(9)))
+            .collect()
+    }
+
+    #[test]
+    fn the_prefix_all_joints_share_is_dropped_up_to_a_separator() {
+        let mixamo = tree(&["mixamorig:Hips", "mixamorig:Spine", "mixamorig:RightHand"]);
+        assert_eq!(common_prefix(&mixamo), "mixamorig:".len());
+        let biped = tree(&["Bip01 Pelvis", "Bip01 L Thigh", "Bip01 R Thigh"]);
+        assert_eq!(common_prefix(&biped), "Bip01 ".len());
+        // a shared start that is no prefix (`H`), one joint, none at all
+        assert_eq!(common_prefix(&tree(&["Hips", "Head"])), 0);
+        assert_eq!(common_prefix(&tree(&["mixamorig:Hips"])), 0);
+        assert_eq!(common_prefix(&tree(&["joint_Root", "Hips"])), 0);
+        assert_eq!(common_prefix(&[]), 0);
+        // a name that is all prefix keeps it
+        assert_eq!(common_prefix(&tree(&["a:", "a:b"])), 0);
+    }
+
+    /// Regression: a Mixamo hand read as identical rows of `mixamorig:RightHan` in 18 columns.
+    #[test]
+    fn long_names_are_elided_in_the_middle_and_stay_distinct() {
+        let names: Vec<String> = (1..=3)
+            .flat_map(|k| {
+                ["Thumb", "Index", "Middle", "Ring", "Pinky"]
+                    .map(|f| format!("mixamorig:RightHand{f}{k}"))
+            })
+            .collect();
+        let t: Vec<(String, usize)> = names.iter().map(|n| (n.clone(), 9)).collect();
+        let labels = tree_labels(&t, 18);
+        for l in &labels {
+            assert!(l.chars().count() <= 18, "{l}");
+            assert!(!l.contains("mixamorig"), "{l}");
+        }
+        let mut distinct = labels.clone();
+        distinct.sort();
+        distinct.dedup();
+        assert_eq!(distinct.len(), labels.len(), "{labels:?}");
+        assert_eq!(labels[6].trim_start(), "Right…Index2");
+        assert_eq!(elide_middle("RightHandIndex3", 12), "Right…Index3");
+        assert_eq!(elide_middle("Hips", 12), "Hips");
+    }
+
+    #[test]
+    fn the_tree_widens_to_its_names_within_a_share_of_the_screen() {
+        let short = tree(&["Hips", "Spine"]);
+        assert_eq!(tree_width(&short, 20, 180), 20);
+        let long = vec![
+            ("mixamorig:Hips".to_string(), 0),
+            ("mixamorig:RightHandIndex3".to_string(), 9),
+        ];
+        // 6 of indentation, 15 of name, 2 of borders
+        assert_eq!(tree_width(&long, 20, 180), 23);
+        let longer = vec![
+            ("Hips".to_string(), 0),
+            (
+                "AVeryLongJointNameFromSomeRigExporter_Left_Index_3".to_string(),
+                9,
+            ),
+        ];
+        assert_eq!(tree_width(&longer, 26, 180), 54);
+        assert_eq!(tree_width(&longer, 20, 80), 24);
+    }
 }

@@ -30,7 +30,7 @@ pub mod ui;
 pub use ui::{Focus, Ui};
 
 use crate::error::Error;
-use crate::session::{Builtin, Command, Workbench};
+use crate::session::{Builtin, Command, TakeRef, Workbench};
 use crossterm::event::{self, DisableMouseCapture, EnableMouseCapture, Event, KeyEventKind};
 use crossterm::execute;
 use crossterm::terminal::{
@@ -89,10 +89,19 @@ pub fn run(initial: Vec<Command>) -> Result<(), Error> {
     let mut terminal = ratatui::Terminal::new(backend).map_err(io_err)?;
     terminal.clear().map_err(io_err)?;
 
-    let mut wb = Workbench::new(Arc::new(Builtin), ".", ".");
+    let mut wb = workbench_here();
     let mut ui = Ui::new();
     for c in &initial {
         ui.exec(&mut wb, c);
+    }
+    // several takes open on the first (t and T switch); each load waits for the one before
+    if initial
+        .iter()
+        .filter(|c| matches!(c, Command::Load { .. }))
+        .count()
+        > 1
+    {
+        ui.exec(&mut wb, &Command::Take(TakeRef::Index(1)));
     }
     event_loop(&mut terminal, &mut ui, &mut wb, |timeout| {
         if event::poll(timeout).map_err(io_err)? {
@@ -101,6 +110,14 @@ pub fn run(initial: Vec<Command>) -> Result<(), Error> {
             Ok(None)
         }
     })
+}
+
+/// The workbench of the terminal: relative paths of `:` commands are read from and written
+/// under the current folder, which messages name in full (`wrote /home/me/knee.svg`), so the
+/// user sees where an export landed.
+pub fn workbench_here() -> Workbench {
+    let here = std::env::current_dir().unwrap_or_else(|_| ".".into());
+    Workbench::new(Arc::new(Builtin), here.clone(), here)
 }
 
 /// How long [`event_loop`] waits for an event before it draws again (progress, playback).

@@ -5,8 +5,8 @@ use crate::session::command::Expectation;
 use crate::session::command::{COMMAND_WORDS, SET_KEYS};
 use crate::session::engine::{Control, SmoothSpec};
 use crate::session::{
-    Command, Frontend, Job, JobResult, Outcome, RunKind, SessionError, Workbench, apply_frontend,
-    apply_with, parse_line,
+    Command, Frontend, Job, JobResult, Outcome, RunKind, SessionError, TakeRef, Workbench,
+    apply_frontend, apply_with, parse_line,
 };
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers, MouseButton, MouseEvent, MouseEventKind};
 use ratatui::layout::Rect;
@@ -97,6 +97,7 @@ fn changes_take(cmd: &Command) -> bool {
     matches!(
         cmd,
         Command::Load { .. }
+            | Command::Take(_)
             | Command::Blend { .. }
             | Command::Trajectory { .. }
             | Command::Scene { .. }
@@ -138,6 +139,8 @@ pub struct Ui {
     pub quit: bool,
     /// Screen size for `screen` in headless mode.
     pub size: (u16, u16),
+    /// Size of the last draw (columns, rows): what `screen` writes in the terminal.
+    pub drawn: Cell<(u16, u16)>,
     /// Pane rectangles of the last draw (mouse hit tests).
     pub tree_area: Cell<Rect>,
     pub timeline_area: Cell<Rect>,
@@ -168,6 +171,7 @@ impl Ui {
             error: None,
             quit: false,
             size: (80, 24),
+            drawn: Cell::new((0, 0)),
             tree_area: Cell::new(Rect::default()),
             timeline_area: Cell::new(Rect::default()),
             tree_scroll: Cell::new(0),
@@ -406,6 +410,12 @@ impl Ui {
     pub fn tree_cursor(wb: &Workbench) -> Option<usize> {
         let sel = wb.selection.as_deref()?;
         let tree = Self::tree(wb);
+        // the joint of the selection (an anatomical joint's BVH joint: `knee_l` → `LeftLeg`)
+        if let Some(j) = wb.selected_joint()
+            && let Some(i) = tree.iter().position(|(n, _)| *n == j)
+        {
+            return Some(i);
+        }
         // the longest joint name the selection starts with (`LeftLeg.Xrotation`, `LeftLeg:wx`)
         tree.iter()
             .enumerate()
@@ -474,6 +484,9 @@ impl Ui {
             KeyCode::Char('}') => frame_to(self, wb, cur + 10),
             KeyCode::Home | KeyCode::Char('g') => frame_to(self, wb, 0),
             KeyCode::End | KeyCode::Char('G') => frame_to(self, wb, frames as isize - 1),
+            // the next / previous loaded take
+            KeyCode::Char('t') => self.exec(wb, &Command::Take(TakeRef::Next)),
+            KeyCode::Char('T') => self.exec(wb, &Command::Take(TakeRef::Prev)),
             KeyCode::Char('<') => self.yaw -= 0.2,
             KeyCode::Char('>') => self.yaw += 0.2,
             KeyCode::Char('r') => {
@@ -723,7 +736,19 @@ impl Ui {
                     }
                 }
             }
-            KeyCode::Backspace if line.pop().is_none() => self.cmdline = None,
+            // an empty line stays open (Esc closes it)
+            KeyCode::Backspace => {
+                line.pop();
+            }
+            // readline: Ctrl-U clears to the start of the line (the cursor is at its end),
+            // Ctrl-W deletes the word before the cursor and the spaces after it
+            KeyCode::Char('u') if key.modifiers.contains(KeyModifiers::CONTROL) => line.clear(),
+            KeyCode::Char('w') if key.modifiers.contains(KeyModifiers::CONTROL) => {
+                let kept = line.trim_end().len();
+                line.truncate(kept);
+                let start = line.rfind(' ').map_or(0, |i| i + 1);
+                line.truncate(start);
+            }
             KeyCode::Tab => {
                 let (done, cands) = complete(wb, line);
                 *line = done;
@@ -783,9 +808,14 @@ impl Ui {
         }
     }
 
-    /// The screen as text at `self.size`.
+    /// The screen as text at the terminal's size (`self.size` headless).
     pub fn render_text(&self, wb: &Workbench) -> String {
-        super::draw::render_text(self, wb, self.size.0, self.size.1)
+        // the terminal's size once drawn; a headless interface has no other
+        let (w, h) = match self.drawn.get() {
+            (w, h) if !self.sync && w > 0 => (w, h),
+            _ => self.size,
+        };
+        super::draw::render_text(self, wb, w, h)
     }
 }
 
@@ -853,10 +883,19 @@ pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
         ["select"] | ["compare", "weights", _, "joint"] if last.contains('.') => coords.clone(),
         ["select"] | ["compare", "weights", _, "joint"] => joints.clone(),
         ["run"] => vec!["id".into(), "sim".into()],
+        ["take"] => ["next", "prev"]
+            .map(String::from)
+            .into_iter()
+            .chain(wb.take_names())
+            .collect(),
         ["export"] => ["csv", "svg", "bvh", "urdf"].map(String::from).to_vec(),
-        ["export", "bvh"] => vec!["sim".into()],
+        ["export", "bvh"] => std::iter::once("sim".to_string())
+            .chain(paths(wb, last, None))
+            .collect(),
         ["report"] => vec!["motor".into()],
-        ["report", "motor"] => vec!["curves".into()],
+        ["report", "motor"] => std::iter::once("curves".to_string())
+            .chain(paths(wb, last, None))
+            .collect(),
         ["compare"] => vec!["weights".into()],
         ["expect"] => [
             "nv", "nq", "frames", "frame", "selected", "mass", "peak", "min", "max", "mean", "rms",
@@ -868,6 +907,15 @@ pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
             .map(String::from)
             .to_vec(),
         ["expect", s] if ["peak", "min", "max", "mean", "rms", "now"].contains(s) => coords.clone(),
+        // paths: what `load` and `scene` read, where exports and reports are written
+        ["load"] => paths(wb, last, Some(&["bvh", "toml", "urdf", "csv"])),
+        ["scene"] => paths(wb, last, Some(&["toml"])),
+        ["export", "csv" | "svg" | "urdf"]
+        | ["export", "bvh", "sim"]
+        | ["report", "motor", "curves"]
+        | ["compare", "weights", _]
+        | ["compare", "weights", _, "joint", _]
+        | ["screen"] => paths(wb, last, None),
         _ => vec![],
     };
     let mut cands: Vec<String> = pool.into_iter().filter(|c| c.starts_with(last)).collect();
@@ -884,6 +932,11 @@ pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
     let mut out: Vec<&str> = head.to_vec();
     match cands.len() {
         0 => (line.to_string(), vec![]),
+        // a folder is completed without the space, so that Tab goes on into it
+        1 if cands[0].ends_with('/') => {
+            out.push(&cands[0]);
+            (out.join(" "), vec![])
+        }
         1 => {
             let w = format!("{} ", cands[0]);
             out.push(&w);
@@ -895,4 +948,40 @@ pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
             (out.join(" "), cands)
         }
     }
+}
+
+/// Path candidates for the word `word`: the entries of its folder (relative to the folder
+/// relative input paths are read from) whose names start with its last part, folders with a
+/// trailing `/`, files only with one of `exts` when given; hidden entries only when the part
+/// starts with a dot. Sorted, as the word would be written.
+fn paths(wb: &Workbench, word: &str, exts: Option<&[&str]>) -> Vec<String> {
+    let (dir, part) = match word.rfind('/') {
+        Some(i) => (&word[..=i], &word[i + 1..]),
+        None => ("", word),
+    };
+    let folder = wb.in_path(std::path::Path::new(if dir.is_empty() { "." } else { dir }));
+    let Ok(entries) = std::fs::read_dir(folder) else {
+        return vec![];
+    };
+    let mut out: Vec<String> = entries
+        .flatten()
+        .filter_map(|e| {
+            let name = e.file_name().to_str()?.to_string();
+            if !name.starts_with(part) || (name.starts_with('.') && !part.starts_with('.')) {
+                return None;
+            }
+            // a link to a folder is a folder
+            if e.path().is_dir() {
+                return Some(format!("{dir}{name}/"));
+            }
+            let ext = std::path::Path::new(&name)
+                .extension()
+                .and_then(|x| x.to_str())
+                .map(str::to_ascii_lowercase);
+            let wanted = exts.is_none_or(|xs| ext.is_some_and(|x| xs.contains(&x.as_str())));
+            wanted.then(|| format!("{dir}{name}"))
+        })
+        .collect();
+    out.sort();
+    out
 }

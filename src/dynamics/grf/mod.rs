@@ -63,6 +63,7 @@
 //!
 //! [`acceleration_spread_s`]: crate::motion::contact::acceleration_spread_s
 
+pub mod measured;
 mod share;
 
 use super::{Workspace, forward_kinematics, rnea};

@@ -192,9 +192,20 @@ pub struct Bvh {
     pub channel_count: usize,
     /// Raw values, `frames × channel_count`, row-major, as written (file units, degrees).
     pub motion: Vec<f64>,
+    /// The file's index of `motion`'s first frame: 0 as read, 1 once a rest pose stored as frame
+    /// 0 was dropped (`motion::trim`), so that frame `k` keeps the file's time
+    /// [`Bvh::time`] `= (first_frame + k)·frame_time`.
+    pub first_frame: usize,
 }
 
 impl Bvh {
+    /// The time (s) of frame `k` on the file's clock: `(first_frame + k)·frame_time`, so
+    /// outputs stay in step with the video and force plates the file came with when frames
+    /// before it were dropped.
+    pub fn time(&self, k: usize) -> f64 {
+        (self.first_frame + k) as f64 * self.frame_time
+    }
+
     /// The raw values of frame `k`.
     pub fn frame(&self, k: usize) -> &[f64] {
         &self.motion[k * self.channel_count..(k + 1) * self.channel_count]

@@ -54,6 +54,7 @@ pub fn parse_str(text: &str, file: &Path) -> Result<Bvh, Error> {
         frames,
         channel_count,
         motion,
+        first_frame: 0,
     })
 }
 
