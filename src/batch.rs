@@ -47,7 +47,7 @@ pub struct BatchArgs {
     #[arg(long, value_name = "COL1,COL2", value_delimiter = ',')]
     pub of: Vec<String>,
     /// The take command and its options, after `--`: `id`, `anatomy`, `simulate`, `smooth`,
-    /// `mass-matrix`, `export states|positions|urdf`, `info`.
+    /// `mass-matrix`, `export states|positions|urdf|mjcf|grf|trc`, `info`.
     #[arg(last = true, required = true, value_name = "COMMAND")]
     pub command: Vec<String>,
 }
@@ -120,6 +120,24 @@ const COMMANDS: &[CommandSpec] = &[
     CommandSpec {
         words: &["export", "urdf"],
         ext: "urdf",
+        stdout: false,
+        default_of: &[],
+    },
+    CommandSpec {
+        words: &["export", "mjcf"],
+        ext: "xml",
+        stdout: false,
+        default_of: &[],
+    },
+    CommandSpec {
+        words: &["export", "grf"],
+        ext: "csv",
+        stdout: false,
+        default_of: &[],
+    },
+    CommandSpec {
+        words: &["export", "trc"],
+        ext: "trc",
         stdout: false,
         default_of: &[],
     },
@@ -386,6 +404,14 @@ fn plan<'a>(
     passthrough: &[String],
     dir: &Path,
 ) -> Result<Vec<Job<'a>>> {
+    // the output's extension: the command's own, or the table format asked for (`--format sto`)
+    let ext = passthrough
+        .iter()
+        .position(|a| a == "--format")
+        .and_then(|i| passthrough.get(i + 1))
+        .map(String::as_str)
+        .or_else(|| passthrough.iter().find_map(|a| a.strip_prefix("--format=")))
+        .unwrap_or(spec.ext);
     let mut jobs = Vec::new();
     let mut seen = std::collections::HashMap::new();
     for take in takes {
@@ -401,7 +427,7 @@ fn plan<'a>(
                 .rel
                 .extension()
                 .map_or("bvh".into(), |e| e.to_string_lossy().into_owned());
-            let output = dir.join(format!("{name}.{}", spec.ext));
+            let output = dir.join(format!("{name}.{}", ext));
             if let Some(other) = seen.insert(output.clone(), take.path.clone()) {
                 bail!(
                     "batch: {} and {} would both write {}; give their folder instead of the \
@@ -467,7 +493,7 @@ fn run_job(job: &Job, spec: &CommandSpec, of: &[String], force: bool) -> Row {
             return row;
         }
     }
-    read_back(&mut row, spec, of);
+    read_back(&mut row, of);
     row
 }
 
@@ -530,8 +556,13 @@ fn execute(job: &Job, spec: &CommandSpec) -> std::result::Result<(), String> {
 
 /// Frames and figures from the output: a CSV's rows and the peak |x| and RMS of the columns
 /// asked for; `info`'s `frames`.
-fn read_back(row: &mut Row, spec: &CommandSpec, of: &[String]) {
-    match spec.ext {
+fn read_back(row: &mut Row, of: &[String]) {
+    match row
+        .output
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+    {
         "csv" => match read_columns(&row.output) {
             Ok((header, columns)) => {
                 row.frames = columns.first().map(Vec::len);
