@@ -219,6 +219,10 @@ pub enum Cmd {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Run a take command over many takes (folders, files, @lists), N at a time, each in a
+    /// child process, with a sweep of settings, resume, and a summary table:
+    /// `articula batch takes/ -o out/ --jobs 4 --vary mass=60,80 -- id --contact auto`.
+    Batch(crate::batch::BatchArgs),
     /// Replay a session file headless.
     Run {
         session: PathBuf,
@@ -706,6 +710,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     };
     match cmd {
+        Cmd::Batch(args) => return crate::batch::run(args),
         Cmd::Info { take, opts, json } => {
             let mut take = pipeline::load_take(&take, &opts.options_for("info")?)?;
             pipeline::resolve_contact(&mut take);

@@ -1,5 +1,6 @@
 //! The `articula` binary: clap flags → library calls. Nothing else lives here.
 
+mod batch;
 mod cli;
 
 use clap::Parser;

@@ -80,6 +80,42 @@ pub fn write_columns(path: &Path, header: &[String], columns: &[&[f64]]) -> Resu
     crate::io::write_atomic(path, text.as_bytes())
 }
 
+/// The CSV text of a table of text cells (a summary: names, statuses, messages, numbers
+/// already formatted) under `header`; every row holds one cell per header name.
+///
+/// Cells holding commas, quotes or line breaks are quoted by the csv writer.
+pub fn table_to_string(header: &[String], rows: &[Vec<String>]) -> Result<String, Error> {
+    if let Some((i, r)) = rows
+        .iter()
+        .enumerate()
+        .find(|(_, r)| r.len() != header.len())
+    {
+        return Err(Error::Invalid(format!(
+            "CSV export: row {} has {} cells for {} header names; give one cell per column",
+            i + 1,
+            r.len(),
+            header.len()
+        )));
+    }
+    let mut w = ::csv::WriterBuilder::new()
+        .terminator(::csv::Terminator::Any(b'\n'))
+        .from_writer(Vec::new());
+    for record in std::iter::once(header).chain(rows.iter().map(Vec::as_slice)) {
+        w.write_record(record)
+            .map_err(|e| Error::Invalid(format!("CSV export: {e}")))?;
+    }
+    let out = w
+        .into_inner()
+        .map_err(|e| Error::Invalid(format!("CSV export: {e}")))?;
+    String::from_utf8(out).map_err(|e| Error::Invalid(format!("CSV export: {e}")))
+}
+
+/// Writes [`table_to_string`] to `path` atomically.
+pub fn write_table(path: &Path, header: &[String], rows: &[Vec<String>]) -> Result<(), Error> {
+    let text = table_to_string(header, rows)?;
+    crate::io::write_atomic(path, text.as_bytes())
+}
+
 /// Reads a file written by [`write_columns`] (or any header + numeric CSV): the header names and
 /// one `Vec` per column.
 ///
