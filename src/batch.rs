@@ -18,7 +18,8 @@ use std::path::{Path, PathBuf};
 use std::process::{ExitCode, Stdio};
 use std::time::{Instant, SystemTime};
 
-/// `articula batch INPUT… -o DIR [options] -- COMMAND [command options]`.
+/// `articula batch INPUT… -o DIR [options] [--] COMMAND [command options]` (the `--` may be left
+/// out: [`with_command_separator`]).
 #[derive(Debug, Args)]
 pub struct BatchArgs {
     /// Takes: folders (every .bvh below, recursively, sorted), files, or `@LIST` (a file of
@@ -50,6 +51,48 @@ pub struct BatchArgs {
     /// `mass-matrix`, `export states|positions|urdf|mjcf|grf|trc`, `info`.
     #[arg(last = true, required = true, value_name = "COMMAND")]
     pub command: Vec<String>,
+}
+
+/// The command line with `--` put before a batch's take command when the user left it out
+/// (`articula batch takes/ -o out/ id --contact auto`, as the issue writes it): the first
+/// argument after `batch` and at least one input that names a take command (`id`, `export`,
+/// …), is not an existing path and is not the value of a batch option. Any other command
+/// line is returned as it was.
+pub fn with_command_separator(args: Vec<std::ffi::OsString>) -> Vec<std::ffi::OsString> {
+    let b = 1;
+    if args.get(b).is_none_or(|a| a != "batch") {
+        return args;
+    }
+    if args[b..].iter().any(|a| a == "--") {
+        return args;
+    }
+    const VALUED: [&str; 5] = ["-o", "--output", "--jobs", "--vary", "--of"];
+    let mut inputs = 0;
+    let mut at = None;
+    let mut k = b + 1;
+    while k < args.len() {
+        let a = args[k].to_string_lossy();
+        if VALUED.contains(&a.as_ref()) {
+            k += 2;
+            continue;
+        }
+        if a.starts_with('-') {
+            k += 1;
+            continue;
+        }
+        let command = COMMANDS.iter().any(|c| c.words[0] == a) || a == "info";
+        if command && inputs > 0 && !Path::new(a.as_ref()).exists() {
+            at = Some(k);
+            break;
+        }
+        inputs += 1;
+        k += 1;
+    }
+    let mut args = args;
+    if let Some(k) = at {
+        args.insert(k, "--".into());
+    }
+    args
 }
 
 /// How the output of a take command is named and read back.

@@ -7,7 +7,7 @@ use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let args = cli::Cli::parse();
+    let args = cli::Cli::parse_from(batch::with_command_separator(std::env::args_os().collect()));
     match cli::run(args) {
         Ok(code) => code,
         Err(err) => {

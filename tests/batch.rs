@@ -236,3 +236,31 @@ fn a_diverged_simulation_is_a_failed_row_beside_the_settings_that_track() {
     assert!(cell(&h, coarse, "error").contains("diverged"), "{coarse:?}");
     assert!(out.join("demo_walk__dt=0.001.csv").exists());
 }
+
+/// The issue's own command line, without `--` before the take command:
+/// `articula batch TAKES -o OUT id --contact auto` runs `id --contact auto` on every take.
+#[test]
+fn the_take_command_may_follow_the_inputs_without_a_separator() {
+    let dir = tempfile::tempdir().unwrap();
+    let takes = corpus(dir.path());
+    let out = dir.path().join("out");
+    articula()
+        .arg("batch")
+        .arg(&takes)
+        .arg("-o")
+        .arg(&out)
+        .args(["--jobs", "2", "id", "--contact", "auto"])
+        .assert()
+        .failure(); // the corpus holds a corrupt take
+    let rows = statuses(&out);
+    assert_eq!(
+        rows.iter().filter(|(_, s)| s == "ok").count(),
+        2,
+        "{rows:?}"
+    );
+    assert_eq!(
+        rows.iter().filter(|(_, s)| s == "failed").count(),
+        1,
+        "{rows:?}"
+    );
+}
