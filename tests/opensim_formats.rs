@@ -332,3 +332,42 @@ fn opensim_files_keep_the_files_clock_after_a_dropped_rest_frame() {
     assert_eq!(lines[2], "120\t120\t480\t21\tmm\t120\t2\t481");
     assert!(lines[6].starts_with("2\t0.0083333333333\t"), "{}", lines[6]);
 }
+
+/// The session writes the same files as the CLI (issue 16: each format from the CLI and a
+/// session command): `export states|trc|grf PATH` on the active take, the format by the
+/// extension, byte for byte what `articula export …` writes with the same (default) options.
+#[test]
+fn a_session_exports_the_same_files_as_the_cli() {
+    let dir = tempfile::tempdir().unwrap();
+    let (cli, ses) = (dir.path().join("cli"), dir.path().join("ses"));
+    std::fs::create_dir_all(&cli).unwrap();
+    let files = [
+        ("states", "s.sto"),
+        ("states", "s.csv"),
+        ("trc", "m.trc"),
+        ("grf", "g.mot"),
+        ("grf", "g.csv"),
+    ];
+    let mut session = format!("load {}\n", demo().display());
+    for (what, name) in files {
+        write(&demo(), &["export", what], &cli.join(name));
+        session += &format!("export {what} {name}\n");
+    }
+    let s = dir.path().join("x.session");
+    std::fs::write(&s, session).unwrap();
+    articula()
+        .arg("run")
+        .arg(&s)
+        .arg("--out")
+        .arg(&ses)
+        .assert()
+        .success();
+    for (_, name) in files {
+        let a = std::fs::read(cli.join(name)).unwrap();
+        let b = std::fs::read(ses.join(name)).unwrap();
+        assert!(a == b, "{name}: the session's file differs from the CLI's");
+    }
+    // the external loads' XML beside the .mot
+    let xml = std::fs::read_to_string(ses.join("g.xml")).unwrap();
+    assert!(xml.contains("<ExternalLoads"), "{xml}");
+}

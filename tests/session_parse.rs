@@ -439,7 +439,10 @@ fn malformed_lines_name_their_line_and_what_was_expected() {
         ("frame -1", "expected a frame index"),
         ("frame x", "expected a frame index"),
         ("play now", "usage: play"),
-        ("export pdf a.pdf", "expected csv, svg, bvh, urdf or mjcf"),
+        (
+            "export pdf a.pdf",
+            "expected one of csv, svg, bvh, urdf, mjcf, states, trc, grf",
+        ),
         (
             "compare weights 60,x,100 k.csv",
             "expected a body mass in kg",
@@ -453,7 +456,7 @@ fn malformed_lines_name_their_line_and_what_was_expected() {
         ),
         (
             "export bvh simulated a.bvh",
-            "usage: export csv|svg|bvh|urdf|mjcf PATH",
+            "usage: export csv|svg|bvh|urdf|mjcf|states|trc|grf PATH",
         ),
         ("set motor.j1.speed 3", "unknown setting 'motor.j1.speed'"),
         ("set motor..km 3", "unknown setting"),

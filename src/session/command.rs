@@ -21,6 +21,42 @@ pub enum ExportKind {
     Urdf,
     /// The current model as MuJoCo MJCF, motor gears from the drives (`set motor.gear`).
     Mjcf,
+    /// The active take's states as `articula export states` writes them: CSV, or OpenSim's
+    /// `.sto` when the path ends so (euler joints).
+    States,
+    /// The active take's joint centres as OpenSim markers (`.trc`, mm), as `articula export trc`.
+    Trc,
+    /// The active take's estimated ground reactions as `articula export grf`: CSV, or an
+    /// OpenSim external-loads `.mot` with its ExternalLoads XML beside it.
+    Grf,
+}
+
+/// Every `export` word and its kind (`bvh sim` is `bvh` followed by `sim`).
+pub const EXPORT_WORDS: &[(&str, ExportKind)] = &[
+    ("csv", ExportKind::Csv),
+    ("svg", ExportKind::Svg),
+    ("bvh", ExportKind::Bvh),
+    ("bvh sim", ExportKind::BvhSim),
+    ("urdf", ExportKind::Urdf),
+    ("mjcf", ExportKind::Mjcf),
+    ("states", ExportKind::States),
+    ("trc", ExportKind::Trc),
+    ("grf", ExportKind::Grf),
+];
+
+impl ExportKind {
+    /// The command's word for the kind (`export WORD PATH`).
+    pub fn word(self) -> &'static str {
+        EXPORT_WORDS
+            .iter()
+            .find(|(_, k)| *k == self)
+            .map_or("?", |(w, _)| w)
+    }
+
+    /// The files the pipeline writes for the active take (not from the workbench's results).
+    pub fn take_file(self) -> bool {
+        matches!(self, ExportKind::States | ExportKind::Trc | ExportKind::Grf)
+    }
 }
 
 /// What a computation runs.
@@ -477,24 +513,29 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
             Command::Quit
         }
         "export" => {
-            let usage = "export csv|svg|bvh|urdf|mjcf PATH, or export bvh sim PATH";
+            let usage = "export csv|svg|bvh|urdf|mjcf|states|trc|grf PATH, or export bvh sim PATH";
             arity(&[2, 3], usage)?;
             if args.len() == 3 && (args[0] != "bvh" || args[1] != "sim") {
                 return Err(syntax(lineno, format!("usage: {usage}")));
             }
-            let kind = match args[0].as_str() {
-                "csv" => ExportKind::Csv,
-                "svg" => ExportKind::Svg,
-                "bvh" if args.len() == 3 => ExportKind::BvhSim,
-                "bvh" => ExportKind::Bvh,
-                "urdf" => ExportKind::Urdf,
-                "mjcf" => ExportKind::Mjcf,
-                o => {
-                    return Err(syntax(
-                        lineno,
-                        format!("export: expected csv, svg, bvh, urdf or mjcf, found '{o}'"),
-                    ));
-                }
+            let word = if args.len() == 3 {
+                "bvh sim".to_string()
+            } else {
+                args[0].clone()
+            };
+            let Some(&(_, kind)) = EXPORT_WORDS.iter().find(|(w, _)| *w == word) else {
+                let words: Vec<&str> = EXPORT_WORDS
+                    .iter()
+                    .map(|(w, _)| *w)
+                    .filter(|w| !w.contains(' '))
+                    .collect();
+                return Err(syntax(
+                    lineno,
+                    format!(
+                        "export: expected one of {}, found '{word}'",
+                        words.join(", ")
+                    ),
+                ));
             };
             Command::Export {
                 kind,

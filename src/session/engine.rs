@@ -5,6 +5,7 @@
 //! Every engine call gets a [`Control`]: it reports progress (0‥1) and polls for
 //! cancellation, so that the terminal UI can run it on a worker thread.
 
+use super::command::ExportKind;
 use crate::error::Error;
 use crate::io::bvh::{Bvh, detect_up};
 use crate::model::Model;
@@ -526,6 +527,53 @@ pub trait Engine: Send + Sync {
         path: &Path,
         ctl: &Control,
     ) -> Result<(), Error>;
+    /// Writes a BVH take's states, joint centres or ground reactions under `params` as the
+    /// CLI's `export states|trc|grf` does (`kind` one of [`ExportKind::take_file`]; the
+    /// format by `path`'s extension: `.sto` / `.mot` for OpenSim, else CSV; `.trc` in mm).
+    /// Returns the files written. Nothing is written once `ctl` is cancelled.
+    fn export_take_file(
+        &self,
+        take: &Take,
+        params: &Params,
+        kind: ExportKind,
+        path: &Path,
+        ctl: &Control,
+    ) -> Result<Vec<std::path::PathBuf>, Error> {
+        use crate::pipeline::formats::{TableFormat, export_grf, export_states_as, export_trc};
+        let bvh = take.bvh().ok_or_else(|| {
+            Error::Invalid(format!(
+                "export: {} is a robot model, not a BVH take (export csv writes its motion)",
+                take.name
+            ))
+        })?;
+        let mut t = pipeline::take_from_bvh_with(
+            Path::new(&take.source),
+            bvh.clone(),
+            &params.take,
+            &mut ctl.stage(0.0, 0.7),
+        )?;
+        pipeline::resolve_contact(&mut t);
+        ctl.check()?;
+        let format = TableFormat::choose(path, None)?;
+        let mut wrote = vec![path.to_path_buf()];
+        match kind {
+            ExportKind::States => export_states_as(&t, path, format)?,
+            ExportKind::Trc => export_trc(&t, path, crate::report::opensim::TrcUnits::Mm)?,
+            ExportKind::Grf => {
+                if let crate::pipeline::formats::ExternalLoadsXml::Written(xml) =
+                    export_grf(&t, path, format)?
+                {
+                    wrote.push(xml);
+                }
+            }
+            other => {
+                return Err(Error::Invalid(format!(
+                    "export {other:?}: not a take file (states, trc or grf)"
+                )));
+            }
+        }
+        Ok(wrote)
+    }
 }
 
 /// The engine over the library's stage functions.

@@ -42,6 +42,7 @@
 //! | `frame N` | go to frame N (0-based) |
 //! | `play`, `pause` | start / stop playback |
 //! | `export csv\|svg\|bvh\|urdf\|mjcf PATH` | write the results (CSV: `time`, `q:`, `v:`, `a:`, `tau:` per coordinate, SI), the angle and torque chart of the selection (the paper's figure 4), the active take's motion as BVH as it is seen (blended, smoothed with the current `smooth`), the model as URDF, or as MuJoCo MJCF with each motor's gear `N·η` from the drives (`set motor.gear`) |
+//! | `export states\|trc\|grf PATH` | the active BVH take as `articula export states\|trc\|grf` writes it under the current settings: states (`.sto` for OpenSim, euler joints, else CSV), joint centres as OpenSim markers (`.trc`, mm), the estimated ground reactions (`.mot` with its ExternalLoads XML beside it, else CSV) |
 //! | `export bvh sim PATH` | the motion of the last `run sim` (under the current parameters) as BVH |
 //! | `compare weights 60,80,100 [joint J] PATH` | re-run inverse dynamics at each body mass; J's torque (default: the selection) per mass: a chart with the peak/RMS table (`.svg`) or the curves (`.csv`, `t_s`, `tau_<m>kg_Nm`) |
 //! | `report motor PATH` | motor sizing (report::motor) of every revolute joint of a robot (or of the selected joint of an avatar): torque, speed, power and current curves with the table of peak/RMS torque, peak speed and power, peak/RMS current and the motor class each needs (`.svg`), or the table alone (`.csv`) |

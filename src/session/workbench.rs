@@ -387,6 +387,17 @@ impl Job {
                 ctl.check()?;
                 crate::io::write_atomic(out, mjcf.as_bytes())?;
             }
+            ExportKind::States | ExportKind::Trc | ExportKind::Grf => {
+                let take = self.take()?;
+                let files = self
+                    .engine
+                    .export_take_file(take, &self.params, kind, out, ctl)?;
+                let names: Vec<String> = files.iter().map(|p| p.display().to_string()).collect();
+                return Ok(Output::Wrote {
+                    path: out.to_path_buf(),
+                    message: format!("wrote {}", names.join(" and ")),
+                });
+            }
         }
         Ok(Output::Wrote {
             path: out.to_path_buf(),
@@ -858,14 +869,7 @@ impl Workbench {
                 (task, format!("blend {a} {b}"))
             }
             Command::Export { kind, path } => {
-                let word = match kind {
-                    ExportKind::Csv => "csv",
-                    ExportKind::Svg => "svg",
-                    ExportKind::Bvh => "bvh",
-                    ExportKind::BvhSim => "bvh sim",
-                    ExportKind::Urdf => "urdf",
-                    ExportKind::Mjcf => "mjcf",
-                };
+                let word = kind.word();
                 let task = Task::Export {
                     kind: *kind,
                     out: self.out_path(path),
