@@ -142,16 +142,6 @@ pub fn floating_root_nv(model: &Model) -> usize {
     }
 }
 
-/// Whether velocity coordinate k is an angle rate.
-fn is_angular(model: &Model, k: usize) -> bool {
-    let i = model.body_of_v(k);
-    match model.joints[i] {
-        JointKind::Revolute { .. } | JointKind::Spherical => true,
-        JointKind::Free => k - model.idx_v[i] >= 3,
-        JointKind::Prismatic { .. } | JointKind::Fixed => false,
-    }
-}
-
 /// Simulates `model` tracking `reference` under computed-torque control (see the module doc):
 /// starts on the reference's first sample, steps with `opts.integrator` until its last time.
 ///
@@ -225,7 +215,7 @@ pub fn simulate_with(
         root_nv,
         root_residual_rms: vec![0.0; root_nv],
         root_residual_max: vec![0.0; root_nv],
-        angular: (0..nv).map(|k| is_angular(model, k)).collect(),
+        angular: (0..nv).map(|k| model.is_angular(k)).collect(),
     };
     let mut next_sample = 0;
     for n in 0..=steps {
@@ -276,7 +266,7 @@ pub fn simulate_with(
         }
         // statistics and the recorded row, at (t, q_n, v_n)
         accumulate(&err_now, &mut out.rms_error, &mut out.max_error);
-        let lost = |k: &usize| is_angular(model, *k) && err_now[*k].abs() > opts.max_error;
+        let lost = |k: &usize| model.is_angular(*k) && err_now[*k].abs() > opts.max_error;
         if let Some(k) = (root_nv..model.nv).find(lost) {
             return Err(context(Error::Numerical(format!(
                 "diverged: `{}` is {:.3e} rad off its reference at t = {t:.3} s (more than \
@@ -307,7 +297,7 @@ pub fn simulate_with(
                      gains, or rk4 / dopri5",
                     model.v_names[k],
                     v[k],
-                    if is_angular(model, k) { "rad/s" } else { "m/s" },
+                    if model.is_angular(k) { "rad/s" } else { "m/s" },
                     opts.max_speed
                 ))));
             }

@@ -170,6 +170,18 @@ impl Model {
             .find(|&i| self.idx_v[i] <= k && self.joints[i].nv() > 0)
             .unwrap_or(0)
     }
+
+    /// Whether velocity coordinate `k` is a rotation (rad; a moment in inverse dynamics):
+    /// revolute joints and the rotation part of ball and free joints. Otherwise a translation
+    /// (m; a force).
+    pub fn is_angular(&self, k: usize) -> bool {
+        let b = self.body_of_v(k);
+        match self.joints[b] {
+            JointKind::Revolute { .. } | JointKind::Spherical => true,
+            JointKind::Free => k - self.idx_v[b] >= 3,
+            JointKind::Prismatic { .. } | JointKind::Fixed => false,
+        }
+    }
 }
 
 /// Builds a [`Model`] body by body, keeping `parent < child` and the coordinate offsets.

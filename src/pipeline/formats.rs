@@ -9,7 +9,6 @@
 use super::{Job, Take, ground_reactions, job_torques, joint_centres, write_rows};
 use crate::dynamics::grf::{GroundQuality, GroundReactions};
 use crate::error::Error;
-use crate::model::{JointKind, Model};
 use crate::report::opensim::{self, Sto, Trc, TrcUnits};
 use std::path::{Path, PathBuf};
 
@@ -53,17 +52,6 @@ impl TableFormat {
     }
 }
 
-/// Whether velocity coordinate `k` of `model` is a rotation (rad; a moment in inverse
-/// dynamics) rather than a translation (m; a force).
-pub fn is_rotational(model: &Model, k: usize) -> bool {
-    let b = model.body_of_v(k);
-    match model.joints[b] {
-        JointKind::Revolute { .. } | JointKind::Spherical => true,
-        JointKind::Free => k - model.idx_v[b] >= 3,
-        JointKind::Prismatic { .. } | JointKind::Fixed => false,
-    }
-}
-
 /// The take's name for a table's first header line: its file stem and `what`.
 fn table_name(take: Option<&Take>, what: &str) -> String {
     match take.and_then(|t| t.path.file_stem()) {
@@ -100,7 +88,7 @@ pub fn export_states_as(take: &Take, path: &Path, format: TableFormat) -> Result
     }
     let scale: Vec<f64> = (0..m.nv)
         .map(|k| {
-            if is_rotational(m, k) {
+            if m.is_angular(k) {
                 180.0 / std::f64::consts::PI
             } else {
                 1.0
@@ -159,11 +147,7 @@ pub fn write_inverse_dynamics_as(
         .iter()
         .enumerate()
         .map(|(k, n)| {
-            let kind = if is_rotational(m, k) {
-                "moment"
-            } else {
-                "force"
-            };
+            let kind = if m.is_angular(k) { "moment" } else { "force" };
             format!("{n}_{kind}")
         })
         .collect();

@@ -617,7 +617,7 @@ fn selection_for(r: &Analysis, sel: Option<&str>) -> Option<String> {
     let joint = sel.and_then(|s| joint_of_name(&r.model, s));
     joint.and_then(|j| best_coordinate(r, &j)).or_else(|| {
         (0..r.model.nv)
-            .find(|&k| is_angular(&r.model, k))
+            .find(|&k| r.model.is_angular(k))
             .map(|k| r.model.v_names[k].clone())
     })
 }
@@ -632,7 +632,7 @@ fn selection_on_load(take: &Take, sel: Option<&str>) -> Option<String> {
             .map(str::to_string)
             .or_else(|| {
                 (0..r.model.nv)
-                    .find(|&k| is_angular(&r.model, k))
+                    .find(|&k| r.model.is_angular(k))
                     .map(|k| r.model.v_names[k].clone())
             }),
         TakeData::Bvh(b) => sel.filter(|s| names_a_joint(b, s)).map(str::to_string),
@@ -1261,7 +1261,7 @@ impl Workbench {
                 p.iter()
                     .enumerate()
                     .map(|(k, m)| {
-                        let angular = is_angular(&model, k);
+                        let angular = model.is_angular(k);
                         let kind = Quantity::Angle.kind(angular);
                         let joint = if angular { "revolute" } else { "prismatic" };
                         let what = format!("{} (a {joint} coordinate)", model.v_names[k]);
@@ -1729,7 +1729,7 @@ impl Workbench {
                 let angular = anatomical
                     || r.model
                         .v_index(coord)
-                        .is_some_and(|k| is_angular(&r.model, k));
+                        .is_some_and(|k| r.model.is_angular(k));
                 let kind = quantity.kind(angular);
                 let what = format!(
                     "the {} of {coord} (a {})",
@@ -1817,10 +1817,7 @@ pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> 
     let (Some(q), Some(tau)) = (angle_series(r, coord), torque_series(r, coord)) else {
         return Err(err(format!("no coordinate '{coord}' in the model")));
     };
-    let rotation = r
-        .model
-        .v_index(coord)
-        .is_none_or(|k| is_angular(&r.model, k));
+    let rotation = r.model.v_index(coord).is_none_or(|k| r.model.is_angular(k));
     let (factor, angle_label, torque_label) = if rotation {
         (180.0 / std::f64::consts::PI, "angle (deg)", "torque (N·m)")
     } else {
@@ -1921,17 +1918,6 @@ pub fn coords_of_joint(model: &Model, joint: &str) -> Vec<String> {
         .collect()
 }
 
-/// True when coordinate `k` is a rotation (rad): revolute joints and the rotation part of ball
-/// and free joints.
-pub fn is_angular(model: &Model, k: usize) -> bool {
-    let b = model.body_of_v(k);
-    match model.joints[b] {
-        JointKind::Revolute { .. } | JointKind::Spherical => true,
-        JointKind::Free => k - model.idx_v[b] >= 3,
-        JointKind::Prismatic { .. } | JointKind::Fixed => false,
-    }
-}
-
 /// The angle (rad) or position (m) of velocity coordinate `coord` over the take: the q column
 /// of a 1-DoF joint; for a ball joint (and the rotation of a free joint) the component of the
 /// rotation vector `θ·u = log(q)` in the joint frame named by the coordinate (`J:wx` → x), whose
@@ -1984,7 +1970,7 @@ pub fn best_coordinate(r: &Analysis, joint: &str) -> Option<String> {
     };
     let rotations: Vec<&String> = coords
         .iter()
-        .filter(|c| r.model.v_index(c).is_some_and(|k| is_angular(&r.model, k)))
+        .filter(|c| r.model.v_index(c).is_some_and(|k| r.model.is_angular(k)))
         .collect();
     let pool = if rotations.is_empty() {
         coords.iter().collect()

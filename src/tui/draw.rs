@@ -12,7 +12,7 @@ use crate::session::Workbench;
 use crate::session::command::Quantity;
 use crate::session::engine::Analysis;
 use crate::session::units::{self, Kind};
-use crate::session::workbench::{angle_series, coords_of_joint, is_angular, torque_series};
+use crate::session::workbench::{angle_series, coords_of_joint, torque_series};
 use crate::spatial::SpatialTransform;
 use ratatui::Frame;
 use ratatui::buffer::Buffer;
@@ -434,7 +434,7 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         wb.latest_results(),
         wb.selection.as_deref(),
     ) && let Some(k) = r.tau.col_index(sel)
-        && is_angular(&r.model, k)
+        && r.model.is_angular(k)
     {
         let m = crate::report::motor::JointMotion {
             joint: sel.to_string(),
@@ -551,7 +551,7 @@ fn draw_sparks(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     let angle = r.zip(sel.as_deref()).and_then(|(r, s)| angle_series(r, s));
     let torque = r.zip(sel.as_deref()).and_then(|(r, s)| torque_series(r, s));
     let is_angle = match (r, sel.as_deref()) {
-        (Some(r), Some(s)) => r.model.v_index(s).is_none_or(|k| is_angular(&r.model, k)),
+        (Some(r), Some(s)) => r.model.v_index(s).is_none_or(|k| r.model.is_angular(k)),
         _ => true,
     };
     let rows: [SparkRow; 2] = [
