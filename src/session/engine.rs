@@ -540,18 +540,7 @@ pub trait Engine: Send + Sync {
         ctl: &Control,
     ) -> Result<Vec<std::path::PathBuf>, Error> {
         use crate::pipeline::formats::{TableFormat, export_grf, export_states_as, export_trc};
-        let bvh = take.bvh().ok_or_else(|| {
-            Error::Invalid(format!(
-                "export: {} is a robot model, not a BVH take (export csv writes its motion)",
-                take.name
-            ))
-        })?;
-        let mut t = pipeline::take_from_bvh_with(
-            Path::new(&take.source),
-            bvh.clone(),
-            &params.take,
-            &mut ctl.stage(0.0, 0.7),
-        )?;
+        let mut t = pipeline_take(take, params, "export", &mut ctl.stage(0.0, 0.7))?;
         pipeline::resolve_contact(&mut t);
         ctl.check()?;
         let format = TableFormat::choose(path, None)?;
@@ -872,19 +861,8 @@ impl Engine for Builtin {
         path: &Path,
         ctl: &Control,
     ) -> Result<(), Error> {
-        let bvh = take.bvh().ok_or_else(|| {
-            Error::Invalid(format!(
-                "export bvh: {} is a robot model, not a BVH take (export csv writes its motion)",
-                take.name
-            ))
-        })?;
         // the pipeline's take under the current options: its q are what the user sees
-        let mut t = pipeline::take_from_bvh_with(
-            Path::new(&take.source),
-            bvh.clone(),
-            &params.take,
-            &mut ctl.stage(0.0, 0.9),
-        )?;
+        let mut t = pipeline_take(take, params, "export bvh", &mut ctl.stage(0.0, 0.9))?;
         if let Some(m) = motion {
             if m.q.rows() != t.states.len() || m.q.names != t.model.q_names {
                 return Err(Error::Invalid(format!(
@@ -903,6 +881,23 @@ impl Engine for Builtin {
         ctl.check()?;
         pipeline::export_smoothed_bvh(&t, path)
     }
+}
+
+/// The pipeline's take of a BVH take under `params` (what the exports write from); a robot
+/// model is an error naming `what` was asked.
+fn pipeline_take(
+    take: &Take,
+    params: &Params,
+    what: &str,
+    progress: &mut dyn FnMut(f64) -> bool,
+) -> Result<pipeline::Take, Error> {
+    let bvh = take.bvh().ok_or_else(|| {
+        Error::Invalid(format!(
+            "{what}: {} is a robot model, not a BVH take (export csv writes its motion)",
+            take.name
+        ))
+    })?;
+    pipeline::take_from_bvh_with(Path::new(&take.source), bvh.clone(), &params.take, progress)
 }
 
 fn no_motion(take: &Take) -> Error {
