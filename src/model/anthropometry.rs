@@ -182,6 +182,17 @@ mod inertia;
 mod masses;
 mod tables;
 
+/// A body of `mass_kg`, `height_m` and `sex` under the segment table `segments`, for the
+/// tables' unit tests.
+#[cfg(test)]
+fn test_body(mass_kg: f64, height_m: f64, sex: Sex, segments: SegmentTable) -> BodyParams {
+    BodyParams {
+        segments,
+        height_m: Some(height_m),
+        ..BodyParams::new(mass_kg, sex)
+    }
+}
+
 pub use inertia::{SegmentRadii, segment_radii};
 pub use masses::{SegmentMasses, SegmentTable, segment_masses};
 pub use tables::{

@@ -178,13 +178,7 @@ mod tests {
     use crate::model::anthropometry::Sex;
     use crate::model::anthropometry::tables::{DE_LEVA_FEMALE_SUBJECT, TRANSVERSE, de_leva};
 
-    fn body(mass_kg: f64, height_m: f64, sex: Sex, segments: SegmentTable) -> BodyParams {
-        BodyParams {
-            segments,
-            height_m: Some(height_m),
-            ..BodyParams::new(mass_kg, sex)
-        }
-    }
+    use crate::model::anthropometry::test_body as body;
 
     fn de_levas(s: Segment, sex: Sex) -> [f64; 3] {
         let p = de_leva(s, sex);

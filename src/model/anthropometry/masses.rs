@@ -220,13 +220,7 @@ mod tests {
 
     use super::*;
 
-    fn body(mass_kg: f64, height_m: f64, sex: Sex, segments: SegmentTable) -> BodyParams {
-        BodyParams {
-            segments,
-            height_m: Some(height_m),
-            ..BodyParams::new(mass_kg, sex)
-        }
-    }
+    use crate::model::anthropometry::test_body as body;
 
     fn total(m: &SegmentMasses) -> f64 {
         m.kg.iter()
