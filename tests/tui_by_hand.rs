@@ -18,18 +18,7 @@ use std::sync::Arc;
 
 /// The demo walk in a headless interface without colours, its outputs under `out`.
 fn demo(out: &Path) -> (Ui, Workbench) {
-    let mut ui = Ui::headless(100, 30);
-    ui.color = false;
-    let mut wb = Workbench::new(Arc::new(Builtin), out, out);
-    ui.exec(
-        &mut wb,
-        &Command::Load {
-            path: "demo:walk".into(),
-            name: None,
-        },
-    );
-    assert!(ui.error.is_none(), "{:?}", ui.error);
-    (ui, wb)
+    common::tui::demo_in(100, 30, Workbench::new(Arc::new(Builtin), out, out))
 }
 
 /// The row of `buf` holding `text`.

@@ -6,24 +6,13 @@ mod common;
 
 use common::tui::{press, screen};
 
-use articula::session::{Command, Workbench, units};
+use articula::session::{Workbench, units};
 use articula::tui::{Focus, Ui, draw};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 
 fn demo(width: u16, height: u16) -> (Ui, Workbench) {
-    let mut ui = Ui::headless(width, height);
-    ui.color = false;
-    let mut wb = Workbench::default();
-    ui.exec(
-        &mut wb,
-        &Command::Load {
-            path: "demo:walk".into(),
-            name: None,
-        },
-    );
-    assert!(ui.error.is_none(), "{:?}", ui.error);
-    (ui, wb)
+    common::tui::demo_in(width, height, Workbench::default())
 }
 
 #[test]
