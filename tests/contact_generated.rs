@@ -6,7 +6,7 @@
 //!   by orders of magnitude); the stance knee is loaded, and at 80 kg its peak stays in the
 //!   range of walking forces (below 2.5 N·m/kg; above Winter's 0.5–1 N·m/kg, at the other
 //!   foot's heel strike, where the trailing foot's force can only be taken parallel to the
-//!   whole-body force: README, knee-load study);
+//!   whole-body force: docs/knee-study.md);
 //! - `data/demo_walk.bvh` is exactly what `articula generate walk` writes;
 //! - feet across naming schemes, placed through the channel map: a Daz-style foot without a
 //!   toe joint takes its toe point from its End Site, a Bandai-style one from its toe joint.

@@ -32,7 +32,7 @@
 //!   (asserted). The Bandai walk is typical by its speed, cadence and step length, but its
 //!   motion needs, in single support (where that is the motion's alone), a propulsive force
 //!   above the largest of its class's subjects and a centre of pressure that leaves the foot in
-//!   most frames (asserted), so its knee figures are printed, not held to the range (README,
+//!   most frames (asserted), so its knee figures are printed, not held to the range (docs/ground-reactions.md,
 //!   Ground reactions).
 //!
 //! Each test prints its measurements (`cargo test --test contact_real -- --ignored --nocapture`).
@@ -389,7 +389,7 @@ fn walk_meredith_carries_body_weight_and_loads_the_stance_knee() {
 /// dimensionless speed (its √Froude, 0.59, is inside the Fast class's 0.50–0.64), and so do its
 /// first vertical ground force peak, mid-stance minimum and peak braking force (along the
 /// stance foot's heel-to-toe direction: the path is a figure eight). The Bandai walk's figures
-/// are printed by `walk_bandai_…`; README, Ground reactions, says why they are not asserted.
+/// are printed by `walk_bandai_…`; docs/ground-reactions.md says why they are not asserted.
 #[test]
 #[ignore = "real takes: ARTICULA_REAL_TAKES=../shared/data/bvh cargo test -- --ignored"]
 fn walk_meredith_stance_knee_lies_in_the_speed_matched_published_range() {

