@@ -1,18 +1,20 @@
 //! Drawing: a pure function of the [`Ui`] and the [`Workbench`] (it only records pane
 //! rectangles for the mouse).
 //!
-//! Layout, top to bottom: the joint tree | the avatar | the parameters; two sparklines
-//! (trajectory and torque of the selected coordinate); the timeline; the status or command
-//! line. At 80×24 the main row keeps 14 rows; below 60×16 only a notice is drawn.
+//! Layout, top to bottom: the joint tree | the avatar | the parameters; the curves of the
+//! selected coordinate (its angle and torque: sparklines, or line charts on a tall terminal,
+//! see [`super::curves`]); the timeline; the status or command line. At 80×24 the main row
+//! keeps 14 rows; below 60×16 only a notice is drawn.
 
+pub use super::curves::running_stats;
+use super::curves::{curves_height, draw_curves};
 use super::ui::{Focus, Ui, params_of};
 use crate::dynamics::{Workspace, forward_kinematics};
 use crate::report::superquadric::SuperquadricMesh;
 use crate::session::Workbench;
-use crate::session::command::Quantity;
 use crate::session::engine::Analysis;
 use crate::session::units::{self, Kind};
-use crate::session::workbench::{angle_series, coords_of_joint, torque_series};
+use crate::session::workbench::coords_of_joint;
 use crate::spatial::SpatialTransform;
 use ratatui::Frame;
 use ratatui::buffer::Buffer;
@@ -21,9 +23,7 @@ use ratatui::style::{Color, Modifier, Style};
 use ratatui::symbols::Marker;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::canvas::{Canvas, Line as CLine};
-use ratatui::widgets::{
-    Block, Borders, Clear, LineGauge, Paragraph, Sparkline, SparklineBar, Wrap,
-};
+use ratatui::widgets::{Block, Borders, Clear, LineGauge, Paragraph, Wrap};
 
 /// The glyph over the selected link in the avatar when colours are off.
 pub const SELECTED_GLYPH: &str = "◆";
@@ -35,7 +35,7 @@ pub const UNPLAYED: &str = "─";
 pub const MIN_SIZE: (u16, u16) = (60, 16);
 
 impl Ui {
-    fn fg(&self, c: Color) -> Style {
+    pub(super) fn fg(&self, c: Color) -> Style {
         if self.color {
             Style::default().fg(c)
         } else {
@@ -66,7 +66,7 @@ pub fn draw(ui: &Ui, wb: &Workbench, f: &mut Frame) {
     }
     let [main, sparks, timeline, status] = Layout::vertical([
         Constraint::Min(8),
-        Constraint::Length(6),
+        Constraint::Length(curves_height(area.height)),
         Constraint::Length(1),
         Constraint::Length(1),
     ])
@@ -81,7 +81,7 @@ pub fn draw(ui: &Ui, wb: &Workbench, f: &mut Frame) {
     draw_tree(ui, wb, f, tree);
     draw_view(ui, wb, f, view);
     draw_params(ui, wb, f, params);
-    draw_sparks(ui, wb, f, sparks);
+    draw_curves(ui, wb, f, sparks);
     draw_timeline(ui, wb, f, timeline);
     draw_status(ui, wb, f, status);
     // an error too long for the status line: all of it, wrapped, above the status line
@@ -487,125 +487,6 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         }
     }
     f.render_widget(Paragraph::new(lines).block(block), area);
-}
-
-/// `min`, `max` over the frames `0..=k` of `x` that `quoted` keeps (issue 14: a torque's
-/// running extremes leave out the edge frames and those beyond what the feet can give), and
-/// `x[k]`; `None` before the first quoted frame's min and max exist.
-pub fn running_stats(
-    x: &[f64],
-    k: usize,
-    quoted: impl Fn(usize) -> bool,
-) -> Option<(Option<(f64, f64)>, f64)> {
-    let seen = x.get(..=k.min(x.len().checked_sub(1)?))?;
-    let kept = seen.iter().enumerate().filter(|&(i, _)| quoted(i));
-    let (min, max) = kept.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (_, &v)| {
-        (lo.min(v), hi.max(v))
-    });
-    Some(((min <= max).then_some((min, max)), *seen.last()?))
-}
-
-/// Sparkline bars: the take squeezed to `width` columns on the scale of the whole take;
-/// columns after frame `k` are absent, columns on a frame `quoted` leaves out are `shaded`.
-fn bars(
-    x: &[f64],
-    k: usize,
-    width: usize,
-    quoted: impl Fn(usize) -> bool,
-    shaded: Style,
-) -> Vec<SparklineBar> {
-    if x.is_empty() || width == 0 {
-        return vec![];
-    }
-    let lo = x.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let span = (hi - lo).max(1e-12);
-    (0..width)
-        .map(|c| {
-            let i = if width > 1 {
-                c * (x.len() - 1) / (width - 1)
-            } else {
-                0
-            };
-            let bar = SparklineBar::from(
-                (i <= k).then(|| 1 + ((x[i] - lo) / span * 99.0).round() as u64),
-            );
-            if quoted(i) {
-                bar
-            } else {
-                bar.style(Some(shaded))
-            }
-        })
-        .collect()
-}
-
-/// What a sparkline shows: quantity, series (SI), its kind, colour.
-type SparkRow<'a> = (&'a str, Option<Vec<f64>>, Kind, Color);
-
-fn draw_sparks(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
-    let [a, b] = Layout::vertical([Constraint::Length(3), Constraint::Length(3)]).areas(area);
-    let sel = wb.selection.clone();
-    let r = wb.latest_results();
-    // the angle of the selected coordinate (a rotation-vector component for ball joints) and
-    // its torque
-    let angle = r.zip(sel.as_deref()).and_then(|(r, s)| angle_series(r, s));
-    let torque = r.zip(sel.as_deref()).and_then(|(r, s)| torque_series(r, s));
-    let is_angle = match (r, sel.as_deref()) {
-        (Some(r), Some(s)) => r.model.v_index(s).is_none_or(|k| r.model.is_angular(k)),
-        _ => true,
-    };
-    let rows: [SparkRow; 2] = [
-        (
-            if is_angle { "angle" } else { "position" },
-            angle,
-            Quantity::Angle.kind(is_angle),
-            Color::Cyan,
-        ),
-        (
-            if is_angle { "torque" } else { "force" },
-            torque,
-            Quantity::Torque.kind(is_angle),
-            Color::Magenta,
-        ),
-    ];
-    for ((what, x, kind, color), rect) in rows.into_iter().zip([a, b]) {
-        let name = sel.as_deref().unwrap_or("no selection");
-        let Some(x) = x else {
-            let p = Paragraph::new(format!("{name} {what}: no results"));
-            f.render_widget(p, rect);
-            continue;
-        };
-        // a torque's frames left out (edge, beyond the feet) are shaded and not in its min/max
-        let forces = what == "torque" || what == "force";
-        let quoted = |k: usize| !forces || r.is_none_or(|r| r.quoted(k));
-        let left_out = (0..x.len()).filter(|&k| !quoted(k)).count();
-        // the label in the coordinate's own unit, rounded by its kind; the bars in SI
-        let unit = units::shown_unit(kind);
-        let n = |v| units::format_number(kind, v);
-        let label = match running_stats(&x, wb.frame, quoted) {
-            Some((Some((min, max)), now)) => format!(
-                "{name} {what} [{unit}]  min {}  max {}  now {}",
-                n(min),
-                n(max),
-                n(now)
-            ),
-            Some((None, now)) => format!("{name} {what} [{unit}]  now {}", n(now)),
-            None => format!("{name} {what}"),
-        };
-        let label = if left_out > 0 {
-            format!("{label}  ({left_out} shaded frames not quoted)")
-        } else {
-            label
-        };
-        let [l, s] = Layout::vertical([Constraint::Length(1), Constraint::Length(2)]).areas(rect);
-        f.render_widget(Paragraph::new(label).style(ui.fg(color)), l);
-        let shaded = ui.fg(Color::DarkGray).add_modifier(Modifier::DIM);
-        let spark = Sparkline::default()
-            .data(bars(&x, wb.frame, s.width as usize, quoted, shaded))
-            .max(100)
-            .style(ui.fg(color));
-        f.render_widget(spark, s);
-    }
 }
 
 fn draw_timeline(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {

@@ -23,6 +23,7 @@
 //! same jobs run inline. The terminal is restored on exit, on error and on panic (a
 //! panic hook). `NO_COLOR` turns colours off. Keys: see [`draw::HELP`] (`?` in the UI).
 
+pub mod curves;
 pub mod draw;
 pub mod keys;
 pub mod ui;
