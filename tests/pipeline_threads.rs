@@ -65,3 +65,24 @@ fn id_is_the_same_bytes_with_one_and_two_threads_on_every_real_take() {
         }
     }
 }
+
+/// `id` with contact estimates the ground reactions once: the estimate the consistency figures
+/// made is kept in the job, and the torques from it are those of a fresh estimate.
+#[test]
+fn the_kept_ground_reaction_estimate_is_the_fresh_one() {
+    use articula::pipeline::{self, Contact, StateColumns, TakeOptions};
+    let opts = TakeOptions {
+        contact: Contact::Feet,
+        ..TakeOptions::default()
+    };
+    let src = pipeline::ModelSource::Take(common::repo("data/demo_walk.bvh"));
+    let mut job = pipeline::load_source_with(&src, None, &opts, StateColumns::QVA).unwrap();
+    pipeline::consistency::consistent_job(&mut job, false, true).unwrap();
+    assert!(job.estimated.is_some());
+    let (kept, kept_grf) = pipeline::job_torques(&job).unwrap();
+    job.estimated = None;
+    let (fresh, fresh_grf) = pipeline::job_torques(&job).unwrap();
+    assert_eq!(kept.tau, fresh.tau);
+    assert_eq!(kept.names, fresh.names);
+    assert_eq!(kept_grf.unwrap().residual, fresh_grf.unwrap().residual);
+}

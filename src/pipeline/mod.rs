@@ -852,6 +852,10 @@ pub struct Job {
     /// Measured ground reactions (`id --grf`, [`measured::use_measured_grf`]), used instead
     /// of the estimate.
     pub measured: Option<crate::dynamics::grf::GroundReactions>,
+    /// The ground reactions estimated on `take` as it is, kept by
+    /// [`consistency::consistent_job`] (which needs them for its figures) so that
+    /// [`job_torques`] does not estimate them a second time.
+    pub estimated: Option<crate::dynamics::grf::GroundReactions>,
 }
 
 /// Loads only the model of a source (for `bench`).
@@ -926,6 +930,7 @@ pub fn load_source_marked(
         states,
         take,
         measured: None,
+        estimated: None,
     })
 }
 
@@ -1208,16 +1213,22 @@ pub fn job_torques_marked(
     job: &Job,
     done: &mut dyn FnMut(Stage),
 ) -> Result<(Torques, Option<crate::dynamics::grf::GroundReactions>), Error> {
-    let grf = match (&job.measured, &job.take) {
-        (Some(m), _) => Some(m.clone()),
-        (None, Some(t)) => ground_reactions(t)?,
-        (None, None) => None,
+    let grf = match (&job.measured, &job.estimated, &job.take) {
+        (Some(m), _, _) => Some(m.clone()),
+        (None, Some(e), _) => Some(e.clone()),
+        (None, None, Some(t)) => ground_reactions(t)?,
+        (None, None, None) => None,
     };
     done(Stage::Contact);
-    let mut t = inverse_dynamics(&job.model, &job.states);
-    if let Some(g) = &grf {
-        t.tau.clone_from(&g.tau);
-    }
+    // with ground reactions, their estimate's torques are the answer (it ran RNEA with them)
+    let t = match &grf {
+        Some(g) => Torques {
+            time: job.states.time.clone(),
+            names: job.model.v_names.clone(),
+            tau: g.tau.clone(),
+        },
+        None => inverse_dynamics(&job.model, &job.states),
+    };
     check_finite(&t.tau, &t.names, "torque")?;
     done(Stage::InverseDynamics);
     Ok((t, grf))

@@ -202,11 +202,10 @@ fn continuous_triple(bvh: &Bvh, t: &mut Triple, frames: &mut Vec<[f64; 3]>) {
     let name = &bvh.joints[t.joint].name;
     frames.clear();
     frames.extend((0..c0.len()).map(|k| [c0[k], c1[k], c2[k]]));
-    crate::motion::unwrap::make_euler_continuous(order, frames);
+    let scan = crate::motion::unwrap::make_euler_continuous_and_scan(order, frames);
     for (k, f) in frames.iter().enumerate() {
         (c0[k], c1[k], c2[k]) = (f[0], f[1], f[2]);
     }
-    let scan = crate::motion::unwrap::scan_triples(order, frames);
     // sitting near the lock (not passing through it) makes D(q) nearly singular all along
     let near = frames
         .iter()
