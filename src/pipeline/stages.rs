@@ -147,7 +147,7 @@ pub fn bench_stages(
         cycled,
         frames,
         nv,
-        threads: super::par::slots(),
+        threads: crate::par::slots(),
         contact,
         repeat,
         min_ms: (0..STAGES.len()).map(|s| min(&column(s))).collect(),

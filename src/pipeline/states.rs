@@ -4,7 +4,6 @@
 //! column and every frame computes what the serial path computes, in the same order, so the
 //! results do not depend on the number of threads.
 
-use super::par::{self, for_each_block, rounds};
 use super::stages::Stage;
 use super::{GLITCH_SPEED, NEAR_LOCK, States};
 use crate::error::Error;
@@ -13,6 +12,7 @@ use crate::model::bvh::BvhMap;
 use crate::model::{JointKind, Model};
 use crate::motion::smooth::{SmoothSpec, Smoother};
 use crate::motion::unwrap::{AngleUnit, unwrap_angles};
+use crate::par::{self, for_each_block, rounds};
 use crate::rotation::EulerOrder;
 use nalgebra::{Quaternion, UnitQuaternion};
 

@@ -1,4 +1,6 @@
 //! Frames and coordinates in parallel (rayon), with results bit-identical to the serial path.
+//! A utility every layer may use (as `spatial`): the pipeline's stages, the ground-reaction
+//! estimate.
 //!
 //! Work is cut into blocks (a run of frames, a joint's coordinates) that are independent of
 //! one another, so each block computes the same floating-point operations in the same order
