@@ -26,6 +26,11 @@ pub struct Cli {
     pub cmd: Option<Cmd>,
     /// Takes (BVH), DH tables (.toml) or URDFs to open in the terminal UI.
     pub files: Vec<PathBuf>,
+    /// Threads for the frames and coordinates worked on in parallel (unwrapping, smoothing,
+    /// derivatives, inverse dynamics). Default: all cores (or RAYON_NUM_THREADS); 1 is the
+    /// serial path. Results are the same, bit for bit, whatever the number.
+    #[arg(long, global = true, value_name = "N")]
+    pub threads: Option<usize>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -161,17 +166,36 @@ pub enum Cmd {
         #[arg(long)]
         json: bool,
     },
-    /// Nanoseconds per call of rnea, crba, aba and one RK4 step.
+    /// Nanoseconds per call of rnea, crba, aba and one RK4 step; with --stages, the
+    /// milliseconds of every stage of `articula id` on a take, from the file to the torques.
     Bench {
         #[command(flatten)]
         src: SourceArgs,
         #[command(flatten)]
         opts: TakeArgs,
+        /// JSON; with --stages the keys frames, nv, threads, stages_ms (median per stage),
+        /// stages_min_ms, total_ms (file to torques), total_min_ms, contact, repeat, cycled.
         #[arg(long)]
         json: bool,
         /// Batches of at least 2 ms each; the median is reported.
-        #[arg(long, default_value_t = 7)]
+        #[arg(long, default_value_t = 7, conflicts_with = "stages")]
         batches: usize,
+        /// Time the stages a take goes through in `articula id` (parse, model, coordinates,
+        /// unwrap, smooth, derivatives, job, contact, inverse dynamics): min and median.
+        #[arg(long, conflicts_with_all = ["urdf", "dh", "states"])]
+        stages: bool,
+        /// Timed runs of the stages (after one warm-up run).
+        #[arg(long, default_value_t = 5, requires = "stages")]
+        repeat: usize,
+        /// Cycle the take to this many minutes of frames before timing: frame 0 once, then
+        /// frames 1…last forward and backward in turn; the parse is timed on the cycled text.
+        #[arg(
+            long,
+            value_name = "M",
+            requires = "stages",
+            allow_negative_numbers = true
+        )]
+        minutes: Option<f64>,
     },
     /// Measure the speed/accuracy trade of integrators, steps and joint models.
     Tradeoff {
@@ -693,6 +717,15 @@ fn demo_take() -> PathBuf {
 }
 
 pub fn run(cli: Cli) -> Result<ExitCode> {
+    if let Some(n) = cli.threads {
+        if n == 0 {
+            bail!("--threads 0: expected 1 or more (1 is the serial path)");
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .context("--threads: the thread pool")?;
+    }
     let Some(cmd) = cli.cmd else {
         let files = if cli.files.is_empty() {
             vec![demo_take()]
@@ -939,7 +972,34 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             src,
             opts,
             json,
+            stages: true,
+            repeat,
+            minutes,
+            ..
+        } => {
+            let take = src
+                .take
+                .as_deref()
+                .ok_or_else(|| anyhow::anyhow!("bench --stages needs a take (a BVH file)"))?;
+            need(take)?;
+            let settings = pipeline::StageSettings { repeat, minutes };
+            let r = pipeline::bench_stages(
+                take,
+                &opts.options_for_source("bench --stages", &src)?,
+                settings,
+            )?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&r.json())?);
+            } else {
+                print!("{}", r.text());
+            }
+        }
+        Cmd::Bench {
+            src,
+            opts,
+            json,
             batches,
+            ..
         } => {
             let model =
                 pipeline::load_model(&src.source()?, &opts.options_for_source("bench", &src)?)?;

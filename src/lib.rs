@@ -9,6 +9,7 @@ pub mod error;
 pub mod io;
 pub mod model;
 pub mod motion;
+pub mod par;
 pub mod pipeline;
 pub mod report;
 pub mod rotation;

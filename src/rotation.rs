@@ -168,8 +168,20 @@ pub fn matrix_to_euler_near(order: EulerOrder, r: &Matrix3<f64>, previous: [f64;
 
 /// `angle + 2πn` for the integer `n` that brings it nearest to `target`.
 fn nearest_turn(angle: f64, target: f64) -> f64 {
-    let turns = ((target - angle) / (2.0 * PI)).round();
+    let turns = round_turns((target - angle) / (2.0 * PI));
     angle + turns * 2.0 * PI
+}
+
+/// `x.round()` (half away from zero), bit for bit, without the library call in the common case
+/// of angle continuity, `|x| < 0.5`: there it is zero with the sign of `x`, as `round` gives
+/// (`round(−0.3) = −0`). NaN goes to `round`.
+#[inline]
+pub fn round_turns(x: f64) -> f64 {
+    if x.abs() < 0.5 {
+        0.0f64.copysign(x)
+    } else {
+        x.round()
+    }
 }
 
 #[cfg(test)]

@@ -90,3 +90,71 @@ fn euler_triples_are_repicked_through_gimbal_lock_and_turns() {
         assert!(step(&frames) < 0.05);
     }
 }
+
+/// The one-pass re-pick and scan (`make_euler_continuous_and_scan`, what the pipeline runs)
+/// gives the two-pass result: the same triples bit for bit, the same worst passage and jump.
+#[test]
+fn one_pass_repick_and_scan_equals_the_two_passes() {
+    use articula::motion::unwrap::{make_euler_continuous_and_scan, scan_triples};
+    use articula::rotation::EulerOrder;
+    let deg = |a: f64, b: f64, c: f64| [a.to_radians(), b.to_radians(), c.to_radians()];
+    // a pass near gimbal lock, a branch flip, wrapped turns and a 120° glitch
+    let raw: Vec<[f64; 3]> = (0..60)
+        .map(|k| {
+            let t = 40.0 * k as f64;
+            let b = if k < 20 { 88.0 } else { 30.0 + k as f64 };
+            let glitch = if k == 45 { 120.0 } else { 0.0 };
+            deg(wrap(t + glitch, 360.0), b, wrap(-t, 360.0))
+        })
+        .collect();
+    for order in [EulerOrder::XYZ, EulerOrder::ZXY, EulerOrder::YXZ] {
+        let mut two = raw.clone();
+        make_euler_continuous(order, &mut two);
+        let scan = scan_triples(order, &two);
+        let mut one = raw.clone();
+        let fused = make_euler_continuous_and_scan(order, &mut one);
+        let bits =
+            |f: &[[f64; 3]]| -> Vec<[u64; 3]> { f.iter().map(|t| t.map(f64::to_bits)).collect() };
+        assert_eq!(bits(&one), bits(&two), "{order}");
+        // the rotation steps agree to rounding (the matrix of the frame as given, not of its
+        // re-picked triple): the worst passage's ratio is the same, though among steps of equal
+        // ratio (a steady sweep past the lock) another may win the tie
+        let ratio =
+            |p: articula::motion::unwrap::GimbalPassage| p.coordinate_step / p.rotation_step;
+        match (fused.passage, scan.passage) {
+            (Some(f), Some(s)) => {
+                let (a, b) = (ratio(f), ratio(s));
+                assert!((a - b).abs() <= 1e-6 * b, "{order}: {a} vs {b}");
+            }
+            (f, s) => assert_eq!(f.is_some(), s.is_some(), "{order}"),
+        }
+        assert_eq!(fused.jump.map(|j| j.0), scan.jump.map(|j| j.0), "{order}");
+        // the fixture holds a passage (XYZ) and a glitch (every order)
+        assert!(fused.jump.is_some(), "{order}: {fused:?}");
+        assert!(
+            order != EulerOrder::XYZ || fused.passage.is_some(),
+            "{fused:?}"
+        );
+    }
+}
+
+/// `round_turns` is `round`, bit for bit, the sign of zero included.
+#[test]
+fn round_turns_is_round_bit_for_bit() {
+    use articula::rotation::round_turns;
+    let mut xs = vec![
+        0.0,
+        -0.0,
+        0.5,
+        -0.5,
+        0.49999999999999994,
+        -0.49999999999999994,
+        1.5,
+    ];
+    xs.extend((-2000..2000).map(|k| k as f64 * 1.37e-3));
+    xs.extend([f64::INFINITY, f64::NEG_INFINITY, 1e300, -1e-300]);
+    for x in xs {
+        assert_eq!(round_turns(x).to_bits(), x.round().to_bits(), "{x}");
+    }
+    assert!(round_turns(f64::NAN).is_nan());
+}

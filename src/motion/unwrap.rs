@@ -13,7 +13,8 @@
 //! [`scan_triples`] finds it (the ball joint model has no such coordinates), and also a rotation
 //! that jumps more than any joint can turn in one frame: a capture glitch.
 
-use crate::rotation::{EulerOrder, euler_to_matrix, matrix_to_euler_near};
+use crate::rotation::{EulerOrder, euler_to_matrix, matrix_to_euler_near, round_turns};
+use nalgebra::Matrix3;
 
 /// The unit of an angle trajectory: the period of a full turn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -41,7 +42,7 @@ pub fn unwrap_angles(unit: AngleUnit, x: &mut [f64]) {
     let turn = unit.full_turn();
     for k in 1..x.len() {
         let d = x[k] - x[k - 1];
-        x[k] -= turn * (d / turn).round();
+        x[k] -= turn * round_turns(d / turn);
     }
 }
 
@@ -86,9 +87,6 @@ pub struct TripleScan {
 /// Scans `frames` (angles in rad, continuous as [`make_euler_continuous`] leaves them) for
 /// passages near gimbal lock and implausible jumps of the rotation. Allocates nothing.
 pub fn scan_triples(order: EulerOrder, frames: &[[f64; 3]]) -> TripleScan {
-    const MIN_STEP: f64 = std::f64::consts::PI / 6.0;
-    const MIN_RATIO: f64 = 5.0;
-    const JUMP: f64 = std::f64::consts::FRAC_PI_2;
     let mut out = TripleScan::default();
     let Some(first) = frames.first() else {
         return out;
@@ -96,29 +94,55 @@ pub fn scan_triples(order: EulerOrder, frames: &[[f64; 3]]) -> TripleScan {
     let mut prev = euler_to_matrix(order, *first);
     for k in 1..frames.len() {
         let r = euler_to_matrix(order, frames[k]);
+        out.step(k, &prev, &r, frames[k - 1], frames[k]);
+        prev = r;
+    }
+    out
+}
+
+/// [`make_euler_continuous`] and [`scan_triples`] in one pass: each frame's rotation matrix is
+/// made once (from the frame as given, the same rotation as its continuous triple up to
+/// rounding) and serves both the re-pick and the scan. Allocates nothing.
+pub fn make_euler_continuous_and_scan(order: EulerOrder, frames: &mut [[f64; 3]]) -> TripleScan {
+    let mut out = TripleScan::default();
+    let Some(first) = frames.first() else {
+        return out;
+    };
+    let mut prev = euler_to_matrix(order, *first);
+    for k in 1..frames.len() {
+        let r = euler_to_matrix(order, frames[k]);
+        frames[k] = matrix_to_euler_near(order, &r, frames[k - 1]);
+        out.step(k, &prev, &r, frames[k - 1], frames[k]);
+        prev = r;
+    }
+    out
+}
+
+impl TripleScan {
+    /// The step from frame `k − 1` (rotation `prev`, angles `a`) to frame `k` (`r`, `b`).
+    fn step(&mut self, k: usize, prev: &Matrix3<f64>, r: &Matrix3<f64>, a: [f64; 3], b: [f64; 3]) {
+        const MIN_STEP: f64 = std::f64::consts::PI / 6.0;
+        const MIN_RATIO: f64 = 5.0;
+        const JUMP: f64 = std::f64::consts::FRAC_PI_2;
         let cos = ((prev.transpose() * r).trace() - 1.0) / 2.0;
         let rotation_step = cos.clamp(-1.0, 1.0).acos();
-        let step = (0..3)
-            .map(|i| (frames[k][i] - frames[k - 1][i]).abs())
-            .fold(0.0, f64::max);
+        let step = (0..3).map(|i| (b[i] - a[i]).abs()).fold(0.0, f64::max);
         if step > MIN_STEP
             && step > MIN_RATIO * rotation_step
-            && out
+            && self
                 .passage
                 .is_none_or(|w| step / rotation_step > w.coordinate_step / w.rotation_step)
         {
-            out.passage = Some(GimbalPassage {
+            self.passage = Some(GimbalPassage {
                 frame: k - 1,
                 coordinate_step: step,
                 rotation_step,
             });
         }
-        if rotation_step > JUMP && out.jump.is_none_or(|(_, a)| rotation_step > a) {
-            out.jump = Some((k - 1, rotation_step));
+        if rotation_step > JUMP && self.jump.is_none_or(|(_, a)| rotation_step > a) {
+            self.jump = Some((k - 1, rotation_step));
         }
-        prev = r;
     }
-    out
 }
 
 #[cfg(test)]

@@ -550,8 +550,14 @@ pub fn consistent_job(
                 .into(),
         ));
     }
-    let (adjusted, _, c) = consistent_take(take, reduce)?;
+    let feet = take.options.contact == super::Contact::Feet;
+    let (adjusted, estimated, c) = consistent_take(take, reduce)?;
+    if adjusted.is_none() && feet {
+        // the take as it is: the very estimate `job_torques` would make again
+        job.estimated = Some(estimated);
+    }
     if let Some(t) = adjusted {
+        job.estimated = None;
         job.model = t.model.clone();
         job.states = t.states.clone();
         job.take = Some(t);

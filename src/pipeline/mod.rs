@@ -25,6 +25,8 @@ pub mod formats;
 pub mod measured;
 mod mujoco;
 mod sim;
+pub mod stages;
+mod states;
 
 pub use contact::{
     Contact, contact_choice, contact_feet, edge_frames, estimate_take_ground_reactions,
@@ -37,6 +39,11 @@ pub use sim::{
     Bench, SimSettings, SimSummary, Tradeoff, TradeoffRow, bench, bench_batches,
     passive_energy_drift, reference, simulate, simulate_states, tradeoff, tradeoff_grid,
 };
+pub use stages::{STAGES, Stage, StageBench, StageSettings, bench_stages};
+pub use states::{
+    derivatives, make_euler_triples_continuous, take_states, take_states_marked, take_states_with,
+    unwrap_and_smooth, unwrap_and_smooth_with,
+};
 
 use crate::dynamics::{self, Workspace};
 use crate::error::Error;
@@ -44,11 +51,11 @@ use crate::io::bvh::{
     self, Bvh, JointTranslations, LengthUnit, PositionMode, ResolvedPosition, UpAxis,
 };
 pub use crate::io::scene::{Damping, PerJoint};
+use crate::model::Model;
 use crate::model::anthropometry::{BodyParams, SegmentTable, Sex};
 use crate::model::bvh::{BvhMap, BvhModelOptions, JointModel, build_bvh_model};
-use crate::model::{JointKind, Model};
 use crate::motion::smooth::{SmoothSpec, Smoother};
-use crate::motion::unwrap::{AngleUnit, unwrap_angles};
+use crate::par;
 use crate::report::csv::{read_columns, write_columns};
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
@@ -467,9 +474,24 @@ pub struct Take {
 
 /// Stages 1–7 of the module doc.
 pub fn load_take(path: &Path, opts: &TakeOptions) -> Result<Take, Error> {
+    load_take_marked(path, None, opts, &mut |_| {})
+}
+
+/// [`load_take`] that calls `done` at the end of each stage ([`Stage`]); `text`, when given,
+/// is the file's content already read (the bench's cycled take), else the file is read.
+pub fn load_take_marked(
+    path: &Path,
+    text: Option<&[u8]>,
+    opts: &TakeOptions,
+    done: &mut dyn FnMut(Stage),
+) -> Result<Take, Error> {
     // read; a rest pose stored as frame 0 (CMU conversions) is dropped
-    let (bvh, note) = read_take(path, opts.keep_first_frame)?;
-    let mut take = take_from_bvh(path, bvh, opts)?;
+    let (bvh, note) = match text {
+        Some(bytes) => trim_take(bvh::parse_bytes(bytes, path)?, opts.keep_first_frame),
+        None => read_take(path, opts.keep_first_frame)?,
+    };
+    done(Stage::Parse);
+    let mut take = take_from_bvh_marked(path, bvh, opts, &mut |_| true, done)?;
     take.notes.extend(note);
     Ok(take)
 }
@@ -477,9 +499,13 @@ pub fn load_take(path: &Path, opts: &TakeOptions) -> Result<Take, Error> {
 /// Stage 1: parses a BVH and, unless `keep_first_frame`, drops its frame 0 when that is a rest
 /// pose before the motion (`motion::trim`); the note says so, for `info`.
 pub fn read_take(path: &Path, keep_first_frame: bool) -> Result<(Bvh, Option<String>), Error> {
-    let mut bvh = bvh::read(path)?;
+    Ok(trim_take(bvh::read(path)?, keep_first_frame))
+}
+
+/// The trimming half of [`read_take`].
+fn trim_take(mut bvh: Bvh, keep_first_frame: bool) -> (Bvh, Option<String>) {
     if keep_first_frame {
-        return Ok((bvh, None));
+        return (bvh, None);
     }
     let note = crate::motion::trim::trim_rest_first_frame(&mut bvh).map(|r| {
         format!(
@@ -489,7 +515,7 @@ pub fn read_take(path: &Path, keep_first_frame: bool) -> Result<(Bvh, Option<Str
             r.rotation_ratio, r.position_ratio
         )
     });
-    Ok((bvh, note))
+    (bvh, note)
 }
 
 /// Stages 2–7 on an already parsed take.
@@ -502,9 +528,21 @@ pub fn take_from_bvh(path: &Path, bvh: Bvh, opts: &TakeOptions) -> Result<Take, 
 /// returns false.
 pub fn take_from_bvh_with(
     path: &Path,
+    bvh: Bvh,
+    opts: &TakeOptions,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<Take, Error> {
+    take_from_bvh_marked(path, bvh, opts, keep_going, &mut |_| {})
+}
+
+/// [`take_from_bvh_with`] that calls `done` at the end of each stage ([`Stage::Model`], then
+/// those of [`take_states_marked`]).
+pub fn take_from_bvh_marked(
+    path: &Path,
     mut bvh: Bvh,
     opts: &TakeOptions,
     keep_going: &mut dyn FnMut(f64) -> bool,
+    done: &mut dyn FnMut(Stage),
 ) -> Result<Take, Error> {
     // axes and unit
     let mut notes = vec![];
@@ -756,9 +794,15 @@ pub fn take_from_bvh_with(
             s
         }
     };
-    let (states, passages) = take_states_with(&bvh, &model, &map, &smooth, &mut |f| {
-        keep_going(0.1 + 0.9 * f)
-    })?;
+    done(Stage::Model);
+    let (states, passages) = take_states_marked(
+        &bvh,
+        &model,
+        &map,
+        &smooth,
+        &mut |f| keep_going(0.1 + 0.9 * f),
+        done,
+    )?;
     notes.extend(passages);
     Ok(Take {
         path: path.to_path_buf(),
@@ -789,298 +833,6 @@ fn at_file(path: &Path, e: Error) -> Error {
     }
 }
 
-/// Stages 5–7: channels → q (unwrapped), smoothed, then v and a.
-pub fn take_states(
-    bvh: &Bvh,
-    model: &Model,
-    map: &BvhMap,
-    smooth: &SmoothSpec,
-) -> Result<States, Error> {
-    take_states_with(bvh, model, map, smooth, &mut |_| true).map(|(s, _)| s)
-}
-
-/// [`take_states`] with progress and cancel ([`unwrap_and_smooth_with`]; the derivatives are
-/// the last tenth), and a note for each euler joint that passes near gimbal lock or jumps
-/// ([`make_euler_triples_continuous`]).
-pub fn take_states_with(
-    bvh: &Bvh,
-    model: &Model,
-    map: &BvhMap,
-    smooth: &SmoothSpec,
-    keep_going: &mut dyn FnMut(f64) -> bool,
-) -> Result<(States, Vec<String>), Error> {
-    let traj = crate::motion::take::Trajectory::from_bvh(bvh, model, map);
-    let dt = bvh.frame_time;
-    let mut q = traj.q;
-    let notes = make_euler_triples_continuous(bvh, map, &mut q);
-    unwrap_and_smooth_with(model, &mut q, dt, smooth, &mut |f| keep_going(0.9 * f))?;
-    if !keep_going(0.9) {
-        return Err(Error::Cancelled);
-    }
-    let (v, a) = derivatives(model, &q, dt);
-    let states = States {
-        time: traj.time,
-        q,
-        v,
-        a,
-    };
-    Ok((states, notes))
-}
-
-/// Euler model: where a joint's three rotation channels flip to the other Tait–Bryan branch
-/// near a singularity (or jump by whole turns), re-picks for every frame the equivalent triple
-/// nearest the previous frame (`motion::unwrap::make_euler_continuous`). The rotation of every
-/// frame is unchanged; only its coordinates become continuous.
-///
-/// Returns a note for each joint whose continuous triple still passes near gimbal lock
-/// (`motion::unwrap::scan_triples`): there its coordinates turn much faster than the joint,
-/// and the euler model's velocities, accelerations and torques spike; the ball model has no
-/// such coordinates. And one for each joint that turns more than 90° in one frame (a capture
-/// glitch).
-pub fn make_euler_triples_continuous(bvh: &Bvh, map: &BvhMap, q: &mut [Vec<f64>]) -> Vec<String> {
-    let mut notes = vec![];
-    let mut frames: Vec<[f64; 3]> = Vec::with_capacity(q.len());
-    for (joint, jm) in bvh.joints.iter().zip(&map.joints) {
-        let (Some(order), None) = (joint.euler_order(), jm.quat_q) else {
-            continue;
-        };
-        let idx: Vec<usize> = jm
-            .channels
-            .iter()
-            .filter(|c| c.channel.is_rotation())
-            .filter_map(|c| c.q)
-            .collect();
-        let [i0, i1, i2] = idx[..] else {
-            continue; // a locked or partial rotation: nothing to re-pick
-        };
-        frames.clear();
-        frames.extend(q.iter().map(|r| [r[i0], r[i1], r[i2]]));
-        crate::motion::unwrap::make_euler_continuous(order, &mut frames);
-        for (r, f) in q.iter_mut().zip(&frames) {
-            (r[i0], r[i1], r[i2]) = (f[0], f[1], f[2]);
-        }
-        let scan = crate::motion::unwrap::scan_triples(order, &frames);
-        // sitting near the lock (not passing through it) makes D(q) nearly singular all along
-        let near = frames
-            .iter()
-            .filter(|f| f[1].cos().abs() < NEAR_LOCK.sin())
-            .count();
-        if scan.passage.is_none() && near * 100 >= frames.len() {
-            notes.push(format!(
-                "`{}` sits within {:.0}° of gimbal lock in {:.0} % of the frames (its middle \
-                 {order} angle near ±90°): the euler model's mass matrix is nearly singular \
-                 there and `simulate` may fail; use the ball joint model (`--joints ball`, `set \
-                 joints ball`)",
-                joint.name,
-                NEAR_LOCK.to_degrees(),
-                100.0 * near as f64 / frames.len() as f64
-            ));
-        }
-        if let Some(p) = scan.passage {
-            notes.push(format!(
-                "`{}` passes near gimbal lock between frames {} and {}: its {order} angles turn \
-                 {:.0}° in one frame while the joint turns {:.1}°, so the euler model's torques \
-                 spike there; use the ball joint model (`--joints ball`, `set joints ball`)",
-                joint.name,
-                p.frame,
-                p.frame + 1,
-                p.coordinate_step.to_degrees(),
-                p.rotation_step.to_degrees()
-            ));
-        }
-        // a keyframed take at 1 fps turns 96° between keys at an ordinary 96°/s
-        if let Some((frame, angle)) = scan.jump
-            && angle / bvh.frame_time > GLITCH_SPEED
-        {
-            notes.push(format!(
-                "`{}` turns {:.0}° between frames {frame} and {} ({:.0}°/s): no joint does \
-                 that, a capture glitch (a marker or solver swap) does; torques near it are not \
-                 physical",
-                joint.name,
-                angle.to_degrees(),
-                frame + 1,
-                angle.to_degrees() / bvh.frame_time
-            ));
-        }
-    }
-    notes
-}
-
-/// Unwraps revolute coordinates (±2π jumps) and smooths every coordinate: scalar coordinates
-/// column by column, quaternions of ball and free joints on the rotation manifold.
-pub fn unwrap_and_smooth(
-    model: &Model,
-    q: &mut [Vec<f64>],
-    dt: f64,
-    smooth: &SmoothSpec,
-) -> Result<(), Error> {
-    unwrap_and_smooth_with(model, q, dt, smooth, &mut |_| true)
-}
-
-/// [`unwrap_and_smooth`] that reports its progress (0‥1) to `keep_going` before each joint's
-/// coordinates and stops with [`Error::Cancelled`] when it returns false (`q` is then partly
-/// smoothed: the caller drops it).
-pub fn unwrap_and_smooth_with(
-    model: &Model,
-    q: &mut [Vec<f64>],
-    dt: f64,
-    smooth: &SmoothSpec,
-    keep_going: &mut dyn FnMut(f64) -> bool,
-) -> Result<(), Error> {
-    if q.is_empty() {
-        return Ok(());
-    }
-    let mut smoother = Smoother::new(*smooth, dt)?;
-    let nb = model.nbodies();
-    for i in 1..nb {
-        if !keep_going((i - 1) as f64 / (nb - 1) as f64) {
-            return Err(Error::Cancelled);
-        }
-        let iq = model.idx_q[i];
-        match model.joints[i] {
-            JointKind::Revolute { .. } | JointKind::Prismatic { .. } => {
-                let mut col: Vec<f64> = q.iter().map(|row| row[iq]).collect();
-                if matches!(model.joints[i], JointKind::Revolute { .. }) {
-                    unwrap_angles(AngleUnit::Radians, &mut col);
-                }
-                smoother.smooth(&mut col);
-                for (row, x) in q.iter_mut().zip(&col) {
-                    row[iq] = *x;
-                }
-            }
-            JointKind::Spherical | JointKind::Free => {
-                let off = if matches!(model.joints[i], JointKind::Free) {
-                    let mut cols: Vec<Vec<f64>> = (0..3)
-                        .map(|c| q.iter().map(|r| r[iq + c]).collect())
-                        .collect();
-                    for c in cols.iter_mut() {
-                        smoother.smooth(c);
-                    }
-                    for (k, row) in q.iter_mut().enumerate() {
-                        for c in 0..3 {
-                            row[iq + c] = cols[c][k];
-                        }
-                    }
-                    3
-                } else {
-                    0
-                };
-                let mut quats: Vec<nalgebra::UnitQuaternion<f64>> = q
-                    .iter()
-                    .map(|r| crate::spatial::quat_from_xyzw(&r[iq + off..iq + off + 4]))
-                    .collect();
-                smoother.smooth_quaternions(&mut quats);
-                for (row, qt) in q.iter_mut().zip(&quats) {
-                    crate::spatial::quat_to_xyzw(qt, &mut row[iq + off..iq + off + 4]);
-                }
-            }
-            JointKind::Fixed => {}
-        }
-    }
-    Ok(())
-}
-
-/// The linear velocity and acceleration of every free joint from its position's path in the
-/// parent's axes, in body coordinates, replacing the translation part of the SE(3)
-/// differences: `v = Rᵀṗ` and `a = Rᵀp̈ − ω × v` (the derivative of the body coordinates, the
-/// free joint's q̈), `ṗ` and `p̈` by the same second-order differences as every other column
-/// ([`differentiate`](crate::motion::derive::differentiate), once and twice), `ω` the body's
-/// angular velocity from the SO(3) difference. A captured root moves along a path in the
-/// world, not along a screw: the SE(3) logarithm couples the translation with the turn over the
-/// difference's span, which is not Galilean invariant. The same walk on a treadmill (a
-/// constant velocity taken out) gave other accelerations, 4.8 N·m at the Bandai walk's knee at
-/// 30 fps; with `Rᵀp̈` the body's classical acceleration (`a + ω × v`) is the same whatever
-/// the floor's velocity (`tests/contact_in_place.rs`).
-fn world_translation_rates(
-    model: &Model,
-    q: &[Vec<f64>],
-    dt: f64,
-    v: &mut [Vec<f64>],
-    a: &mut [Vec<f64>],
-) {
-    use crate::motion::derive::differentiate;
-    let n = q.len();
-    if n < 3 {
-        return;
-    }
-    let (mut x, mut rate, mut acc) = (vec![0.0; n], vec![vec![0.0; n]; 3], vec![vec![0.0; n]; 3]);
-    for i in (1..model.nbodies()).filter(|&i| model.joints[i] == JointKind::Free) {
-        let (iq, iv) = (model.idx_q[i], model.idx_v[i]);
-        for c in 0..3 {
-            for (xk, qk) in x.iter_mut().zip(q) {
-                *xk = qk[iq + c];
-            }
-            differentiate(&x, dt, &mut rate[c]);
-            differentiate(&rate[c], dt, &mut acc[c]);
-        }
-        for k in 0..n {
-            let r = crate::spatial::quat_from_xyzw(&q[k][iq + 3..iq + 7]);
-            let world = |m: &[Vec<f64>]| nalgebra::Vector3::new(m[0][k], m[1][k], m[2][k]);
-            let lin = r.inverse() * world(&rate);
-            let omega = nalgebra::Vector3::from_column_slice(&v[k][iv + 3..iv + 6]);
-            let lin_acc = r.inverse() * world(&acc) - omega.cross(&lin);
-            v[k][iv..iv + 3].copy_from_slice(lin.as_slice());
-            a[k][iv..iv + 3].copy_from_slice(lin_acc.as_slice());
-        }
-    }
-}
-
-/// v and a by second-order central differences on the configuration manifold
-/// (`v_k = (q_{k+1} ⊖ q_{k−1}) / 2dt`, one-sided second-order formulas at the ends), then the
-/// same on v. Takes of one or two frames get v = a = 0 (one frame) or first differences.
-pub fn derivatives(model: &Model, q: &[Vec<f64>], dt: f64) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
-    let n = q.len();
-    let nv = model.nv;
-    let mut v = vec![vec![0.0; nv]; n];
-    let mut a = vec![vec![0.0; nv]; n];
-    if n < 2 {
-        return (v, a);
-    }
-    let mut d1 = vec![0.0; nv];
-    let mut d2 = vec![0.0; nv];
-    if n == 2 {
-        model.difference(&q[0], &q[1], &mut d1);
-        for x in d1.iter_mut() {
-            *x /= dt;
-        }
-        v[0].copy_from_slice(&d1);
-        v[1].copy_from_slice(&d1);
-        return (v, a);
-    }
-    for k in 0..n {
-        if k == 0 || k == n - 1 {
-            // one-sided: v0 = (−3 q0 + 4 q1 − q2) / 2dt = (4 (q1 ⊖ q0) − (q2 ⊖ q0)) / 2dt
-            let (o, s) = if k == 0 { (0, 1isize) } else { (n - 1, -1) };
-            let p1 = (o as isize + s) as usize;
-            let p2 = (o as isize + 2 * s) as usize;
-            model.difference(&q[o], &q[p1], &mut d1);
-            model.difference(&q[o], &q[p2], &mut d2);
-            for j in 0..nv {
-                v[k][j] = s as f64 * (4.0 * d1[j] - d2[j]) / (2.0 * dt);
-            }
-        } else {
-            model.difference(&q[k - 1], &q[k + 1], &mut d1);
-            for j in 0..nv {
-                v[k][j] = d1[j] / (2.0 * dt);
-            }
-        }
-    }
-    // a: the same second-order differences on each v column (motion::derive)
-    let mut col = vec![0.0; n];
-    let mut d = vec![0.0; n];
-    for j in 0..nv {
-        for (c, row) in col.iter_mut().zip(&v) {
-            *c = row[j];
-        }
-        crate::motion::derive::differentiate(&col, dt, &mut d);
-        for (row, x) in a.iter_mut().zip(&d) {
-            row[j] = *x;
-        }
-    }
-    world_translation_rates(model, q, dt, &mut v, &mut a);
-    (v, a)
-}
-
 /// Where a job's model comes from.
 #[derive(Debug, Clone)]
 pub enum ModelSource {
@@ -1100,6 +852,10 @@ pub struct Job {
     /// Measured ground reactions (`id --grf`, [`measured::use_measured_grf`]), used instead
     /// of the estimate.
     pub measured: Option<crate::dynamics::grf::GroundReactions>,
+    /// The ground reactions estimated on `take` as it is, kept by
+    /// [`consistency::consistent_job`] (which needs them for its figures) so that
+    /// [`job_torques`] does not estimate them a second time.
+    pub estimated: Option<crate::dynamics::grf::GroundReactions>,
 }
 
 /// Loads only the model of a source (for `bench`).
@@ -1138,9 +894,22 @@ pub fn load_source_with(
     opts: &TakeOptions,
     columns: StateColumns,
 ) -> Result<Job, Error> {
+    load_source_marked(src, states, opts, columns, None, &mut |_| {})
+}
+
+/// [`load_source_with`] that calls `done` at the end of each stage ([`load_take_marked`],
+/// then [`Stage::Job`]); `text` is the take's content already read, if any.
+pub fn load_source_marked(
+    src: &ModelSource,
+    states: Option<&Path>,
+    opts: &TakeOptions,
+    columns: StateColumns,
+    text: Option<&[u8]>,
+    done: &mut dyn FnMut(Stage),
+) -> Result<Job, Error> {
     let (model, own, take) = match src {
         ModelSource::Take(p) => {
-            let t = load_take(p, opts)?;
+            let t = load_take_marked(p, text, opts, done)?;
             (t.model.clone(), Some(t.states.clone()), Some(t))
         }
         ModelSource::Urdf(..) | ModelSource::Dh(_) => (robot_model(src, opts)?, None, None),
@@ -1155,11 +924,13 @@ pub fn load_source_with(
             )));
         }
     };
+    done(Stage::Job);
     Ok(Job {
         model,
         states,
         take,
         measured: None,
+        estimated: None,
     })
 }
 
@@ -1368,29 +1139,30 @@ pub const PROGRESS_EVERY: usize = 64;
 
 /// [`inverse_dynamics`] that reports its progress (0‥1) to `keep_going` every
 /// [`PROGRESS_EVERY`] samples and stops when it returns false: then `tau` holds only the
-/// samples computed so far (fewer than `states.len()`).
+/// samples computed so far (fewer than `states.len()`). Frames in parallel ([`par::rounds`]),
+/// each worker with one [`Workspace`] made once.
 pub fn inverse_dynamics_with(
     model: &Model,
     states: &States,
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Torques {
-    let mut ws = Workspace::new(model);
     let n = states.len();
-    let mut tau = Vec::with_capacity(n);
-    for k in 0..n {
-        if k % PROGRESS_EVERY == 0 && !keep_going(k as f64 / n as f64) {
-            break;
-        }
-        let t = dynamics::rnea(
-            model,
-            &mut ws,
-            &states.q[k],
-            &states.v[k],
-            &states.a[k],
-            None,
-        );
-        tau.push(t.as_slice().to_vec());
-    }
+    let mut tau = vec![vec![0.0; model.nv]; n];
+    let mut workspaces = par::scratch(|| Workspace::new(model));
+    let reached = par::rounds(
+        &mut tau,
+        PROGRESS_EVERY,
+        &mut workspaces,
+        |ws, first, rows| {
+            for (i, row) in rows.iter_mut().enumerate() {
+                let k = first + i;
+                let t = dynamics::rnea(model, ws, &states.q[k], &states.v[k], &states.a[k], None);
+                row.copy_from_slice(t.as_slice());
+            }
+        },
+        &mut |k| keep_going(k as f64 / n as f64),
+    );
+    tau.truncate(reached);
     Torques {
         time: states.time.clone(),
         names: model.v_names.clone(),
@@ -1432,16 +1204,33 @@ pub fn write_inverse_dynamics(
 pub fn job_torques(
     job: &Job,
 ) -> Result<(Torques, Option<crate::dynamics::grf::GroundReactions>), Error> {
-    let grf = match (&job.measured, &job.take) {
-        (Some(m), _) => Some(m.clone()),
-        (None, Some(t)) => ground_reactions(t)?,
-        (None, None) => None,
+    job_torques_marked(job, &mut |_| {})
+}
+
+/// [`job_torques`] that calls `done` at the end of [`Stage::Contact`] (the ground reactions,
+/// when the take has contact) and of [`Stage::InverseDynamics`].
+pub fn job_torques_marked(
+    job: &Job,
+    done: &mut dyn FnMut(Stage),
+) -> Result<(Torques, Option<crate::dynamics::grf::GroundReactions>), Error> {
+    let grf = match (&job.measured, &job.estimated, &job.take) {
+        (Some(m), _, _) => Some(m.clone()),
+        (None, Some(e), _) => Some(e.clone()),
+        (None, None, Some(t)) => ground_reactions(t)?,
+        (None, None, None) => None,
     };
-    let mut t = inverse_dynamics(&job.model, &job.states);
-    if let Some(g) = &grf {
-        t.tau.clone_from(&g.tau);
-    }
+    done(Stage::Contact);
+    // with ground reactions, their estimate's torques are the answer (it ran RNEA with them)
+    let t = match &grf {
+        Some(g) => Torques {
+            time: job.states.time.clone(),
+            names: job.model.v_names.clone(),
+            tau: g.tau.clone(),
+        },
+        None => inverse_dynamics(&job.model, &job.states),
+    };
     check_finite(&t.tau, &t.names, "torque")?;
+    done(Stage::InverseDynamics);
     Ok((t, grf))
 }
 

@@ -345,14 +345,25 @@ pub fn estimate_ground_reactions_progress(
     let shares = transitions(&contact, time);
 
     // the whole-body wrench each frame needs (world axes, about the world origin)
-    let mut needed = Vec::with_capacity(n);
-    for k in 0..n {
-        if k % PROGRESS_EVERY == 0 && !keep_going(0.5 * k as f64 / n as f64) {
-            return Err(Error::Cancelled);
-        }
-        forward_kinematics(model, &mut ws, &q[k]);
-        rnea(model, &mut ws, &q[k], &v[k], &a[k], None);
-        needed.push(root_wrench(model, &ws));
+    // (frames in parallel, each worker with its own workspace: `crate::par`)
+    let mut needed = vec![ForceVec::ZERO; n];
+    let mut workspaces = crate::par::scratch(|| Workspace::new(model));
+    let reached = crate::par::rounds(
+        &mut needed,
+        PROGRESS_EVERY,
+        &mut workspaces,
+        |ws, first, block| {
+            for (i, w) in block.iter_mut().enumerate() {
+                let k = first + i;
+                forward_kinematics(model, ws, &q[k]);
+                rnea(model, ws, &q[k], &v[k], &a[k], None);
+                *w = root_wrench(model, ws);
+            }
+        },
+        &mut |k| keep_going(0.5 * k as f64 / n as f64),
+    );
+    if reached < n {
+        return Err(Error::Cancelled);
     }
     let up_force: Vec<f64> = needed.iter().map(|w| w.lin[up]).collect();
     let spread = (params.spread_s / dt).round() as usize;
