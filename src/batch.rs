@@ -290,9 +290,13 @@ pub fn run(args: BatchArgs) -> Result<ExitCode> {
     if threads == 0 {
         bail!("--jobs 0: give at least 1");
     }
+    // the cores are shared out among the takes running at once: each child's frames run on
+    // cores / N threads (its own `--threads` wins), so N takes do not each ask for every core
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let child_threads = (cores / threads.min(jobs.len()).max(1)).max(1);
     let progress = Progress::new(jobs.len());
     let rows = run_all(&jobs, threads, |job| {
-        let row = run_job(job, spec, &of, args.force);
+        let row = run_job(job, spec, &of, args.force, child_threads);
         progress.done(&row);
         row
     });
@@ -513,7 +517,7 @@ fn plan<'a>(
 }
 
 /// Runs one job (or skips it when up to date), then reads its output back for the summary.
-fn run_job(job: &Job, spec: &CommandSpec, of: &[String], force: bool) -> Row {
+fn run_job(job: &Job, spec: &CommandSpec, of: &[String], force: bool, threads: usize) -> Row {
     let mut row = Row {
         take: job.take.rel.to_string_lossy().into_owned(),
         setting: job.setting.clone(),
@@ -528,7 +532,7 @@ fn run_job(job: &Job, spec: &CommandSpec, of: &[String], force: bool) -> Row {
         row.status = Status::Skipped;
     } else {
         let start = Instant::now();
-        let result = execute(job, spec);
+        let result = execute(job, spec, threads);
         row.seconds = start.elapsed().as_secs_f64();
         if let Err(e) = result {
             row.status = Status::Failed;
@@ -556,7 +560,7 @@ fn args_text(job: &Job) -> String {
 
 /// Runs the child; its output in place, its log written, its sidecar recorded on success. The
 /// error is the last line of its standard error.
-fn execute(job: &Job, spec: &CommandSpec) -> std::result::Result<(), String> {
+fn execute(job: &Job, spec: &CommandSpec, threads: usize) -> std::result::Result<(), String> {
     for p in [&job.output, &job.log, &job.sidecar] {
         if let Some(parent) = p.parent() {
             std::fs::create_dir_all(parent)
@@ -568,6 +572,7 @@ fn execute(job: &Job, spec: &CommandSpec) -> std::result::Result<(), String> {
     let exe = std::env::current_exe().map_err(|e| format!("finding articula itself: {e}"))?;
     let out = std::process::Command::new(exe)
         .args(&job.argv)
+        .env("RAYON_NUM_THREADS", threads.to_string())
         .stdin(Stdio::null())
         .output()
         .map_err(|e| format!("starting articula: {e}"))?;
