@@ -179,3 +179,80 @@ fn ticks_land_on_round_values_and_hold_zero() {
         }
     }
 }
+
+#[test]
+fn mirror_names_swap_the_sides_as_exporters_write_them() {
+    use articula::session::workbench::mirror_names;
+    for (a, b) in [
+        ("knee_l:flexion", "knee_r:flexion"),
+        ("LeftLeg.Xrotation", "RightLeg.Xrotation"),
+        ("RightLeg.Xrotation", "LeftLeg.Xrotation"),
+        ("lThigh.Zrotation", "rThigh.Zrotation"),
+        ("LHipJoint.Yrotation", "RHipJoint.Yrotation"),
+        ("Foot_L.Xrotation", "Foot_R.Xrotation"),
+        ("thigh.L.Xrotation", "thigh.R.Xrotation"),
+        ("mHipLeft.Xrotation", "mHipRight.Xrotation"),
+        ("L_Knee.Zrotation", "R_Knee.Zrotation"),
+        (
+            "mixamorig:LeftUpLeg.Xrotation",
+            "mixamorig:RightUpLeg.Xrotation",
+        ),
+        ("LeftLeg:wx", "RightLeg:wx"),
+    ] {
+        assert!(
+            mirror_names(a).contains(&b.to_string()),
+            "{a}: {:?}",
+            mirror_names(a)
+        );
+    }
+    // a name without a side has no mirror (`Hips`, `Spine1`; `lowerback` is not `l`+`owerback`)
+    assert!(mirror_names("Hips.Xrotation").is_empty());
+    assert!(mirror_names("lowerback.Xrotation").is_empty());
+}
+
+#[test]
+fn m_draws_the_mirror_joints_curves_beside_the_selected_ones_without_recomputing() {
+    let (w, h) = (180, 50);
+    let (mut ui, mut wb) = demo(w, h);
+    ui.color = true;
+    press(&mut ui, &mut wb, "}}}}}}}}}}");
+    let before = wb.latest_results().unwrap() as *const _;
+    let text = screen(&ui, &wb, w, h);
+    let (a, b) = (
+        row_of(&text, "knee_l:flexion angle") as u16,
+        row_of(&text, "⏸") as u16,
+    );
+    assert!(columns_in(&buffer(&ui, &wb, w, h), a + 1, b, Color::Green).is_empty());
+    press(&mut ui, &mut wb, "m");
+    assert!(wb.overlay_mirror);
+    assert_eq!(
+        wb.latest_results().unwrap() as *const _,
+        before,
+        "a view setting"
+    );
+    let text = screen(&ui, &wb, w, h);
+    let angle = text.lines().nth(a as usize).unwrap();
+    assert!(angle.contains("│ knee_r:flexion now "), "{angle}");
+    let torque = text
+        .lines()
+        .find(|l| l.starts_with("knee_l:flexion torque"))
+        .unwrap();
+    assert!(torque.contains("│ knee_r:flexion now "), "{torque}");
+    // the right knee's curve, in its own colour, across the take
+    let green = columns_in(&buffer(&ui, &wb, w, h), a + 1, b, Color::Green);
+    assert!(green.len() > 100, "{green:?}");
+    // the same from a session command, and off again; the compact form says it in its label
+    press(&mut ui, &mut wb, ":set overlay none<Enter>");
+    assert!(!wb.overlay_mirror);
+    let (mut ui, mut wb) = demo(80, 24);
+    press(&mut ui, &mut wb, ":set overlay mirror<Enter>");
+    let text = screen(&ui, &wb, 80, 24);
+    assert!(text.contains("│ knee_r:flexion now"), "{text}");
+    press(&mut ui, &mut wb, ":set overlay both<Enter>");
+    assert!(
+        ui.error
+            .as_deref()
+            .unwrap_or("")
+            .contains("expected mirror or none")
+    );
+}

@@ -259,6 +259,7 @@ pub const SET_KEYS: &[&str] = &[
     "contact",
     "consistent",
     "edges",
+    "overlay",
     "keep_first_frame",
     "joint_translations",
     "kp",

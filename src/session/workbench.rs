@@ -699,6 +699,10 @@ pub struct Workbench {
     /// The motor catalogue `report motor` chooses from (`set motor.catalogue`; the bundled
     /// `data/motor_classes.toml` by default).
     pub motor_classes: Vec<motor::MotorClass>,
+    /// Whether the curves also draw the selected coordinate's mirror (`set overlay mirror`:
+    /// `knee_r:flexion` beside `knee_l:flexion`, `RightLeg.Xrotation` beside
+    /// `LeftLeg.Xrotation`); a view setting, results do not depend on it.
+    pub overlay_mirror: bool,
 }
 
 impl std::fmt::Debug for Workbench {
@@ -744,6 +748,7 @@ impl Workbench {
             sim: None,
             messages: vec![],
             motor_classes: motor::default_catalogue().unwrap_or_default(),
+            overlay_mirror: false,
         }
     }
 
@@ -1336,6 +1341,18 @@ impl Workbench {
             value
                 .parse::<T>()
                 .map_err(|e| err(format!("set {key}: {e}")))
+        }
+        if key == "overlay" {
+            self.overlay_mirror = match value {
+                "mirror" => true,
+                "none" => false,
+                _ => {
+                    return Err(err(format!(
+                        "set overlay: expected mirror or none, found '{value}'"
+                    )));
+                }
+            };
+            return Ok(());
         }
         let auto = matches!(value, "auto" | "none");
         let p = &mut self.params;
@@ -2076,6 +2093,60 @@ pub fn torque_series(r: &Analysis, coord: &str) -> Option<Vec<f64>> {
     }
     let j = r.anatomy.col_index(&format!("{coord}:moment"))?;
     Some(r.anatomy.column(j))
+}
+
+/// The selected coordinate's mirror in the results, whose angle is known: the same name with
+/// left and right swapped in the joint's name, as exporters write them (`knee_l` / `knee_r`,
+/// `LeftLeg` / `RightLeg`, `lThigh` / `rThigh`, `Foot_L` / `Foot_R`, `thigh.L` / `thigh.R`,
+/// `mHipLeft` / `mHipRight`, `L_Knee` / `R_Knee`). `None` when no swap names a coordinate.
+pub fn mirror_coord(r: &Analysis, coord: &str) -> Option<String> {
+    mirror_names(coord)
+        .into_iter()
+        .find(|m| m != coord && angle_series(r, m).is_some())
+}
+
+/// The names `coord` may have on the other side: each way of writing left and right swapped.
+pub fn mirror_names(coord: &str) -> Vec<String> {
+    // the joint's part: before the coordinate's separator (`.` before a channel, `:` before an
+    // anatomical axis); a name's own `.L` / `.R` stays in the joint part
+    let (joint, rest) = match coord.rfind([':', '.']) {
+        Some(i) if !matches!(&coord[i..], ".L" | ".R" | ".l" | ".r") => coord.split_at(i),
+        _ => (coord, ""),
+    };
+    const PAIRS: [(&str, &str); 12] = [
+        ("Left", "Right"),
+        ("left", "right"),
+        ("LEFT", "RIGHT"),
+        ("_l", "_r"),
+        ("_L", "_R"),
+        (".L", ".R"),
+        (".l", ".r"),
+        ("L_", "R_"),
+        ("l_", "r_"),
+        ("Lf", "Rt"),
+        ("l", "r"),
+        ("L", "R"),
+    ];
+    let mut out = vec![];
+    for (a, b) in PAIRS {
+        for (from, to) in [(a, b), (b, a)] {
+            // a one-letter side is a prefix (`lThigh`, `LHipJoint`), the others anywhere
+            let swapped = if from.len() == 1 {
+                joint
+                    .strip_prefix(from)
+                    .filter(|t| t.starts_with(|c: char| c.is_uppercase()))
+                    .map(|t| format!("{to}{t}"))
+            } else if joint.contains(from) {
+                Some(joint.replacen(from, to, 1))
+            } else {
+                None
+            };
+            if let Some(j) = swapped {
+                out.push(format!("{j}{rest}"));
+            }
+        }
+    }
+    out
 }
 
 /// Whether `coord` is an anatomical axis of the results (`knee_l:flexion`).

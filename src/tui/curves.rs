@@ -15,7 +15,7 @@ use super::ui::Ui;
 use crate::session::Workbench;
 use crate::session::command::Quantity;
 use crate::session::units::{self, Kind};
-use crate::session::workbench::{angle_series, torque_series};
+use crate::session::workbench::{angle_series, mirror_coord, torque_series};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
@@ -163,7 +163,12 @@ struct Curve<'a> {
     x: Option<Vec<f64>>,
     kind: Kind,
     color: Color,
+    /// The mirror coordinate's name and series, with `set overlay mirror`.
+    mirror: Option<(String, Vec<f64>)>,
 }
+
+/// The colour of the mirror joint's curve.
+const MIRROR: Color = Color::Green;
 
 /// Draws the selected coordinate's two curves in `area` (sparklines or charts by its height).
 pub fn draw_curves(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
@@ -178,6 +183,15 @@ pub fn draw_curves(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         _ => true,
     };
     let name = sel.as_deref().unwrap_or("no selection");
+    let mirror = (wb.overlay_mirror)
+        .then(|| r.zip(sel.as_deref()))
+        .flatten()
+        .and_then(|(r, s)| Some((r, mirror_coord(r, s)?)));
+    let mirror_of = |series: fn(&crate::session::engine::Analysis, &str) -> Option<Vec<f64>>| {
+        mirror
+            .as_ref()
+            .and_then(|(r, m)| Some((m.clone(), series(r, m)?)))
+    };
     let curves = [
         Curve {
             name,
@@ -185,6 +199,7 @@ pub fn draw_curves(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
             x: angle,
             kind: Quantity::Angle.kind(is_angle),
             color: Color::Cyan,
+            mirror: mirror_of(angle_series),
         },
         Curve {
             name,
@@ -192,6 +207,7 @@ pub fn draw_curves(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
             x: torque,
             kind: Quantity::Torque.kind(is_angle),
             color: Color::Magenta,
+            mirror: mirror_of(torque_series),
         },
     ];
     let charts = area.height >= 2 * 6;
@@ -247,6 +263,13 @@ fn label(c: &Curve, x: &[f64], k: usize, quoted: impl Fn(usize) -> bool + Copy) 
         Some((None, now)) => format!("{name} {what} [{unit}]  now {}", n(now)),
         None => format!("{name} {what}"),
     };
+    let label = match &c.mirror {
+        Some((m, y)) => match y.get(k.min(y.len().saturating_sub(1))) {
+            Some(&v) => format!("{label}  │ {m} now {}", n(v)),
+            None => label,
+        },
+        None => label,
+    };
     if left_out > 0 {
         format!("{label}  ({left_out} shaded frames not quoted)")
     } else {
@@ -288,6 +311,13 @@ fn draw_chart(
         (lo, hi) if lo <= hi => (lo, hi),
         _ => range(&|_| true),
     };
+    // the mirror's curve on the same scale (its quoted frames are the take's)
+    let mirror: Vec<(f64, f64)> = (c.mirror.iter())
+        .flat_map(|(_, y)| y.iter().enumerate().map(|(k, &v)| (t(k), shown(v))))
+        .collect();
+    let (lo, hi) = (mirror.iter().enumerate())
+        .filter(|&(k, _)| quoted(k))
+        .fold((lo, hi), |(lo, hi), (_, p)| (lo.min(p.1), hi.max(p.1)));
     // a force's sign is what a reader looks for: its axis always holds zero
     let forces = c.what == "torque" || c.what == "force";
     let (lo, hi) = if forces {
@@ -355,6 +385,17 @@ fn draw_chart(
                     Style::default().fg(LEFT_OUT)
                 })
                 .data(piece),
+        );
+    }
+    // the mirror under the selected curve, which is drawn over it
+    if !mirror.is_empty() {
+        sets.insert(
+            usize::from(y0 < 0.0 && y1 > 0.0),
+            Dataset::default()
+                .marker(Marker::Braille)
+                .graph_type(GraphType::Line)
+                .style(Style::default().fg(MIRROR))
+                .data(&mirror),
         );
     }
     sets.push(

@@ -598,7 +598,8 @@ avatar        ←/→ yaw, ↑/↓ pitch (also < and > anywhere), r resets the v
 parameters    ↑/↓ choose, ←/→ or -/+ change (results recompute), Enter edits as :set
 timeline      ←/→ one frame, ↑/↓ ten frames, click to jump
 anywhere      Space play/pause, [ ] one frame, { } ten frames, g/G first/last frame,
-              t/T the next/previous loaded take (:take N|NAME)
+              t/T the next/previous loaded take (:take N|NAME), m the mirror joint's
+              curves beside the selected one's (:set overlay mirror|none)
 Esc           cancel the running job (⟳ in the status line) and what waits for it; clear an error
 Commands are the session language: load, set, run, select, frame, export, expect, ...";
 

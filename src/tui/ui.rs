@@ -486,6 +486,15 @@ impl Ui {
             KeyCode::End | KeyCode::Char('G') => frame_to(self, wb, frames as isize - 1),
             // the next / previous loaded take
             KeyCode::Char('t') => self.exec(wb, &Command::Take(TakeRef::Next)),
+            // the mirror joint's curve beside the selected one's: `set overlay mirror|none`
+            KeyCode::Char('m') => {
+                let value = if wb.overlay_mirror { "none" } else { "mirror" };
+                let cmd = Command::Set {
+                    key: "overlay".into(),
+                    value: value.into(),
+                };
+                self.exec(wb, &cmd)
+            }
             KeyCode::Char('T') => self.exec(wb, &Command::Take(TakeRef::Prev)),
             KeyCode::Char('<') => self.yaw -= 0.2,
             KeyCode::Char('>') => self.yaw += 0.2,
@@ -872,6 +881,7 @@ pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
         ["set", "contact"] => vec!["auto".into(), "feet".into(), "none".into()],
         ["set", "consistent"] => vec!["auto".into(), "on".into(), "off".into()],
         ["set", "edges"] => vec!["exclude".into(), "include".into()],
+        ["set", "overlay"] => vec!["mirror".into(), "none".into()],
         ["set", "joint_translations"] => vec!["weld".into(), "keep".into()],
         ["set", "integrator"] => ["euler", "semi-implicit", "rk4", "dopri5"]
             .map(String::from)
