@@ -173,6 +173,12 @@ const COMMANDS: &[CommandSpec] = &[
         default_of: &[],
     },
     CommandSpec {
+        words: &["export", "gltf"],
+        ext: "glb",
+        stdout: false,
+        default_of: &[],
+    },
+    CommandSpec {
         words: &["export", "grf"],
         ext: "csv",
         stdout: false,

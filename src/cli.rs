@@ -273,6 +273,9 @@ pub enum ExportWhat {
     Grf,
     /// Every joint's world position as a marker, OpenSim's .trc (--trc-units mm|m).
     Trc,
+    /// glTF 2.0 binary (.glb) for game engines and 3-D tools: the skeleton, the superquadric
+    /// links skinned to it and the take's animation (m, Y up: turned from the take's up axis).
+    Gltf,
 }
 
 /// Every export: its command name (for flag checks and messages) and what it writes.
@@ -283,6 +286,7 @@ const EXPORTS: &[(ExportWhat, &str)] = &[
     (ExportWhat::States, "export states"),
     (ExportWhat::Grf, "export grf"),
     (ExportWhat::Trc, "export trc"),
+    (ExportWhat::Gltf, "export gltf"),
 ];
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -497,6 +501,13 @@ const UNUSED_TAKE_FLAGS: &[(&str, &[&str], &str)] = &[
         "markers are the joints' positions from the file's channels (those below the root \
          welded at their mean unless --joint-translations keep); no model, mass or smoothing \
          enters",
+    ),
+    (
+        "export gltf",
+        &["--smooth", "--contact", "--damping"],
+        "the animation is the file's channels (those below the root welded at their mean \
+         unless --joint-translations keep), as `export trc` has them: no smoothing, contact or \
+         friction enters",
     ),
     (
         "export grf",
@@ -766,7 +777,10 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 .iter()
                 .find(|(w, _)| *w == what)
                 .map_or("export", |e| e.1);
-            let table = !matches!(what, ExportWhat::Urdf | ExportWhat::Mjcf | ExportWhat::Trc);
+            let table = !matches!(
+                what,
+                ExportWhat::Urdf | ExportWhat::Mjcf | ExportWhat::Trc | ExportWhat::Gltf
+            );
             if format.is_some() && !table {
                 bail!("--format has no effect on `articula {command}`; remove it");
             }
@@ -785,6 +799,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 ExportWhat::Positions => pipeline::export_positions(&take, &output)?,
                 ExportWhat::Urdf => pipeline::export_urdf(&take, &output)?,
                 ExportWhat::Mjcf => pipeline::export_mjcf(&take, &output)?,
+                ExportWhat::Gltf => pipeline::export_gltf(&take, &output)?,
                 ExportWhat::States => formats::export_states_as(&take, &output, format)?,
                 ExportWhat::Grf => {
                     pipeline::resolve_contact(&mut take);

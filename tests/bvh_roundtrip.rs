@@ -111,6 +111,7 @@ fn random_bvh() -> impl Strategy<Value = Bvh> {
                     channel_count: count,
                     motion,
                     first_frame: 0,
+                    decimals: Vec::new(),
                 })
             })
     })
@@ -222,6 +223,7 @@ fn non_depth_first_order_is_written_consistently() {
         channel_count: 12,
         motion: (0..12).map(f64::from).collect(),
         first_frame: 0,
+        decimals: Vec::new(),
     };
     let back = reparse(&b);
     let names: Vec<&str> = back.joints.iter().map(|j| j.name.as_str()).collect();

@@ -263,6 +263,7 @@ fn t_pose(up: usize, unit_m: f64) -> Bvh {
         channel_count: first,
         motion,
         first_frame: 0,
+        decimals: Vec::new(),
     }
 }
 
@@ -405,7 +406,7 @@ mod homogeneous {
                 });
                 first += layouts[i].len();
             }
-            let b = Bvh { joints, frame_time: 0.1, frames: 1, channel_count: first, motion: values[..first].to_vec(), first_frame: 0 };
+            let b = Bvh { joints, frame_time: 0.1, frames: 1, channel_count: first, motion: values[..first].to_vec(), first_frame: 0, decimals: Vec::new() };
             let modes = bvh::resolve_position_modes(&b, mode);
             let p = bvh::bvh_world_positions(&b, &modes, 0);
             let s = bvh::bvh_end_site_positions(&b, &modes, 0);

@@ -61,6 +61,7 @@ fn fixture(fps: f64, duration: f64, f: impl Fn(f64) -> [f64; 13]) -> Bvh {
         channel_count: 13,
         motion,
         first_frame: 0,
+        decimals: Vec::new(),
     }
 }
 

@@ -274,39 +274,59 @@ fn outputs_of_a_welded_take_agree_with_its_model() {
         }
     }
 
-    // a BVH written from it: every channel of the file, the welded ones at their mean
+    // a BVH written from it, portable (docs/animation-tools.md): the welded joints' channels
+    // folded into their OFFSET at their held (mean) translation, the root's OFFSET zero and its
+    // channels its translation, every other channel of the file as it was
     let written = dir.path().join("w.bvh");
     pipeline::export_smoothed_bvh(&t, &written).unwrap();
     let w = bvh::read(&written).unwrap();
-    assert_eq!(w.channel_count, six.channel_count);
+    let adds = |j: usize| t.positions[j] == bvh::ResolvedPosition::Add;
     for wj in &t.welded {
         let joint = &w.joints[wj.joint];
-        for k in 0..w.frames {
-            for a in 0..3 {
-                let x = w.frame(k)[joint.first_channel + a];
-                assert!((x - wj.values[a]).abs() < 1e-9, "{}: {x}", joint.name);
+        let held = if adds(wj.joint) {
+            six.joints[wj.joint].offset + wj.values
+        } else {
+            wj.values
+        };
+        assert!(!joint.has_position(), "{}", joint.name);
+        assert!(
+            (joint.offset - held).norm() < 1e-9,
+            "{}: {}",
+            joint.name,
+            joint.offset
+        );
+    }
+    assert_eq!(w.joints[0].offset, nalgebra::Vector3::zeros());
+    for (j, (jw, js)) in w.joints.iter().zip(&six.joints).enumerate() {
+        for (n, c) in jw.channels.iter().enumerate() {
+            let m = js
+                .channels
+                .iter()
+                .position(|d| d == c)
+                .expect("a channel of the file");
+            let shift = if j == 0 && !c.is_rotation() && adds(0) {
+                js.offset[c.axis()]
+            } else {
+                0.0
+            };
+            for k in 0..w.frames {
+                let x = w.frame(k)[jw.first_channel + n];
+                let y = six.frame(k)[js.first_channel + m] + shift;
+                assert!((x - y).abs() < 1e-9, "{} {}: {x} vs {y}", jw.name, c.name());
             }
         }
     }
-    for (k, (x, y)) in w.motion.iter().zip(&six.motion).enumerate() {
-        let col = k % six.channel_count;
-        let joint = six
-            .joints
-            .iter()
-            .rposition(|j| j.first_channel <= col)
-            .unwrap();
-        let position =
-            !six.joints[joint].channels[col - six.joints[joint].first_channel].is_rotation();
-        if joint == 0 || !position {
-            assert!((x - y).abs() < 1e-9, "column {col}: {x} vs {y}");
-        }
-    }
-    // the same body: its stature from the motion moves with the capture noise the weld removed
+    // the same body: its stature from the motion moves with the capture noise the weld removed;
+    // the welded bones are now their held translations (OFFSET = mean), not the file's rest
+    // OFFSETs, so the link masses move with the noise: torques within 1 % of the peak
     let mut same_body = options();
     same_body.stature_m = Some(t.stature_m);
     let again = pipeline::load_take(&written, &same_body).unwrap();
     let t = pipeline::load_take(&file, &same_body).unwrap();
-    assert!(largest_difference(&torques(&again), &torques(&t)) < 1e-6);
+    let (a, b) = (torques(&again), torques(&t));
+    let peak = b.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    let gap = largest_difference(&a, &b);
+    assert!(gap < 0.01 * peak, "torques differ by {gap} (peak {peak})");
     assert!(again.welded.iter().all(|w| w.variation_m == 0.0));
 }
 

@@ -386,6 +386,7 @@ pub fn walk(params: &WalkParams) -> Bvh {
         channel_count: first_channel,
         motion,
         first_frame: 0,
+        decimals: Vec::new(),
     }
 }
 

@@ -3,6 +3,7 @@
 pub mod bvh;
 pub mod dh;
 pub mod generate;
+pub mod gltf_write;
 pub mod mjcf_write;
 pub mod scene;
 pub mod urdf_write;

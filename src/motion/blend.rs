@@ -597,6 +597,10 @@ pub fn blend(
             }
         }
     }
+    // every value at the precision the first take was read with
+    let decimals = a
+        .precision()
+        .map_or_else(Vec::new, |d| vec![d; motion.len()]);
     Ok(Bvh {
         joints: a.joints.clone(),
         frame_time: dt,
@@ -604,6 +608,7 @@ pub fn blend(
         channel_count: nc,
         motion,
         first_frame: 0,
+        decimals,
     })
 }
 

@@ -98,6 +98,8 @@ pub fn rest_first_frame(bvh: &Bvh) -> Option<RestFrame> {
 pub fn drop_first_frame(bvh: &mut Bvh) {
     if bvh.frames > 1 {
         bvh.motion.drain(..bvh.channel_count.min(bvh.motion.len()));
+        let n = bvh.channel_count.min(bvh.decimals.len());
+        bvh.decimals.drain(..n);
         bvh.frames -= 1;
         bvh.first_frame += 1;
     }

@@ -5,7 +5,8 @@ use crate::error::Error;
 use crate::io::bvh::{self, Bvh, UpAxis};
 use std::path::{Path, PathBuf};
 
-/// `articula smooth`: the take's smoothed q written back as BVH channels (euler model).
+/// `articula smooth`: the take's smoothed q written back as BVH channels (euler model), as
+/// portable BVH ([`bvh::portable`]: every reader places the joints alike).
 pub fn export_smoothed_bvh(take: &Take, path: &Path) -> Result<(), Error> {
     let mut out = take.bvh.clone();
     let cc = out.channel_count;
@@ -18,11 +19,13 @@ pub fn export_smoothed_bvh(take: &Take, path: &Path) -> Result<(), Error> {
             &mut out.motion[k * cc..(k + 1) * cc],
         )?;
     }
-    bvh::write(&super::as_in_file(take, out), path)
+    let out = super::as_in_file(take, out);
+    bvh::write(&bvh::portable(&out, &take.positions), path)
 }
 
 /// `articula blend`: takes[0] into takes[1] (into takes[2] …) through one window per
-/// transition, written as BVH. Each take is read as every other job reads it
+/// transition, written as portable BVH ([`bvh::portable`], position modes as `auto` finds
+/// them in the first take). Each take is read as every other job reads it
 /// ([`super::read_take`]: a rest pose stored as frame 0 is dropped unless
 /// `keep_first_frame`), so the windows are on the clock of the motion; returns what the reader
 /// changed (one note per take it trimmed), for the user.
@@ -80,6 +83,7 @@ pub fn blend_files(
     let refs: Vec<&Bvh> = bvhs.iter().collect();
     let maps = vec![map; takes.len() - 1];
     let out = blend_chain(&refs, &windows, &maps, &opts)?;
-    bvh::write(&out, path)?;
+    let modes = bvh::resolve_position_modes(&bvhs[0], bvh::PositionMode::Auto);
+    bvh::write(&bvh::portable(&out, &modes), path)?;
     Ok(notes)
 }

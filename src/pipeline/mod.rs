@@ -18,6 +18,7 @@
 //!    of v.
 
 pub mod anatomy;
+mod animation;
 pub mod consistency;
 mod contact;
 mod edit;
@@ -28,6 +29,7 @@ mod sim;
 pub mod stages;
 mod states;
 
+pub use animation::{TO_Y_UP, export_gltf, rig_world_positions, take_rig, to_y_up};
 pub use contact::{
     Contact, contact_choice, contact_feet, edge_frames, estimate_take_ground_reactions,
     estimate_take_ground_reactions_with, ground_reactions, ground_reactions_with, resolve_contact,
@@ -1330,7 +1332,8 @@ pub fn generate_walk(path: &Path, fps: f64, duration_s: f64, scale: f64) -> Resu
         scale,
         ..Default::default()
     });
-    bvh::write(&take, path)
+    let modes = bvh::resolve_position_modes(&take, bvh::PositionMode::Auto);
+    bvh::write(&bvh::portable(&take, &modes), path)
 }
 
 /// What `articula info` prints.

@@ -29,6 +29,9 @@ pub enum ExportKind {
     /// The active take's estimated ground reactions as `articula export grf`: CSV, or an
     /// OpenSim external-loads `.mot` with its ExternalLoads XML beside it.
     Grf,
+    /// The active take as glTF 2.0 binary (`.glb`): skeleton, skinned superquadric links and
+    /// the animation, as `articula export gltf`.
+    Gltf,
 }
 
 /// Every `export` word and its kind (`bvh sim` is `bvh` followed by `sim`).
@@ -42,6 +45,7 @@ pub const EXPORT_WORDS: &[(&str, ExportKind)] = &[
     ("states", ExportKind::States),
     ("trc", ExportKind::Trc),
     ("grf", ExportKind::Grf),
+    ("gltf", ExportKind::Gltf),
 ];
 
 impl ExportKind {
@@ -55,7 +59,10 @@ impl ExportKind {
 
     /// The files the pipeline writes for the active take (not from the workbench's results).
     pub fn take_file(self) -> bool {
-        matches!(self, ExportKind::States | ExportKind::Trc | ExportKind::Grf)
+        matches!(
+            self,
+            ExportKind::States | ExportKind::Trc | ExportKind::Grf | ExportKind::Gltf
+        )
     }
 }
 
@@ -514,7 +521,8 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
             Command::Quit
         }
         "export" => {
-            let usage = "export csv|svg|bvh|urdf|mjcf|states|trc|grf PATH, or export bvh sim PATH";
+            let usage =
+                "export csv|svg|bvh|urdf|mjcf|states|trc|grf|gltf PATH, or export bvh sim PATH";
             arity(&[2, 3], usage)?;
             if args.len() == 3 && (args[0] != "bvh" || args[1] != "sim") {
                 return Err(syntax(lineno, format!("usage: {usage}")));

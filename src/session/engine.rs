@@ -527,8 +527,8 @@ pub trait Engine: Send + Sync {
         path: &Path,
         ctl: &Control,
     ) -> Result<(), Error>;
-    /// Writes a BVH take's states, joint centres or ground reactions under `params` as the
-    /// CLI's `export states|trc|grf` does (`kind` one of [`ExportKind::take_file`]; the
+    /// Writes a BVH take's states, joint centres, ground reactions or glTF animation under
+    /// `params` as the CLI's `export states|trc|grf|gltf` does (`kind` one of [`ExportKind::take_file`]; the
     /// format by `path`'s extension: `.sto` / `.mot` for OpenSim, else CSV; `.trc` in mm).
     /// Returns the files written. Nothing is written once `ctl` is cancelled.
     fn export_take_file(
@@ -543,8 +543,12 @@ pub trait Engine: Send + Sync {
         let mut t = pipeline_take(take, params, "export", &mut ctl.stage(0.0, 0.7))?;
         pipeline::resolve_contact(&mut t);
         ctl.check()?;
-        let format = TableFormat::choose(path, None)?;
         let mut wrote = vec![path.to_path_buf()];
+        if kind == ExportKind::Gltf {
+            pipeline::export_gltf(&t, path)?;
+            return Ok(wrote);
+        }
+        let format = TableFormat::choose(path, None)?;
         match kind {
             ExportKind::States => export_states_as(&t, path, format)?,
             ExportKind::Trc => export_trc(&t, path, crate::report::opensim::TrcUnits::Mm)?,
@@ -557,7 +561,7 @@ pub trait Engine: Send + Sync {
             }
             other => {
                 return Err(Error::Invalid(format!(
-                    "export {other:?}: not a take file (states, trc or grf)"
+                    "export {other:?}: not a take file (states, trc, grf or gltf)"
                 )));
             }
         }

@@ -387,7 +387,7 @@ impl Job {
                 ctl.check()?;
                 crate::io::write_atomic(out, mjcf.as_bytes())?;
             }
-            ExportKind::States | ExportKind::Trc | ExportKind::Grf => {
+            ExportKind::States | ExportKind::Trc | ExportKind::Grf | ExportKind::Gltf => {
                 let take = self.take()?;
                 let files = self
                     .engine

@@ -898,9 +898,11 @@ pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
             .into_iter()
             .chain(wb.take_names())
             .collect(),
-        ["export"] => ["csv", "svg", "bvh", "urdf", "mjcf", "states", "trc", "grf"]
-            .map(String::from)
-            .to_vec(),
+        ["export"] => [
+            "csv", "svg", "bvh", "urdf", "mjcf", "states", "trc", "grf", "gltf",
+        ]
+        .map(String::from)
+        .to_vec(),
         ["export", "bvh"] => std::iter::once("sim".to_string())
             .chain(paths(wb, last, None))
             .collect(),

@@ -54,10 +54,12 @@
 //!   `Frames: 0`, a zero or negative frame time, unbalanced braces.
 
 pub mod parse;
+pub mod portable;
 pub mod semantics;
 pub mod write;
 
 pub use parse::{parse_bytes, parse_str, read};
+pub use portable::portable;
 pub use semantics::{
     JointTranslations, LengthUnit, PositionMode, ResolvedPosition, STANDARD_STATURE_M,
     STATURE_RANGE_M, Scale, UpAxis, bvh_end_site_positions, bvh_world_poses, bvh_world_positions,
@@ -196,6 +198,29 @@ pub struct Bvh {
     /// 0 was dropped (`motion::trim`), so that frame `k` keeps the file's time
     /// [`Bvh::time`] `= (first_frame + k)·frame_time`.
     pub first_frame: usize,
+    /// Decimal places each value of `motion` was written with (same layout as `motion`:
+    /// `-12.50` has 2, see [`decimals_of`]), so the writer prints a value at the precision it was read
+    /// with: an unchanged value comes back as written, a changed one without float noise
+    /// (`3.4357`, not `3.4356999999999998`). Empty when the values were not read from text (a
+    /// take built by code): the writer then prints shortest round-trip numbers.
+    /// [`SHORTEST`] for a value whose text has more decimals than an `f64` holds.
+    pub decimals: Vec<u8>,
+}
+
+/// A [`Bvh::decimals`] entry: print the value in its shortest round-trip form.
+pub const SHORTEST: u8 = u8::MAX;
+
+/// The decimal places of a number as written (`-12.50` → 2, `7` → 0, `.5` → 1); [`SHORTEST`]
+/// for one in exponent form (`1.5e-05`: printed back in shortest form, as most writers of
+/// such files do) or with more than 17 decimals (more than an `f64` holds).
+pub fn decimals_of(text: &str) -> u8 {
+    if text.contains(['e', 'E']) {
+        return SHORTEST;
+    }
+    match text.split_once('.').map_or(0, |(_, f)| f.len()) {
+        d if d <= 17 => d as u8,
+        _ => SHORTEST,
+    }
 }
 
 impl Bvh {
@@ -204,6 +229,20 @@ impl Bvh {
     /// before it were dropped.
     pub fn time(&self, k: usize) -> f64 {
         (self.first_frame + k) as f64 * self.frame_time
+    }
+
+    /// The take's precision: the most decimals any value of `motion` was written with as a
+    /// plain decimal ([`Bvh::decimals`]); `None` for a take built by code or written only in
+    /// exponent form. The writer prints changed values at it.
+    pub fn precision(&self) -> Option<u8> {
+        if self.decimals.len() != self.motion.len() {
+            return None;
+        }
+        self.decimals
+            .iter()
+            .copied()
+            .filter(|&d| d != SHORTEST)
+            .max()
     }
 
     /// The raw values of frame `k`.

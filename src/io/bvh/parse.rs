@@ -47,7 +47,7 @@ pub fn parse_str(text: &str, file: &Path) -> Result<Bvh, Error> {
     let joints = hierarchy(&mut lx)?;
     let channel_count = joints.iter().map(|j| j.channels.len()).sum();
     let (frames, frame_time) = motion_header(&mut lx, channel_count)?;
-    let motion = frame_lines(&mut lx, frames, channel_count)?;
+    let (motion, decimals) = frame_lines(&mut lx, frames, channel_count)?;
     Ok(Bvh {
         joints,
         frame_time,
@@ -55,6 +55,7 @@ pub fn parse_str(text: &str, file: &Path) -> Result<Bvh, Error> {
         channel_count,
         motion,
         first_frame: 0,
+        decimals,
     })
 }
 
@@ -665,10 +666,17 @@ fn motion_header(lx: &mut Lexer, channel_count: usize) -> Result<(usize, f64), E
 }
 
 /// `frames` lines of `channel_count` values each (blank lines between them are skipped).
-fn frame_lines(lx: &mut Lexer, frames: usize, channel_count: usize) -> Result<Vec<f64>, Error> {
+/// The frame lines' values and the decimal places each was written with
+/// ([`super::decimals_of`]).
+fn frame_lines(
+    lx: &mut Lexer,
+    frames: usize,
+    channel_count: usize,
+) -> Result<(Vec<f64>, Vec<u8>), Error> {
     let total = frames.saturating_mul(channel_count);
     // never trust the declared count for the allocation: each value takes ≥ 2 bytes
     let mut motion = Vec::with_capacity(total.min(lx.src.len() / 2 + 1));
+    let mut decimals = Vec::with_capacity(motion.capacity());
     if channel_count > 0 {
         for f in 0..frames {
             lx.skip_blank();
@@ -687,6 +695,7 @@ fn frame_lines(lx: &mut Lexer, frames: usize, channel_count: usize) -> Result<Ve
                 };
                 let v = lx.number(&tok, "a channel value")?;
                 motion.push(v);
+                decimals.push(super::decimals_of(tok.text));
             }
             if let Some(extra) = lx.next_inline() {
                 return Err(lx.error_at(
@@ -708,5 +717,5 @@ fn frame_lines(lx: &mut Lexer, frames: usize, channel_count: usize) -> Result<Ve
             ),
         ));
     }
-    Ok(motion)
+    Ok((motion, decimals))
 }

@@ -5,9 +5,16 @@
 //! child joints, `Frames: N`, `Frame Time: 0.008333`, one line per frame with values separated
 //! by single spaces, LF line ends and a final newline.
 //!
-//! Numbers are printed in their shortest form that parses back to the same `f64` (ryu; e.g.
-//! `93.9241`, `-0`, `0.0000187007`, `1e-7`), so parse → write → parse reproduces every value exactly.
-//! Integral values drop the `.0` (`0`, `-0`, `90`) as most BVH files do.
+//! Channel values read from text are printed at the precision they were read with
+//! ([`Bvh::decimals`]): a value that was not changed (beyond float noise, a relative 1e-9, as
+//! degrees → radians → degrees leaves) is written as the file wrote it (`-12.50` stays
+//! `-12.50`, byte for byte for a plain decimal of up to 15 significant digits); a changed one
+//! at the take's precision (the most decimals any of its values was read with), so a smoothed take
+//! has no float-noise digits (`3.4357`, not `3.4356999999999998`). Other numbers (OFFSETs,
+//! the frame time, values of a take built by code) are printed in their shortest form that
+//! parses back to the same `f64` (ryu; e.g. `93.9241`, `-0`, `0.0000187007`, `1e-7`), so
+//! parse → write → parse reproduces every value exactly. Integral values drop the `.0` (`0`,
+//! `-0`, `90`) as most BVH files do.
 
 use super::Bvh;
 use crate::error::Error;
@@ -108,23 +115,62 @@ pub fn write_string(bvh: &Bvh) -> String {
     out.push_str(number(&mut ryu, bvh.frame_time));
     out.push('\n');
     if bvh.channel_count > 0 {
-        for row in bvh.motion.chunks(bvh.channel_count) {
+        let read_with = bvh.decimals.len() == bvh.motion.len();
+        let precision = bvh.precision();
+        for (k, row) in bvh.motion.chunks(bvh.channel_count).enumerate() {
             let mut first = true;
             for &j in &written {
                 let joint = &bvh.joints[j];
                 let columns = joint.first_channel..joint.first_channel + joint.channels.len();
-                for v in &row[columns] {
+                for (c, &v) in columns.clone().zip(&row[columns]) {
                     if !first {
                         out.push(' ');
                     }
                     first = false;
-                    out.push_str(number(&mut ryu, *v));
+                    let own = read_with.then(|| bvh.decimals[k * bvh.channel_count + c]);
+                    value(&mut out, &mut ryu, v, own, precision);
                 }
             }
             out.push('\n');
         }
     }
     out
+}
+
+/// Appends channel value `v`: shortest when it was read in exponent form; at its `own`
+/// decimals when that reproduces it up to float noise (it was not changed), else at its
+/// the take's `precision`; shortest for a take built by code. A value that rounds to zero is
+/// written with a minus sign only when it is `-0` itself (float noise below zero is no sign).
+fn value(out: &mut String, ryu: &mut ryu::Buffer, v: f64, own: Option<u8>, precision: Option<u8>) {
+    let start = out.len();
+    let fixed = |out: &mut String, d: u8| {
+        let at = out.len();
+        let _ = write!(out, "{v:.*}", d as usize);
+        let zero = !out[at..].bytes().any(|b| (b'1'..=b'9').contains(&b));
+        if zero && v != 0.0 && out[at..].starts_with('-') {
+            out.remove(at);
+        }
+    };
+    if own == Some(super::SHORTEST) {
+        // read in exponent form (or past f64's digits): shortest form again
+        out.push_str(number(ryu, v));
+        return;
+    }
+    if let Some(d) = own {
+        fixed(out, d);
+        let noise = 1e-9 * v.abs().max(1.0);
+        if out[start..]
+            .parse::<f64>()
+            .is_ok_and(|back| (back - v).abs() <= noise)
+        {
+            return;
+        }
+        out.truncate(start);
+    }
+    match precision {
+        Some(d) => fixed(out, d),
+        None => out.push_str(number(ryu, v)),
+    }
 }
 
 /// Writes `bvh` to `path` atomically (see [`crate::io::write_atomic`]).
