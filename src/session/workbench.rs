@@ -352,6 +352,15 @@ impl Job {
                 let text = results_csv(&r);
                 ctl.check()?;
                 crate::io::write_atomic(out, text.as_bytes())?;
+                // its sidecar NAME.json: the columns' units (docs/formats.md)
+                let p = crate::pipeline::summary::Provenance {
+                    command: "export csv",
+                    arguments: &[],
+                    take: None,
+                    model: Some(&r.model),
+                    notes: &[],
+                };
+                crate::pipeline::summary::write_sidecar(out, &p)?;
             }
             ExportKind::Svg => {
                 let r = self.results(ctl, analysis, 0.8)?;
