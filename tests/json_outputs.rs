@@ -374,6 +374,22 @@ fn run_json_gives_every_expect_with_its_value_and_the_failing_one() {
     assert_eq!(e[0]["line"], 2);
     assert_eq!(e[0]["result"], "frames = 30");
     assert!(e[1]["result"].as_str().unwrap().contains("N·m"), "{}", e[1]);
+    assert_eq!(e[0]["value"], 30.0);
+    assert_eq!(e[0]["unit"], "");
+    // the value is the knee's peak |τ| unrounded (over the quoted frames: at most the peak of
+    // every frame in the session's export), the one the result shows rounded
+    assert_eq!(e[1]["unit"], "N·m");
+    let (h, c) = read_columns(&dir.path().join("r.csv")).unwrap();
+    let knee = &c[h.iter().position(|n| n == "tau:LeftLeg.Xrotation").unwrap()];
+    let peak = knee.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let got = e[1]["value"].as_f64().unwrap();
+    assert!(got > 1.0 && got <= peak * (1.0 + 1e-12), "{got} vs {peak}");
+    let shown = format!("{got:.1} N·m");
+    assert!(
+        e[1]["result"].as_str().unwrap().contains(&shown),
+        "{shown}: {}",
+        e[1]
+    );
     assert_eq!(e[1]["pass"], true);
     // the session's CSVs have their sidecars too, their units from the same table
     let m = model(&take);

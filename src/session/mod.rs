@@ -251,6 +251,11 @@ pub struct ExpectRecord {
     /// What was found: the value in the coordinate's own unit with the bounds (`mean
     /// LeftLeg.Xrotation torque 12.3 N·m within [10, 15] N·m`), or why it failed.
     pub result: String,
+    /// The value a passed `expect` found (unrounded) and its unit (the one `result` shows it
+    /// in; empty for a count); null for a failed one (`result` gives it) and for those with no
+    /// number (`selected`, `message`, `screen`).
+    pub value: Option<f64>,
+    pub unit: Option<String>,
     pub pass: bool,
 }
 
@@ -333,6 +338,12 @@ fn replay(
                     Ok(o) => o.message.trim_start_matches("ok: ").to_string(),
                     Err(e) => e.to_string(),
                 },
+                value: outcome.as_ref().ok().and_then(|o| o.value).map(|v| v.0),
+                unit: outcome
+                    .as_ref()
+                    .ok()
+                    .and_then(|o| o.value)
+                    .map(|v| v.1.to_string()),
                 pass: outcome.is_ok(),
             });
         }
@@ -394,7 +405,7 @@ pub fn apply_frontend(
             Ok(Outcome {
                 message,
                 written: vec![out],
-                quit: false,
+                ..Outcome::default()
             })
         }
         Command::Expect(Expectation::ScreenContains(t)) => {
