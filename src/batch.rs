@@ -128,7 +128,7 @@ const COMMANDS: &[CommandSpec] = &[
         words: &["anatomy"],
         ext: "csv",
         stdout: false,
-        default_of: &["knee_l:flexion:moment", "knee_r:flexion:moment"],
+        default_of: &["moment:knee_l:flexion", "moment:knee_r:flexion"],
     },
     CommandSpec {
         words: &["simulate"],

@@ -63,6 +63,10 @@ pub enum Cmd {
         /// Length unit of `export trc`, declared in its header: mm (default) or m.
         #[arg(long, value_name = "mm|m")]
         trc_units: Option<String>,
+        /// Print what was written as JSON (keys command, takes, written, format, frames,
+        /// frame_time_s, settings, notes; docs/formats.md); on standard error with `-o -`.
+        #[arg(long)]
+        json: bool,
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -213,6 +217,9 @@ pub enum Cmd {
         take: PathBuf,
         #[command(flatten)]
         opts: TakeArgs,
+        /// Print what was written as JSON (as `export --json`); on standard error with `-o -`.
+        #[arg(long)]
+        json: bool,
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -240,6 +247,9 @@ pub enum Cmd {
         /// default, as every other command does).
         #[arg(long)]
         keep_first_frame: bool,
+        /// Print what was written as JSON (as `export --json`); on standard error with `-o -`.
+        #[arg(long)]
+        json: bool,
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -253,6 +263,10 @@ pub enum Cmd {
         /// Folder for the session's outputs (relative paths in the session go here).
         #[arg(long, default_value = ".")]
         out: PathBuf,
+        /// Print the replay as JSON (keys session, ok, error, commands, expectations — each
+        /// `expect` with its line, result and pass — written, messages), also when it fails.
+        #[arg(long)]
+        json: bool,
     },
 }
 
@@ -394,8 +408,11 @@ pub struct ConsistencyArgs {
     /// (contact auto on a take that stands, or --contact feet).
     #[arg(long, value_name = "on|off")]
     pub consistent: Option<String>,
-    /// Print the consistency summary as JSON (keys thresholds, before, after, adjustments,
-    /// meets, why, frames_beyond) instead of the table; on standard error with `-o -`.
+    /// Print a JSON summary on standard output (on standard error with `-o -`). `anatomy`: the
+    /// consistency summary (keys thresholds, before, after, adjustments, meets, why,
+    /// frames_beyond) instead of the table. `id`: keys frames, ground_reactions, coordinates
+    /// (peak |τ|, its time, RMS per coordinate), root_residual, contact_quality, consistency
+    /// (the same summary, with contact), notes.
     #[arg(long)]
     pub json: bool,
 }
@@ -771,6 +788,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             opts,
             format,
             trc_units,
+            json,
             output,
         } => {
             let command = EXPORTS
@@ -795,6 +813,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 );
             }
             let mut take = pipeline::load_take(&take, &opts.options_for(command)?)?;
+            let mut written = vec![output.clone()];
             match what {
                 ExportWhat::Positions => pipeline::export_positions(&take, &output)?,
                 ExportWhat::Urdf => pipeline::export_urdf(&take, &output)?,
@@ -805,7 +824,10 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                     pipeline::resolve_contact(&mut take);
                     print_notes(Some(&take));
                     match formats::export_grf(&take, &output, format)? {
-                        formats::ExternalLoadsXml::Written(xml) => wrote(&xml),
+                        formats::ExternalLoadsXml::Written(xml) => {
+                            wrote(&xml);
+                            written.push(xml);
+                        }
                         formats::ExternalLoadsXml::None(why) if format != TableFormat::Csv => {
                             eprintln!("note: no ExternalLoads XML: {why}")
                         }
@@ -820,7 +842,25 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                     formats::export_trc(&take, &output, units)?
                 }
             }
+            if table && format == TableFormat::Csv {
+                written.extend(sidecar(&output, command, Some(&take), None)?);
+            }
             wrote(&output);
+            if json {
+                let kind = match what {
+                    ExportWhat::Urdf => "urdf",
+                    ExportWhat::Mjcf => "mjcf",
+                    ExportWhat::Trc => "trc",
+                    _ => format.name(),
+                };
+                let motion = !matches!(what, ExportWhat::Urdf | ExportWhat::Mjcf);
+                print_json(
+                    &pipeline::summary::WriteSummary::of_take(
+                        command, &take, kind, &written, motion,
+                    ),
+                    &output,
+                )?;
+            }
         }
         Cmd::Generate {
             what: GenerateWhat::Walk,
@@ -842,11 +882,11 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             output,
         } => {
             let format = TableFormat::choose(&output, format.as_deref())?;
-            if grf.is_some() && (consistency.consistent.is_some() || consistency.json) {
+            if grf.is_some() && consistency.consistent.is_some() {
                 bail!(
-                    "--consistent and --json report on the estimated ground reactions; with \
-                     --grf the residual columns say what the measured forces leave to the \
-                     root: remove them"
+                    "--consistent reduces the residuals of the estimated ground reactions; \
+                     with --grf the residual columns say what the measured forces leave to the \
+                     root: remove it"
                 );
             }
             let o = opts.options_for_source("id", &src)?;
@@ -869,19 +909,34 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                     None
                 }
                 None => {
-                    let reduce = consistency.reduce(contact, false)?;
+                    // id's --json is its own summary (with the consistency one inside), so
+                    // it needs no contact
+                    let args = ConsistencyArgs {
+                        json: false,
+                        ..consistency.clone()
+                    };
+                    let reduce = args.reduce(contact, false)?;
                     pipeline::consistency::consistent_job(&mut job, reduce, src.states.is_none())?
                 }
             };
-            let quality = formats::write_inverse_dynamics_as(&job, &output, format)?;
+            let mut outcome = formats::write_inverse_dynamics_as(&job, &output, format)?;
+            if format == TableFormat::Csv {
+                sidecar(&output, "id", job.take.as_ref(), Some(&job.model))?;
+            }
             print_notes(job.take.as_ref());
             // the estimate's quality figure (how far the feet could give the needed force) says
             // nothing of measured forces: their residual columns do
-            if let (Some(q), None) = (quality, &grf) {
+            if let (Some(q), None) = (&outcome.quality, &grf) {
                 eprintln!("{q}");
             }
-            if let Some(c) = c {
-                print_consistency(&c, consistency.json, &output)?;
+            if let Some(c) = &c
+                && !consistency.json
+            {
+                print_consistency(c, false, &output)?;
+            }
+            if consistency.json {
+                outcome.summary.consistency = c.map(|c| c.json());
+                print_json(&outcome.summary, &output)?;
             }
             wrote(&output);
         }
@@ -909,6 +964,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             let mut a = pipeline::consistency::anatomy_consistent(&take, reduce)?;
             a.include_edges = include_edges;
             pipeline::anatomy::write_anatomy(&a, &output)?;
+            sidecar(&output, "anatomy", Some(&take), None)?;
             print_notes(Some(&take));
             for n in &a.notes {
                 eprintln!("note: {n}");
@@ -935,6 +991,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 pipeline::StateColumns::QV,
             )?;
             pipeline::write_forward_dynamics(&job, &torques, &output)?;
+            sidecar(&output, "fd", job.take.as_ref(), Some(&job.model))?;
             wrote(&output);
         }
         Cmd::MassMatrix { src, opts, output } => {
@@ -944,6 +1001,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 &opts.options_for_source("mass-matrix", &src)?,
             )?;
             pipeline::write_mass_matrix(&job, &output)?;
+            sidecar(&output, "mass-matrix", job.take.as_ref(), Some(&job.model))?;
             wrote(&output);
         }
         Cmd::Simulate {
@@ -976,6 +1034,9 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 sim.duration,
             )?;
             let summary = pipeline::simulate(&take, &settings, output.as_deref())?;
+            if let Some(out) = &output {
+                sidecar(out, "simulate", Some(&take), None)?;
+            }
             let text = if json {
                 format!("{}\n", serde_json::to_string_pretty(&summary.json())?)
             } else {
@@ -1038,10 +1099,21 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 wrote(&out);
             }
         }
-        Cmd::Smooth { take, opts, output } => {
+        Cmd::Smooth {
+            take,
+            opts,
+            json,
+            output,
+        } => {
             let take = pipeline::load_take(&take, &opts.options_for("smooth")?)?;
             pipeline::export_smoothed_bvh(&take, &output)?;
             wrote(&output);
+            if json {
+                let written = std::slice::from_ref(&output);
+                let s =
+                    pipeline::summary::WriteSummary::of_take("smooth", &take, "bvh", written, true);
+                print_json(&s, &output)?;
+            }
         }
         Cmd::Blend {
             takes,
@@ -1051,6 +1123,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             time_scale,
             up,
             keep_first_frame,
+            json,
             output,
         } => {
             let up = up.map(|u| u.parse()).transpose()?;
@@ -1064,13 +1137,29 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 keep_first_frame,
                 &output,
             )?;
-            for n in notes {
+            for n in &notes {
                 eprintln!("{n}");
             }
             wrote(&output);
+            if json {
+                let s = pipeline::summary::WriteSummary {
+                    command: "blend".into(),
+                    takes: takes.iter().map(|t| t.display().to_string()).collect(),
+                    written: vec![output.display().to_string()],
+                    format: "bvh".into(),
+                    frames: None,
+                    frame_time_s: None,
+                    settings: Default::default(),
+                    notes,
+                };
+                print_json(&s, &output)?;
+            }
         }
-        Cmd::Run { session, out } => {
+        Cmd::Run { session, out, json } => {
             need(&session)?;
+            if json {
+                return run_json(&session, &out);
+            }
             let report = articula::session::run_session(&session, &out)?;
             for m in &report.messages {
                 println!("{m}");
@@ -1134,4 +1223,47 @@ fn print_notes(take: Option<&pipeline::Take>) {
     for n in take.iter().flat_map(|t| &t.notes) {
         eprintln!("note: {n}");
     }
+}
+
+/// Writes the sidecar `NAME.json` of the CSV just written at `output` (none for `-` or a
+/// device) and says so; returns its path.
+fn sidecar(
+    output: &Path,
+    command: &str,
+    take: Option<&pipeline::Take>,
+    model: Option<&articula::model::Model>,
+) -> Result<Option<PathBuf>> {
+    let arguments: Vec<String> = std::env::args().skip(1).collect();
+    let p = pipeline::summary::Provenance {
+        command,
+        arguments: &arguments,
+        take,
+        model,
+        notes: &[],
+    };
+    let written = pipeline::summary::write_sidecar(output, &p)?;
+    if let Some(w) = &written {
+        wrote(w);
+    }
+    Ok(written)
+}
+
+/// A `--json` summary through [`report`]: standard output, or standard error when the data
+/// goes to standard output (`-o -`).
+fn print_json(value: &impl serde::Serialize, output: &Path) -> Result<()> {
+    report(
+        &format!("{}\n", serde_json::to_string_pretty(value)?),
+        Some(output),
+    );
+    Ok(())
+}
+
+/// `articula run --json`: the replay as JSON on standard output, also when it stops on an
+/// error (then the error is returned after it, for the exit status and message).
+fn run_json(session: &Path, out: &Path) -> Result<ExitCode> {
+    let (report, result) = articula::session::run_session_recorded(session, out);
+    let j = report.json(session, result.as_ref().err());
+    println!("{}", serde_json::to_string_pretty(&j)?);
+    result?;
+    Ok(ExitCode::SUCCESS)
 }

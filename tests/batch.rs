@@ -153,7 +153,7 @@ fn a_sweep_has_one_row_per_take_and_setting_with_its_own_figures() {
     let (h, rows) = summary(&out);
     assert_eq!(rows.len(), 2 * 2, "{rows:?}");
     assert!(h.contains(&"mass".to_string()), "{h:?}");
-    let peak = |r: &[String]| -> f64 { cell(&h, r, "peak:knee_l:flexion:moment").parse().unwrap() };
+    let peak = |r: &[String]| -> f64 { cell(&h, r, "peak:moment:knee_l:flexion").parse().unwrap() };
     let light = rows.iter().find(|r| cell(&h, r, "mass") == "60").unwrap();
     let heavy = rows.iter().find(|r| cell(&h, r, "mass") == "100").unwrap();
     assert!(

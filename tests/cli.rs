@@ -69,6 +69,7 @@ fn info_json_has_exactly_the_documented_keys() {
             "scale_to_m",
             "segments",
             "segments_stature_m",
+            "skeleton",
             "smooth",
             "stature_m",
             "unit",
@@ -140,14 +141,14 @@ fn inverse_dynamics_of_a_take_has_one_column_per_coordinate_and_scales_with_mass
     let (h, c) = run("60", "fractions", "t60.csv");
     let (h2, c2) = run("90", "fractions", "t90.csv");
     assert_eq!(h[0], "time");
-    assert!(h.iter().any(|x| x == "LeftLeg.Xrotation"), "{h:?}");
-    assert!(h.iter().any(|x| x == "Hips.Yposition"), "{h:?}");
+    assert!(h.iter().any(|x| x == "tau:LeftLeg.Xrotation"), "{h:?}");
+    assert!(h.iter().any(|x| x == "tau:Hips.Yposition"), "{h:?}");
     assert_eq!(h, h2);
     assert_eq!(c[0].len(), 60);
     // with de Leva's fractions every link mass scales with the body mass, so every torque
     // does too (same kinematics)
-    let k60 = column(&h, &c, "LeftLeg.Xrotation");
-    let k90 = column(&h2, &c2, "LeftLeg.Xrotation");
+    let k60 = column(&h, &c, "tau:LeftLeg.Xrotation");
+    let k90 = column(&h2, &c2, "tau:LeftLeg.Xrotation");
     let peak = k60.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     assert!(peak > 1.0, "knee torque peak {peak} N·m");
     for (a, b) in k60.iter().zip(k90) {
@@ -156,8 +157,8 @@ fn inverse_dynamics_of_a_take_has_one_column_per_coordinate_and_scales_with_mass
     // with the regression (the default) the 90 kg body is not the 60 kg one scaled
     let (h, c) = run("60", "regression", "r60.csv");
     let (h2, c2) = run("90", "regression", "r90.csv");
-    let k60 = column(&h, &c, "LeftLeg.Xrotation");
-    let k90 = column(&h2, &c2, "LeftLeg.Xrotation");
+    let k60 = column(&h, &c, "tau:LeftLeg.Xrotation");
+    let k90 = column(&h2, &c2, "tau:LeftLeg.Xrotation");
     let gap = k60
         .iter()
         .zip(k90)
@@ -183,7 +184,7 @@ fn robot_inverse_dynamics_matches_pinocchio() {
     let (h, c) = read_columns(&out).unwrap();
     let (hp, cp) = read_columns(&common::repo("tests/fixtures/pinocchio/arm7/rnea.csv")).unwrap();
     for (j, name) in hp.iter().enumerate() {
-        let ours = column(&h, &c, name.trim_start_matches("tau:"));
+        let ours = column(&h, &c, name);
         for (a, b) in ours.iter().zip(&cp[j]) {
             assert!(
                 (a - b).abs() <= 1e-9 * (1.0 + b.abs()),
@@ -708,19 +709,19 @@ fn export_positions_are_world_joint_positions_in_metres() {
     let (h, c) = read_columns(&out).unwrap();
     let bvh = articula::io::bvh::read(&take).unwrap();
     assert_eq!(h.len(), 1 + 3 * bvh.joints.len());
-    assert_eq!(&h[1..4], ["Hips.x", "Hips.y", "Hips.z"]);
+    assert_eq!(&h[1..4], ["pos:Hips:x", "pos:Hips:y", "pos:Hips:z"]);
     // the hips at frame 0 are where the root channels put them (cm → m, add mode)
     let f0 = bvh.frame(0);
     for (k, axis) in ["x", "y", "z"].iter().enumerate() {
-        let p = column(&h, &c, &format!("Hips.{axis}"))[0];
+        let p = column(&h, &c, &format!("pos:Hips:{axis}"))[0];
         assert!((p - (bvh.joints[0].offset[k] + f0[k]) * 0.01).abs() < 1e-12);
     }
     // a foot is near the floor (y = 0) at some frame, the head well above it
-    let foot_min = column(&h, &c, "LeftToeBase.y")
+    let foot_min = column(&h, &c, "pos:LeftToeBase:y")
         .iter()
         .cloned()
         .fold(f64::MAX, f64::min);
-    let head = column(&h, &c, "Head.y")[0];
+    let head = column(&h, &c, "pos:Head:y")[0];
     assert!(foot_min < 0.1 && head > 1.4, "toe {foot_min} head {head}");
 }
 
@@ -757,6 +758,7 @@ fn damping_adds_exactly_b_times_the_joint_rate_to_the_torques() {
     let mut checked = 0;
     // the coordinates' torques (with contact auto the ground reactions' columns follow them)
     let coords = h0.iter().enumerate().skip(1);
+    let coords = coords.filter_map(|(k, n)| n.strip_prefix("tau:").map(|n| (k, n)));
     for (k, name) in coords.filter(|(_, n)| hs.contains(&format!("v:{n}"))) {
         let v = column(&hs, &s, &format!("v:{name}"));
         let root = name.starts_with("Hips.");
@@ -1241,7 +1243,7 @@ fn anatomy_marks_the_edge_frames_and_leaves_them_out_of_its_ranges_unless_asked(
     assert_eq!(edge.iter().filter(|x| **x == 1.0).count(), 2 * e);
     // the summary's ranges are those of the frames between the edges, or of all with include,
     // never those beyond Hicks et al.'s thresholds (`residual:beyond`)
-    let m = column(&h, &c, "knee_l:flexion:moment_per_kg");
+    let m = column(&h, &c, "moment_per_kg:knee_l:flexion");
     let beyond = column(&h, &c, "residual:beyond");
     let printed_range = |summary: &str, frames: std::ops::Range<usize>| {
         let (lo, hi) = frames

@@ -156,16 +156,20 @@ fn id_sto_names_moments_and_forces() {
     let s = read_sto(&std::fs::read_to_string(&sto).unwrap());
     assert_eq!(s.header[4], "inDegrees=no");
     assert!(s.header[5].starts_with("units=moments N*m, forces N"));
-    let coords: Vec<&String> = header[1..].iter().filter(|h| !h.contains(':')).collect();
+    let coords: Vec<&String> = header[1..]
+        .iter()
+        .filter(|h| h.starts_with("tau:"))
+        .collect();
     assert_eq!(s.labels.len(), coords.len());
-    for (label, coord) in s.labels.iter().zip(&coords) {
+    for (label, column) in s.labels.iter().zip(&coords) {
+        let coord = column.strip_prefix("tau:").unwrap();
         let kind = if coord.contains("position") {
             "force"
         } else {
             "moment"
         };
         assert_eq!(label, &format!("{coord}_{kind}"));
-        for (k, (got, want)) in s.columns[label].iter().zip(&cols[*coord]).enumerate() {
+        for (k, (got, want)) in s.columns[label].iter().zip(&cols[*column]).enumerate() {
             close(&format!("{label} row {k}"), *got, *want);
         }
     }
@@ -260,7 +264,7 @@ fn trc_markers_are_the_joint_centres_in_the_declared_unit() {
             close("time", f[1], cols["time"][k]);
             for (m, name) in markers.iter().enumerate() {
                 for (a, ax) in ["x", "y", "z"].iter().enumerate() {
-                    let h = format!("{name}.{ax}");
+                    let h = format!("pos:{name}:{ax}");
                     assert!(header.contains(&h));
                     close(&h, f[2 + 3 * m + a], cols[&h][k] * scale);
                 }

@@ -251,15 +251,10 @@ fn curves_csv_holds_torque_speed_power_and_current() {
         articula::report::csv::parse_columns(&text, std::path::Path::new("m.csv")).unwrap();
     assert_eq!(
         h[..4],
-        [
-            "t_s",
-            "shoulder_tau_Nm",
-            "shoulder_qd_rad_s",
-            "shoulder_power_W"
-        ]
+        ["time", "tau:shoulder", "v:shoulder", "power:shoulder"]
     );
     assert_eq!(h.len(), 9);
-    assert_eq!(h[8], "elbow_current_A");
+    assert_eq!(h[8], "current:elbow");
     assert_eq!(cols[1], joints[0].tau);
     assert_eq!(cols[7][50], joints[1].tau[50] * joints[1].qd[50]);
     // I = τ / (Km·N·η) = τ / (0.2·50·0.5) = τ / 5

@@ -88,14 +88,14 @@ fn motor_sizing_session_sizes_every_puma_joint_with_its_own_drive() {
         assert!((f("peak_current_A") - i).abs() <= 1e-12 * i.abs().max(1.0));
     }
     assert_eq!(&rows[1][col("class")], "BLDC-80 (600 W)");
-    // the curves: t_s and four columns per joint, current = τ/(Km·N·η) sample by sample
+    // the curves: time and four columns per joint, current = τ/(Km·N·η) sample by sample
     let text = std::fs::read_to_string(out.path().join("puma_motor_curves.csv")).unwrap();
     let (h, cols) =
         articula::report::csv::parse_columns(&text, std::path::Path::new("c.csv")).unwrap();
     assert_eq!(h.len(), 1 + 6 * 4);
     let (tau, cur) = (
-        h.iter().position(|x| x == "j2_tau_Nm").unwrap(),
-        h.iter().position(|x| x == "j2_current_A").unwrap(),
+        h.iter().position(|x| x == "tau:j2").unwrap(),
+        h.iter().position(|x| x == "current:j2").unwrap(),
     );
     assert_eq!(cols[0].len(), 2251);
     for k in [0, 700, 2250] {

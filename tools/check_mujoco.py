@@ -90,7 +90,8 @@ class Frame:
 
     def __init__(self, states, torques, k):
         self.s = {n: c[k] for n, c in states.items()}
-        self.t = {n: c[k] for n, c in torques.items()}
+        # torque columns are `tau:<coord>` (articula's one CSV naming scheme)
+        self.t = {n[len("tau:"):]: c[k] for n, c in torques.items() if n.startswith("tau:")}
 
 
 def free_root(m, d, jid, entries, f, pairs):

@@ -169,8 +169,8 @@ def main():
     run(binary, ["id", take, "-o", p("id.sto")])
     run(binary, ["id", take, "-o", p("id.csv")])
     header, _ = read_csv(p("id.csv"))
-    coords = [h for h in header[1:] if not h.split(":")[0] in ("grf", "cop", "residual")]
-    mapping = [(f"{h}_{'force' if 'position' in h else 'moment'}", (h, 1.0)) for h in coords]
+    coords = [h for h in header[1:] if h.startswith("tau:")]
+    mapping = [(f"{h[4:]}_{'force' if 'position' in h else 'moment'}", (h, 1.0)) for h in coords]
     check_table(c, opensim, p("id.sto"), p("id.csv"), mapping, False)
 
     # ground reactions: external loads .mot and its XML (a take that never stands has none)
@@ -185,7 +185,7 @@ def main():
     header, cols = read_csv(p("positions.csv"))
     joints = []
     for h in header[1:]:
-        j = h.rsplit(".", 1)[0]
+        j = h[len("pos:"):].rsplit(":", 1)[0]
         if j not in joints:
             joints.append(j)
     for name, flags, unit, scale in [("markers.trc", [], "mm", 1000.0),
@@ -203,7 +203,7 @@ def main():
             for m, j in enumerate(joints):
                 v = row[m]
                 for k, ax in enumerate("xyz"):
-                    bad += not c.close(f"{name}: {j}.{ax} row {i}", v.get(k), cols[f"{j}.{ax}"][i], scale)
+                    bad += not c.close(f"{name}: {j}.{ax} row {i}", v.get(k), cols[f"pos:{j}:{ax}"][i], scale)
             if bad > 10:
                 break
         print(f"  {name}: {len(joints)} markers x {t.getNumRows()} rows in {unit}: loaded, "

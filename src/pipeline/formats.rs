@@ -7,7 +7,7 @@
 //! file's ([`crate::io::bvh::Bvh::time`]); every file states its units in its header.
 
 use super::{Job, Take, ground_reactions, job_torques, joint_centres, write_rows};
-use crate::dynamics::grf::{GroundQuality, GroundReactions};
+use crate::dynamics::grf::GroundReactions;
 use crate::error::Error;
 use crate::report::opensim::{self, Sto, Trc, TrcUnits};
 use std::path::{Path, PathBuf};
@@ -29,6 +29,14 @@ pub const TABLE_FORMATS: &[(&str, TableFormat)] = &[
 ];
 
 impl TableFormat {
+    /// The format's name as `--format` takes it (`csv`, `sto`, `mot`).
+    pub fn name(self) -> &'static str {
+        TABLE_FORMATS
+            .iter()
+            .find(|f| f.1 == self)
+            .map_or("csv", |f| f.0)
+    }
+
     /// `explicit` (`--format`) when given, else `path`'s extension when it is one of
     /// [`TABLE_FORMATS`], else CSV.
     pub fn choose(path: &Path, explicit: Option<&str>) -> Result<TableFormat, Error> {
@@ -136,7 +144,7 @@ pub fn write_inverse_dynamics_as(
     job: &Job,
     path: &Path,
     format: TableFormat,
-) -> Result<Option<GroundQuality>, Error> {
+) -> Result<super::IdOutcome, Error> {
     if format == TableFormat::Csv {
         return super::write_inverse_dynamics(job, path);
     }
@@ -172,7 +180,7 @@ pub fn write_inverse_dynamics_as(
             columns: &refs,
         },
     )?;
-    Ok(grf.map(|g| g.quality()))
+    Ok(super::IdOutcome::new(job, &t, grf.as_ref()))
 }
 
 /// What `export grf` wrote besides the table: the ExternalLoads XML, or why none.

@@ -28,6 +28,7 @@ mod mujoco;
 mod sim;
 pub mod stages;
 mod states;
+pub mod summary;
 
 pub use animation::{TO_Y_UP, export_gltf, rig_world_positions, take_rig, to_y_up};
 pub use contact::{
@@ -58,6 +59,7 @@ use crate::model::anthropometry::{BodyParams, SegmentTable, Sex};
 use crate::model::bvh::{BvhMap, BvhModelOptions, JointModel, build_bvh_model};
 use crate::motion::smooth::{SmoothSpec, Smoother};
 use crate::par;
+use crate::report::columns;
 use crate::report::csv::{read_columns, write_columns};
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
@@ -939,9 +941,9 @@ pub fn load_source_marked(
 /// Header of a states CSV for `model`: `time`, `q:<coord>`…, `v:<coord>`…, `a:<coord>`….
 pub fn states_header(model: &Model) -> Vec<String> {
     let mut h = vec!["time".to_string()];
-    h.extend(model.q_names.iter().map(|n| format!("q:{n}")));
-    h.extend(model.v_names.iter().map(|n| format!("v:{n}")));
-    h.extend(model.v_names.iter().map(|n| format!("a:{n}")));
+    h.extend(model.q_names.iter().map(|n| columns::name("q", &[n])));
+    h.extend(model.v_names.iter().map(|n| columns::name("v", &[n])));
+    h.extend(model.v_names.iter().map(|n| columns::name("a", &[n])));
     h
 }
 
@@ -1004,19 +1006,19 @@ pub fn read_states_with(
         a: vec![vec![0.0; model.nv]; n],
     };
     for (j, name) in model.q_names.iter().enumerate() {
-        let c = find(&format!("q:{name}"))?;
+        let c = find(&columns::name("q", &[name]))?;
         for (row, x) in s.q.iter_mut().zip(c) {
             row[j] = *x;
         }
     }
     for (j, name) in model.v_names.iter().enumerate() {
-        let cv = find(&format!("v:{name}"))?;
+        let cv = find(&columns::name("v", &[name]))?;
         for (row, x) in s.v.iter_mut().zip(cv) {
             row[j] = *x;
         }
     }
     for (j, name) in model.v_names.iter().enumerate() {
-        let a = format!("a:{name}");
+        let a = columns::name("a", &[name]);
         let ca = match columns {
             StateColumns::QVA => find(&a)?,
             StateColumns::QV => match column(&a) {
@@ -1058,14 +1060,14 @@ pub fn export_states(take: &Take, path: &Path) -> Result<(), Error> {
     write_rows(path, states_header(&take.model), &rows)
 }
 
-/// `articula export positions`: world position of every BVH joint (m, the take's own axes),
-/// straight from the BVH definition (independent of the model).
+/// `articula export positions`: world position of every BVH joint, `pos:<joint>:x|y|z` (m, the
+/// take's own axes), straight from the BVH definition (independent of the model).
 pub fn export_positions(take: &Take, path: &Path) -> Result<(), Error> {
     let c = joint_centres(take);
     let mut header = vec!["time".to_string()];
     for name in &c.names {
         for a in ["x", "y", "z"] {
-            header.push(format!("{name}.{a}"));
+            header.push(columns::name("pos", &[name, a]));
         }
     }
     let rows: Vec<Vec<f64>> = (0..c.time.len())
@@ -1172,18 +1174,15 @@ pub fn inverse_dynamics_with(
     }
 }
 
-/// `articula id`: `time`, one torque column per coordinate; with `--contact feet` the torques
+/// `articula id`: `time`, `tau:<coord>` per coordinate (N·m or N); with `--contact feet` the torques
 /// are those with the ground reactions applied and `grf:<foot>:x|y|z`, `cop:<foot>:x|y|z`,
 /// `residual:fx|fy|fz|tx|ty|tz` follow (N, m, N·m; world axes of the take), and the result is
 /// how far the feet could give the ground force the motion needs
 /// ([`GroundReactions::quality`](crate::dynamics::grf::GroundReactions::quality)).
-pub fn write_inverse_dynamics(
-    job: &Job,
-    path: &Path,
-) -> Result<Option<crate::dynamics::grf::GroundQuality>, Error> {
+pub fn write_inverse_dynamics(job: &Job, path: &Path) -> Result<IdOutcome, Error> {
     let (t, grf) = job_torques(job)?;
     let mut header = vec!["time".to_string()];
-    header.extend(t.names.iter().cloned());
+    header.extend(t.names.iter().map(|n| columns::name("tau", &[n])));
     if let Some(g) = &grf {
         header.extend(g.columns());
     }
@@ -1198,7 +1197,28 @@ pub fn write_inverse_dynamics(
         })
         .collect();
     write_rows(path, header, &rows)?;
-    Ok(grf.map(|g| g.quality()))
+    Ok(IdOutcome::new(job, &t, grf.as_ref()))
+}
+
+/// What `articula id` found besides its file: the ground reactions' quality (estimated forces)
+/// and the `--json` figures.
+#[derive(Debug, Clone)]
+pub struct IdOutcome {
+    pub quality: Option<crate::dynamics::grf::GroundQuality>,
+    pub summary: summary::IdSummary,
+}
+
+impl IdOutcome {
+    pub(crate) fn new(
+        job: &Job,
+        t: &Torques,
+        grf: Option<&crate::dynamics::grf::GroundReactions>,
+    ) -> Self {
+        Self {
+            quality: grf.map(|g| g.quality()),
+            summary: summary::id_summary(job, t, grf),
+        }
+    }
 }
 
 /// A job's generalized forces, with the ground reactions applied when the take has contact
@@ -1248,7 +1268,8 @@ fn check_finite(rows: &[Vec<f64>], names: &[String], what: &str) -> Result<(), E
     Ok(())
 }
 
-/// `articula fd`: accelerations from states and a torques CSV (columns by coordinate name).
+/// `articula fd`: accelerations `a:<coord>` from states and a torques CSV (`tau:<coord>`, as
+/// `articula id` writes; a coordinate's bare name, as `id` wrote before 0.x, is read too).
 pub fn write_forward_dynamics(job: &Job, torques: &Path, path: &Path) -> Result<(), Error> {
     let m = &job.model;
     let (header, cols) = read_columns(torques)?;
@@ -1263,9 +1284,11 @@ pub fn write_forward_dynamics(job: &Job, torques: &Path, path: &Path) -> Result<
     }
     let mut idx = Vec::with_capacity(m.nv);
     for n in &m.v_names {
-        idx.push(header.iter().position(|h| h == n).ok_or_else(|| {
+        let tau = columns::name("tau", &[n]);
+        let at = |name: &str| header.iter().position(|h| h == name);
+        idx.push(at(&tau).or_else(|| at(n)).ok_or_else(|| {
             Error::Invalid(format!(
-                "{}: no torque column `{n}` (write it with `articula id`)",
+                "{}: no torque column `{tau}` (write it with `articula id`)",
                 torques.display()
             ))
         })?);
@@ -1289,7 +1312,7 @@ pub fn write_forward_dynamics(job: &Job, torques: &Path, path: &Path) -> Result<
         rows.push(r);
     }
     let mut h = vec!["time".to_string()];
-    h.extend(m.v_names.iter().map(|n| format!("a:{n}")));
+    h.extend(m.v_names.iter().map(|n| columns::name("a", &[n])));
     write_rows(path, h, &rows)
 }
 
@@ -1300,7 +1323,7 @@ pub fn write_mass_matrix(job: &Job, path: &Path) -> Result<(), Error> {
     let mut h = vec!["time".to_string()];
     for i in 0..m.nv {
         for j in 0..m.nv {
-            h.push(format!("M:{i}:{j}"));
+            h.push(columns::name("M", &[&i.to_string(), &j.to_string()]));
         }
     }
     let s = &job.states;
@@ -1353,8 +1376,9 @@ impl Info<'_> {
     /// table of segment masses: `regression`, `fractions`, or `bone_volume` when no trunk is
     /// named), segments_stature_m (the stature the regression used, else null), human
     /// ([`Info::landmarks`]), contact (`feet` or `none`: what `--contact` gives the take,
-    /// `auto` settled by [`resolve_contact`]) and notes (a
-    /// list of strings: what the pipeline assumed, changed or found, as `info` prints them).
+    /// `auto` settled by [`resolve_contact`]), notes (a list of strings: what the pipeline
+    /// assumed, changed or found, as `info` prints them) and skeleton (every joint: name,
+    /// parent, channels, rotation_order, offset_m; [`summary::skeleton`]).
     pub fn json(&self) -> serde_json::Value {
         let t = self.take;
         let regression = t.segments == Some(SegmentTable::Regression);
@@ -1376,6 +1400,7 @@ impl Info<'_> {
             "human": self.landmarks(),
             "contact": t.options.contact.to_string(),
             "notes": t.notes,
+            "skeleton": summary::skeleton(t),
         })
     }
 

@@ -169,10 +169,26 @@ pub fn simulate(
     if let Some(path) = output {
         let m = &take.model;
         let mut h = vec!["time".to_string()];
-        h.extend(m.q_names.iter().map(|n| format!("q:{n}")));
-        h.extend(m.v_names.iter().map(|n| format!("v:{n}")));
-        h.extend(m.v_names.iter().map(|n| format!("tau:{n}")));
-        h.extend(m.v_names.iter().map(|n| format!("err:{n}")));
+        h.extend(
+            m.q_names
+                .iter()
+                .map(|n| crate::report::columns::name("q", &[n])),
+        );
+        h.extend(
+            m.v_names
+                .iter()
+                .map(|n| crate::report::columns::name("v", &[n])),
+        );
+        h.extend(
+            m.v_names
+                .iter()
+                .map(|n| crate::report::columns::name("tau", &[n])),
+        );
+        h.extend(
+            m.v_names
+                .iter()
+                .map(|n| crate::report::columns::name("err", &[n])),
+        );
         let rows: Vec<Vec<f64>> = (0..result.time.len())
             .map(|k| {
                 let mut r = vec![result.time[k]];

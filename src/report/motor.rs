@@ -432,8 +432,9 @@ pub fn motor_svg(
     )
 }
 
-/// The plotted curves as CSV: `t_s`, then per joint `<joint>_tau_Nm`, `<joint>_qd_rad_s`,
-/// `<joint>_power_W`, `<joint>_current_A` (with `specs[k]` for `joints[k]`). The joints must
+/// The plotted curves as CSV, named by `report::columns`: `time` (s), then per joint
+/// `tau:<joint>` (N·m), `v:<joint>` (rad/s), `power:<joint>` (W), `current:<joint>` (A) (with
+/// `specs[k]` for `joints[k]`). The joints must
 /// share their sample times.
 pub fn motor_curves_csv(joints: &[JointMotion], specs: &[MotorSpec]) -> Result<String, Error> {
     if specs.len() != joints.len() {
@@ -452,22 +453,26 @@ pub fn motor_curves_csv(joints: &[JointMotion], specs: &[MotorSpec]) -> Result<S
         )?;
         let p: Vec<f64> = m.tau.iter().zip(&m.qd).map(|(t, w)| t * w).collect();
         series.push(Series::new(
-            format!("{}_tau_Nm", m.joint),
+            super::columns::name("tau", &[&m.joint]),
             m.t.clone(),
             m.tau.clone(),
         ));
         series.push(Series::new(
-            format!("{}_qd_rad_s", m.joint),
+            super::columns::name("v", &[&m.joint]),
             m.t.clone(),
             m.qd.clone(),
         ));
-        series.push(Series::new(format!("{}_power_W", m.joint), m.t.clone(), p));
+        series.push(Series::new(
+            super::columns::name("power", &[&m.joint]),
+            m.t.clone(),
+            p,
+        ));
         let i = m.tau.iter().map(|t| motor_current(*t, spec)).collect();
         series.push(Series::new(
-            format!("{}_current_A", m.joint),
+            super::columns::name("current", &[&m.joint]),
             m.t.clone(),
             i,
         ));
     }
-    crate::report::chart::series_csv("t_s", &series)
+    crate::report::chart::series_csv("time", &series)
 }

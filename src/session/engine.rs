@@ -565,6 +565,21 @@ pub trait Engine: Send + Sync {
                 )));
             }
         }
+        if kind != ExportKind::Trc && format == TableFormat::Csv {
+            let command = if kind == ExportKind::States {
+                "export states"
+            } else {
+                "export grf"
+            };
+            let p = pipeline::summary::Provenance {
+                command,
+                arguments: &[],
+                take: Some(&t),
+                model: None,
+                notes: &[],
+            };
+            wrote.extend(pipeline::summary::write_sidecar(path, &p)?);
+        }
         Ok(wrote)
     }
 }

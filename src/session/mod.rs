@@ -46,7 +46,7 @@
 //! | `export bvh sim PATH` | the motion of the last `run sim` (under the current parameters) as BVH |
 //! | `compare weights 60,80,100 [joint J] PATH` | re-run inverse dynamics at each body mass; J's torque (default: the selection) per mass: a chart with the peak/RMS table (`.svg`) or the curves (`.csv`, `t_s`, `tau_<m>kg_Nm`) |
 //! | `report motor PATH` | motor sizing (report::motor) of every revolute joint of a robot (or of the selected joint of an avatar): torque, speed, power and current curves with the table of peak/RMS torque, peak speed and power, peak/RMS current and the motor class each needs (`.svg`), or the table alone (`.csv`) |
-//! | `report motor curves PATH.csv` | the plotted curves: `t_s`, `<joint>_tau_Nm`, `_qd_rad_s`, `_power_W`, `_current_A` |
+//! | `report motor curves PATH.csv` | the plotted curves: `time`, `tau:<joint>`, `v:`, `power:`, `current:` (s, N·m, rad/s, W, A) |
 //! | `expect …` | an assertion (below); a failed expect fails the replay |
 //! | `screen PATH` | write the current screen of the TUI (as text) to PATH |
 //! | `key KEYS` | inject keystrokes into the TUI: characters as written, special keys as `<Enter>`, `<Esc>`, `<Tab>`, `<Space>`, `<Up>`, `<Down>`, `<Left>`, `<Right>`, `<BS>`, `<C-c>` |
@@ -203,6 +203,60 @@ pub struct Report {
     pub written: Vec<PathBuf>,
     /// Every message, in order.
     pub messages: Vec<String>,
+    /// Every `expect` replayed, in order: the one that failed (if any) last.
+    pub expectations: Vec<ExpectRecord>,
+}
+
+/// `articula run --json`: a replay's [`Report`] with how it ended.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ReportJson<'a> {
+    pub session: String,
+    /// True when every command ran and every `expect` passed.
+    pub ok: bool,
+    /// Why the replay stopped, if it did.
+    pub error: Option<String>,
+    /// Commands applied.
+    pub commands: usize,
+    pub expectations: &'a [ExpectRecord],
+    pub written: Vec<String>,
+    pub messages: &'a [String],
+}
+
+impl Report {
+    /// The report of the replay of `session` as JSON, `error` the one it stopped on.
+    pub fn json(&self, session: &Path, error: Option<&SessionError>) -> ReportJson<'_> {
+        ReportJson {
+            session: session.display().to_string(),
+            ok: error.is_none(),
+            error: error.map(|e| e.to_string()),
+            commands: self.commands,
+            expectations: &self.expectations,
+            written: self
+                .written
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect(),
+            messages: &self.messages,
+        }
+    }
+}
+
+/// One `expect` of a replay (`articula run --json`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ExpectRecord {
+    /// 1-based line in the session file.
+    pub line: usize,
+    /// The command as written.
+    pub expect: String,
+    /// What was found: the value in the coordinate's own unit with the bounds (`mean
+    /// LeftLeg.Xrotation torque 12.3 N·m within [10, 15] N·m`), or why it failed.
+    pub result: String,
+    /// The value a passed `expect` found (unrounded) and its unit (the one `result` shows it
+    /// in; empty for a count); null for a failed one (`result` gives it) and for those with no
+    /// number (`selected`, `message`, `screen`).
+    pub value: Option<f64>,
+    pub unit: Option<String>,
+    pub pass: bool,
 }
 
 /// What a session needs from a user interface: `key` and `screen` (and `expect screen`).
@@ -221,12 +275,33 @@ pub fn run_session(path: &Path, out_dir: &Path) -> Result<Report, SessionError> 
     run_session_with(path, out_dir, &mut ui)
 }
 
+/// [`run_session`] that keeps what the replay did up to an error: the report (with the failed
+/// `expect` recorded, `pass` false) and the error, if any (`articula run --json`).
+pub fn run_session_recorded(path: &Path, out_dir: &Path) -> (Report, Result<(), SessionError>) {
+    let mut ui = crate::tui::Ui::headless(100, 30);
+    let mut report = Report::default();
+    let result = replay(path, out_dir, &mut ui, &mut report);
+    (report, result)
+}
+
 /// [`run_session`] with a given front end.
 pub fn run_session_with(
     path: &Path,
     out_dir: &Path,
     frontend: &mut dyn Frontend,
 ) -> Result<Report, SessionError> {
+    let mut report = Report::default();
+    replay(path, out_dir, frontend, &mut report)?;
+    Ok(report)
+}
+
+/// Replays the session at `path` into `report` (filled as far as the replay went).
+fn replay(
+    path: &Path,
+    out_dir: &Path,
+    frontend: &mut dyn Frontend,
+    report: &mut Report,
+) -> Result<(), SessionError> {
     let text = std::fs::read_to_string(path).map_err(|source| SessionError::Io {
         path: path.to_path_buf(),
         source,
@@ -245,7 +320,6 @@ pub fn run_session_with(
     })?;
     let in_dir = path.parent().unwrap_or(Path::new("."));
     let mut wb = Workbench::new(Arc::new(Builtin), in_dir, out_dir);
-    let mut report = Report::default();
     let lines: Vec<&str> = text.lines().collect();
     for (line, cmd) in &commands {
         let at = |source: SessionError| SessionError::At {
@@ -254,9 +328,34 @@ pub fn run_session_with(
             command: lines[line - 1].trim().to_string(),
             source: Box::new(source),
         };
-        let outcome = apply_with(&mut wb, frontend, cmd).map_err(at)?;
+        let outcome = apply_with(&mut wb, frontend, cmd);
+        let is_expect = matches!(cmd, Command::Expect(_));
+        if is_expect {
+            report.expectations.push(ExpectRecord {
+                line: *line,
+                expect: lines[line - 1].trim().to_string(),
+                result: match &outcome {
+                    Ok(o) => o.message.trim_start_matches("ok: ").to_string(),
+                    Err(e) => e.to_string(),
+                },
+                value: outcome.as_ref().ok().and_then(|o| o.value).map(|v| v.0),
+                unit: outcome
+                    .as_ref()
+                    .ok()
+                    .and_then(|o| o.value)
+                    .map(|v| v.1.to_string()),
+                pass: outcome.is_ok(),
+            });
+        }
+        let outcome = match outcome {
+            Ok(o) => o,
+            Err(e) => {
+                report.messages = wb.messages.clone();
+                return Err(at(e));
+            }
+        };
         report.commands += 1;
-        if matches!(cmd, Command::Expect(_)) {
+        if is_expect {
             report.expects += 1;
         }
         report.written.extend(outcome.written);
@@ -265,7 +364,7 @@ pub fn run_session_with(
         }
     }
     report.messages = wb.messages.clone();
-    Ok(report)
+    Ok(())
 }
 
 /// Applies `cmd` to `wb`, sending `key`, `screen` and `expect screen` to the front end.
@@ -306,7 +405,7 @@ pub fn apply_frontend(
             Ok(Outcome {
                 message,
                 written: vec![out],
-                quit: false,
+                ..Outcome::default()
             })
         }
         Command::Expect(Expectation::ScreenContains(t)) => {

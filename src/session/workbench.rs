@@ -22,6 +22,9 @@ pub struct Outcome {
     pub written: Vec<PathBuf>,
     /// The command asks the front end to quit.
     pub quit: bool,
+    /// What a passed `expect` found, in the unit it shows it in (`deg`, `N·m`, `kg`; empty for
+    /// a count); `None` for any other command.
+    pub value: Option<(f64, &'static str)>,
 }
 
 /// What a [`Job`] computes: the commands whose work can take longer than a frame on a big
@@ -352,6 +355,15 @@ impl Job {
                 let text = results_csv(&r);
                 ctl.check()?;
                 crate::io::write_atomic(out, text.as_bytes())?;
+                // its sidecar NAME.json: the columns' units (docs/formats.md)
+                let p = crate::pipeline::summary::Provenance {
+                    command: "export csv",
+                    arguments: &[],
+                    take: None,
+                    model: Some(&r.model),
+                    notes: &[],
+                };
+                crate::pipeline::summary::write_sidecar(out, &p)?;
             }
             ExportKind::Svg => {
                 let r = self.results(ctl, analysis, 0.8)?;
@@ -1668,7 +1680,8 @@ impl Workbench {
     fn expect(&mut self, e: &Expectation) -> Result<Outcome, SessionError> {
         let fail = |m: String| Err(SessionError::Expect(m));
         let within = |x: f64, lo: f64, hi: f64| (lo..=hi).contains(&x);
-        let msg = match e {
+        let count = |n: usize| Some((n as f64, ""));
+        let (msg, found) = match e {
             Expectation::Nv(n) | Expectation::Nq(n) => {
                 let r = self.ensure_results()?;
                 let (what, got) = match e {
@@ -1678,20 +1691,20 @@ impl Workbench {
                 if got != *n {
                     return fail(format!("{what} is {got}, expected {n}"));
                 }
-                format!("{what} = {n}")
+                (format!("{what} = {n}"), count(got))
             }
             Expectation::Frames(n) => {
                 let got = self.frames();
                 if got != *n {
                     return fail(format!("the take has {got} frames, expected {n}"));
                 }
-                format!("frames = {n}")
+                (format!("frames = {n}"), count(got))
             }
             Expectation::Frame(n) => {
                 if self.frame != *n {
                     return fail(format!("the current frame is {}, expected {n}", self.frame));
                 }
-                format!("frame = {n}")
+                (format!("frame = {n}"), count(self.frame))
             }
             Expectation::Selected(s) => {
                 if self.selection.as_deref() != Some(s.as_str()) {
@@ -1700,7 +1713,7 @@ impl Workbench {
                         self.selection.as_deref().unwrap_or("nothing")
                     ));
                 }
-                format!("selected = {s}")
+                (format!("selected = {s}"), None)
             }
             Expectation::Mass { lo, hi } => {
                 let m = self.ensure_results()?.model.total_mass();
@@ -1708,7 +1721,7 @@ impl Workbench {
                 if !within(m, *lo, *hi) {
                     return fail(format!("total mass {check}"));
                 }
-                format!("mass {check}")
+                (format!("mass {check}"), Some(units::shown(Kind::Mass, m)))
             }
             Expectation::Stat {
                 stat,
@@ -1799,7 +1812,7 @@ impl Workbench {
                 if !within(value, lo, hi) {
                     return fail(format!("{name} {check}"));
                 }
-                format!("{name} {check}")
+                (format!("{name} {check}"), Some(units::shown(kind, value)))
             }
             Expectation::MessageContains(text) => {
                 let last = self
@@ -1813,13 +1826,15 @@ impl Workbench {
                         "the last message is '{last}', expected it to contain '{text}'"
                     ));
                 }
-                format!("message contains '{text}'")
+                (format!("message contains '{text}'"), None)
             }
             Expectation::ScreenContains(_) => {
                 return Err(err("expect screen needs a front end (the TUI)"));
             }
         };
-        Ok(self.say(format!("ok: {msg}")))
+        let mut outcome = self.say(format!("ok: {msg}"));
+        outcome.value = found;
+        Ok(outcome)
     }
 }
 

@@ -733,15 +733,26 @@ fn unwrap_degrees(x: &mut [f64]) {
     }
 }
 
-/// `articula anatomy -o PATH`: `time` (s), then every column of [`anatomy`] (angles in deg,
-/// moments in N·m and N·m/kg), then with ground contact `contact:left`, `contact:right` (1 on
+/// The written name of an [`Anatomy`] column, in the one scheme of `report::columns`: the
+/// quantity first, `knee_l:flexion:moment` → `moment:knee_l:flexion` (`angle:`, `moment:`,
+/// `moment_per_kg:`).
+pub fn column_name(name: &str) -> String {
+    match name.rsplit_once(':') {
+        Some((axis, what)) => crate::report::columns::name(what, &[axis]),
+        None => name.to_string(),
+    }
+}
+
+/// `articula anatomy -o PATH`: `time` (s), then every column of [`anatomy`] named by
+/// [`column_name`] (`angle:<joint>:<axis>` in deg, `moment:…` in N·m, `moment_per_kg:…` in
+/// N·m/kg), then with ground contact `contact:left`, `contact:right` (1 on
 /// the floor, 0 off it), with the take's consistency `residual:force` (N),
 /// `residual:moment` (N·m about the pelvis) and `residual:beyond` (1 where the frame lies
 /// beyond Hicks et al.'s thresholds, 0 elsewhere), and last `edge` (1 within the smoothing's
 /// reach of the take's first or last frame, whose accelerations are not trustworthy).
 pub fn write_anatomy(a: &Anatomy, path: &std::path::Path) -> Result<(), Error> {
     let mut header = vec!["time".to_string()];
-    header.extend(a.names.iter().cloned());
+    header.extend(a.names.iter().map(|n| column_name(n)));
     let mut cols: Vec<&[f64]> = vec![&a.time];
     cols.extend(a.columns.iter().map(|c| c.as_slice()));
     let contact: Vec<Vec<f64>> = a

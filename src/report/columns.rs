@@ -1,0 +1,232 @@
+//! The one naming scheme of every CSV articula writes, and the SI unit of every column.
+//!
+//! A column is named `KIND:SUBJECT[:COMPONENT]`: the kind says the quantity (`q` a joint
+//! coordinate, `tau` a generalized force, `grf` a ground reaction force, …), the subject what
+//! it is of (a coordinate, a foot, a joint), the component which part of it (`x`, `y`, `z` in
+//! the take's world axes; `flexion`, `adduction`, `rotation` on an anatomical axis). A few
+//! columns are bare words (`time`, `edge`). [`KINDS`] is the table: each kind's quantity and
+//! unit, where the unit of a coordinate's quantity depends on the coordinate (a rotation in
+//! rad, a translation in m; [`UnitRule::ByCoordinate`]). Values are SI, except the anatomical
+//! angles (`angle:`), in degrees as gait labs report them.
+//!
+//! Readers use the same table: [`kind_of`] splits a name, [`unit_of`] gives its unit for a
+//! model. OpenSim's `.sto` / `.mot` keep OpenSim's own names (`report::opensim`).
+
+use crate::error::Error;
+use crate::model::{JointKind, Model};
+
+/// How a kind's unit is found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UnitRule {
+    /// The same for every column of the kind.
+    Fixed(&'static str),
+    /// By the coordinate named in the column (`q:`: the `q` coordinate; the others: the `v`
+    /// one): rotational, translational, or a unit-quaternion component (dimensionless, `1`).
+    ByCoordinate {
+        angular: &'static str,
+        linear: &'static str,
+    },
+    /// By the component (last part of the name), e.g. `residual:fx` N, `residual:tx` N·m.
+    ByComponent(&'static [(&'static str, &'static str)]),
+    /// `M:<i>:<j>`: the mass matrix entry between `v` coordinates i and j (kg·m² between two
+    /// rotations, kg·m between a rotation and a translation, kg between two translations).
+    MassMatrix,
+}
+
+/// One kind of column: its prefix (or bare name), the quantity, and the rule for its unit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Kind {
+    /// The text before the first `:` (or the whole name for a bare column).
+    pub prefix: &'static str,
+    /// What the column holds, for documentation and sidecars.
+    pub quantity: &'static str,
+    pub unit: UnitRule,
+}
+
+const fn kind(prefix: &'static str, quantity: &'static str, unit: UnitRule) -> Kind {
+    Kind {
+        prefix,
+        quantity,
+        unit,
+    }
+}
+
+const fn by_coord(angular: &'static str, linear: &'static str) -> UnitRule {
+    UnitRule::ByCoordinate { angular, linear }
+}
+
+/// Every kind of column, the table the writers name their columns by and the readers and
+/// sidecars read units from. Units are written in ASCII (`N*m`, `rad/s^2`).
+pub const KINDS: &[Kind] = &[
+    kind("time", "time", UnitRule::Fixed("s")),
+    kind("q", "joint coordinate", by_coord("rad", "m")),
+    kind("v", "joint velocity", by_coord("rad/s", "m/s")),
+    kind("a", "joint acceleration", by_coord("rad/s^2", "m/s^2")),
+    kind("tau", "generalized force", by_coord("N*m", "N")),
+    kind(
+        "err",
+        "tracking error (reference - simulated)",
+        by_coord("rad", "m"),
+    ),
+    kind(
+        "pos",
+        "joint centre position, world axes",
+        UnitRule::Fixed("m"),
+    ),
+    kind(
+        "grf",
+        "ground reaction force, world axes",
+        UnitRule::Fixed("N"),
+    ),
+    kind(
+        "cop",
+        "centre of pressure, world axes",
+        UnitRule::Fixed("m"),
+    ),
+    kind(
+        "moment",
+        "moment (a foot's free moment, world axes; a joint's net internal moment on an \
+         anatomical axis)",
+        UnitRule::Fixed("N*m"),
+    ),
+    kind(
+        "moment_per_kg",
+        "net internal joint moment per body mass",
+        UnitRule::Fixed("N*m/kg"),
+    ),
+    kind("angle", "anatomical joint angle", UnitRule::Fixed("deg")),
+    kind(
+        "residual",
+        "what the root still needs (force, moment; world axes)",
+        UnitRule::ByComponent(&[
+            ("fx", "N"),
+            ("fy", "N"),
+            ("fz", "N"),
+            ("tx", "N*m"),
+            ("ty", "N*m"),
+            ("tz", "N*m"),
+            ("force", "N"),
+            ("moment", "N*m"),
+            ("beyond", "1"),
+        ]),
+    ),
+    kind(
+        "contact",
+        "foot on the floor (1) or not (0)",
+        UnitRule::Fixed("1"),
+    ),
+    kind(
+        "edge",
+        "frame within the smoothing's reach of an end (1) or not (0)",
+        UnitRule::Fixed("1"),
+    ),
+    kind("M", "joint-space mass matrix entry", UnitRule::MassMatrix),
+    kind("power", "mechanical power tau * v", UnitRule::Fixed("W")),
+    kind("current", "motor current", UnitRule::Fixed("A")),
+];
+
+/// A column name from its kind and parts: `name("tau", &["LeftLeg.Xrotation"])` is
+/// `tau:LeftLeg.Xrotation`. The kind must be in [`KINDS`] (checked in debug builds).
+pub fn name(kind: &str, parts: &[&str]) -> String {
+    debug_assert!(KINDS.iter().any(|k| k.prefix == kind), "kind {kind}");
+    let mut s = kind.to_string();
+    for p in parts {
+        s.push(':');
+        s.push_str(p);
+    }
+    s
+}
+
+/// The kind of a column name (its text before the first `:`), if it follows the scheme.
+pub fn kind_of(column: &str) -> Option<&'static Kind> {
+    let prefix = column.split(':').next().unwrap_or(column);
+    KINDS.iter().find(|k| k.prefix == prefix)
+}
+
+/// How a coordinate's quantities are measured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum CoordUnit {
+    Angular,
+    Linear,
+    Quaternion,
+}
+
+/// The unit kind of `q` coordinate `k` of `model` (a free joint: x, y, z, then a unit
+/// quaternion; a ball joint: a unit quaternion).
+fn q_unit(model: &Model, k: usize) -> CoordUnit {
+    let b = (1..model.nbodies())
+        .find(|&b| (model.idx_q[b]..model.idx_q[b] + model.joints[b].nq()).contains(&k))
+        .unwrap_or(0);
+    match model.joints[b] {
+        JointKind::Free if k - model.idx_q[b] < 3 => CoordUnit::Linear,
+        JointKind::Free | JointKind::Spherical => CoordUnit::Quaternion,
+        JointKind::Revolute { .. } => CoordUnit::Angular,
+        JointKind::Prismatic { .. } | JointKind::Fixed => CoordUnit::Linear,
+    }
+}
+
+fn v_unit(model: &Model, k: usize) -> CoordUnit {
+    if model.is_angular(k) {
+        CoordUnit::Angular
+    } else {
+        CoordUnit::Linear
+    }
+}
+
+/// The unit of `column` of a file written for `model` (`None`: a file without a model, e.g. a
+/// robot-free table; then coordinate kinds are an error). An error names the column when it
+/// does not follow the scheme or names no coordinate of the model.
+pub fn unit_of(column: &str, model: Option<&Model>) -> Result<&'static str, Error> {
+    let bad = |why: String| Error::Invalid(format!("column {column:?}: {why}"));
+    let k = kind_of(column).ok_or_else(|| {
+        bad(
+            "not in articula's column scheme (KIND:SUBJECT[:COMPONENT], see docs/formats.md)"
+                .into(),
+        )
+    })?;
+    let rest = column.strip_prefix(k.prefix).unwrap_or("");
+    let rest = rest.strip_prefix(':').unwrap_or(rest);
+    match k.unit {
+        UnitRule::Fixed(u) => Ok(u),
+        UnitRule::ByComponent(table) => {
+            let c = rest.rsplit(':').next().unwrap_or(rest);
+            table
+                .iter()
+                .find(|(n, _)| *n == c)
+                .map(|(_, u)| *u)
+                .ok_or_else(|| bad(format!("no component {c:?} of kind {}", k.prefix)))
+        }
+        UnitRule::ByCoordinate { angular, linear } => {
+            let m = model.ok_or_else(|| bad("a coordinate's unit needs its model".into()))?;
+            let unit = if k.prefix == "q" {
+                m.q_names
+                    .iter()
+                    .position(|n| n == rest)
+                    .map(|i| q_unit(m, i))
+            } else {
+                m.v_index(rest).map(|i| v_unit(m, i))
+            };
+            match unit.ok_or_else(|| bad(format!("no coordinate {rest:?} in {}", m.name)))? {
+                CoordUnit::Angular => Ok(angular),
+                CoordUnit::Linear => Ok(linear),
+                CoordUnit::Quaternion => Ok("1"),
+            }
+        }
+        UnitRule::MassMatrix => {
+            let m =
+                model.ok_or_else(|| bad("a mass matrix entry's unit needs its model".into()))?;
+            let idx: Vec<usize> = rest.split(':').filter_map(|i| i.parse().ok()).collect();
+            let [i, j] = idx[..] else {
+                return Err(bad("expected M:<i>:<j>".into()));
+            };
+            if i >= m.nv || j >= m.nv {
+                return Err(bad(format!("index beyond nv = {}", m.nv)));
+            }
+            Ok(match (m.is_angular(i), m.is_angular(j)) {
+                (true, true) => "kg*m^2",
+                (false, false) => "kg",
+                _ => "kg*m",
+            })
+        }
+    }
+}

@@ -1,0 +1,427 @@
+//! One naming scheme for every CSV, a sidecar beside each, and `--json` everywhere
+//! (issue 16 item 4).
+//!
+//! Invariants: every column of every CSV the binary writes has a kind in
+//! `report::columns::KINDS` and a unit (one table-driven test over the commands); the sidecar
+//! `NAME.json` parses, lists exactly the header's columns, and gives each the unit the table
+//! gives it; each `--json` parses and has its documented keys.
+
+mod common;
+
+use articula::report::columns;
+use articula::report::csv::read_columns;
+use articula::report::sidecar::Sidecar;
+use assert_cmd::Command;
+use std::path::{Path, PathBuf};
+
+fn articula() -> Command {
+    Command::cargo_bin("articula").expect("binary")
+}
+
+/// A generated walk of `secs` seconds at 60 fps in `dir`.
+fn walk(dir: &Path, secs: f64) -> PathBuf {
+    let p = dir.join("walk.bvh");
+    articula()
+        .args(["generate", "walk", "--fps", "60", "--duration"])
+        .arg(secs.to_string())
+        .arg("-o")
+        .arg(&p)
+        .assert()
+        .success();
+    p
+}
+
+/// Runs `args` (`{take}` replaced by the take, `{out}` by `out`), which must succeed; its
+/// standard output.
+fn run(args: &[&str], take: &Path, out: &Path) -> Vec<u8> {
+    let args: Vec<String> = args
+        .iter()
+        .map(|a| match *a {
+            "{take}" => take.display().to_string(),
+            "{out}" => out.display().to_string(),
+            a => a.to_string(),
+        })
+        .collect();
+    let o = articula().args(&args).output().unwrap();
+    assert!(
+        o.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    o.stdout
+}
+
+fn sidecar_of(csv: &Path) -> Sidecar {
+    let text = std::fs::read_to_string(csv.with_extension("json"))
+        .unwrap_or_else(|e| panic!("{}: no sidecar: {e}", csv.display()));
+    serde_json::from_str(&text).unwrap()
+}
+
+/// The model the take's coordinates belong to, for the units of `q:`, `tau:` … columns.
+fn model(take: &Path) -> articula::model::Model {
+    articula::pipeline::load_take(take, &articula::pipeline::TakeOptions::default())
+        .unwrap()
+        .model
+}
+
+#[test]
+fn every_csv_header_follows_the_scheme_and_its_sidecar_gives_the_units() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.5);
+    let m = model(&take);
+    let d = dir.path();
+    // the states and torques the robot-free commands read back
+    run(
+        &["export", "states", "{take}", "-o", "{out}"],
+        &take,
+        &d.join("s.csv"),
+    );
+    run(
+        &["id", "{take}", "--contact", "none", "-o", "{out}"],
+        &take,
+        &d.join("t0.csv"),
+    );
+    // every command that writes a CSV: (its arguments, whether its columns name coordinates)
+    let commands: &[(&str, &[&str])] = &[
+        ("id.csv", &["id", "{take}", "-o", "{out}"]),
+        ("states.csv", &["export", "states", "{take}", "-o", "{out}"]),
+        (
+            "positions.csv",
+            &["export", "positions", "{take}", "-o", "{out}"],
+        ),
+        ("grf.csv", &["export", "grf", "{take}", "-o", "{out}"]),
+        ("anatomy.csv", &["anatomy", "{take}", "-o", "{out}"]),
+        (
+            "fd.csv",
+            &["fd", "{take}", "--torques", "T0", "-o", "{out}"],
+        ),
+        ("mass.csv", &["mass-matrix", "{take}", "-o", "{out}"]),
+        (
+            "sim.csv",
+            &["simulate", "{take}", "--duration", "0.3", "-o", "{out}"],
+        ),
+    ];
+    let t0 = d.join("t0.csv").display().to_string();
+    for (name, args) in commands {
+        let out = d.join(name);
+        let args: Vec<&str> = args
+            .iter()
+            .map(|a| if *a == "T0" { t0.as_str() } else { *a })
+            .collect();
+        run(&args, &take, &out);
+        let (header, cols) = read_columns(&out).unwrap();
+        assert_eq!(header[0], "time", "{name}");
+        assert!(cols[0].len() > 10, "{name}");
+        let side = sidecar_of(&out);
+        assert_eq!(side.file, *name);
+        assert_eq!(side.articula_version, env!("CARGO_PKG_VERSION"));
+        assert_eq!(
+            side.take.as_deref(),
+            Some(take.display().to_string().as_str())
+        );
+        assert_eq!(side.settings["up"], "y", "{name}");
+        let names: Vec<&str> = side.columns.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(names, header, "{name}: the sidecar lists the header");
+        for (c, h) in side.columns.iter().zip(&header) {
+            let kind = columns::kind_of(h).unwrap_or_else(|| panic!("{name}: {h} has no kind"));
+            assert_eq!(c.quantity, kind.quantity, "{name}: {h}");
+            assert_eq!(
+                c.unit,
+                columns::unit_of(h, Some(&m)).unwrap(),
+                "{name}: {h}"
+            );
+        }
+    }
+    // units that depend on the coordinate: a rotation's torque in N*m, a translation's in N
+    let id = sidecar_of(&d.join("id.csv"));
+    let unit = |n: &str| {
+        id.columns
+            .iter()
+            .find(|c| c.name == n)
+            .unwrap()
+            .unit
+            .clone()
+    };
+    assert_eq!(unit("tau:LeftLeg.Xrotation"), "N*m");
+    assert_eq!(unit("tau:Hips.Yposition"), "N");
+    assert_eq!(unit("grf:left:y"), "N");
+    assert_eq!(unit("residual:tx"), "N*m");
+    let sim = sidecar_of(&d.join("sim.csv"));
+    let q = sim
+        .columns
+        .iter()
+        .find(|c| c.name == "q:LeftLeg.Xrotation")
+        .unwrap();
+    assert_eq!(q.unit, "rad");
+    let anatomy = read_columns(&d.join("anatomy.csv")).unwrap().0;
+    assert!(
+        anatomy.iter().any(|h| h == "moment:knee_l:flexion"),
+        "{anatomy:?}"
+    );
+    assert!(
+        anatomy.iter().any(|h| h == "angle:knee_r:flexion"),
+        "{anatomy:?}"
+    );
+}
+
+#[test]
+fn standard_output_gets_no_sidecar_and_old_bare_torque_names_are_still_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.5);
+    let d = dir.path();
+    let out = run(&["id", "{take}", "--contact", "none", "-o", "-"], &take, d);
+    let text = String::from_utf8(out).unwrap();
+    assert!(text.starts_with("time,tau:"), "{}", &text[..60]);
+    assert!(!d.join("-.json").exists() && !d.join(".json").exists());
+    // torques under the bare names `id` wrote before the scheme give the same accelerations
+    let t = d.join("t.csv");
+    std::fs::write(&t, &text).unwrap();
+    let (h, c) = read_columns(&t).unwrap();
+    let bare: Vec<String> = h
+        .iter()
+        .map(|n| n.trim_start_matches("tau:").to_string())
+        .collect();
+    let refs: Vec<&[f64]> = c.iter().map(Vec::as_slice).collect();
+    let old = d.join("old.csv");
+    articula::report::csv::write_columns(&old, &bare, &refs).unwrap();
+    let fd = |torques: &Path, out: &str| {
+        let o = d.join(out);
+        articula()
+            .arg("fd")
+            .arg(&take)
+            .arg("--torques")
+            .arg(torques)
+            .arg("-o")
+            .arg(&o)
+            .assert()
+            .success();
+        read_columns(&o).unwrap()
+    };
+    assert_eq!(fd(&t, "a_new.csv"), fd(&old, "a_old.csv"));
+}
+
+#[test]
+fn id_json_has_figures_per_coordinate_and_the_root_residual() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 1.0);
+    let out = dir.path().join("t.csv");
+    let stdout = run(&["id", "{take}", "--json", "-o", "{out}"], &take, &out);
+    let v: serde_json::Value = serde_json::from_slice(&stdout).unwrap();
+    for key in [
+        "frames",
+        "ground_reactions",
+        "coordinates",
+        "root_residual",
+        "contact_quality",
+        "consistency",
+        "notes",
+    ] {
+        assert!(v.get(key).is_some(), "no {key} in {v}");
+    }
+    assert_eq!(v["ground_reactions"], "estimated");
+    // the figures are those of the file's columns
+    let (h, c) = read_columns(&out).unwrap();
+    let coords = v["coordinates"].as_array().unwrap();
+    assert_eq!(
+        coords.len(),
+        h.iter().filter(|n| n.starts_with("tau:")).count()
+    );
+    for e in coords {
+        let name = e["name"].as_str().unwrap();
+        let col = &c[h.iter().position(|n| n == name).unwrap()];
+        let peak = col.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        // (serde_json parses floats to within an ulp)
+        let got = e["peak_abs"].as_f64().unwrap();
+        assert!(
+            (got - peak).abs() <= 1e-15 * (1.0 + peak),
+            "{name}: {got} {peak}"
+        );
+        let rms = (col.iter().map(|x| x * x).sum::<f64>() / col.len() as f64).sqrt();
+        assert!(
+            (e["rms"].as_f64().unwrap() - rms).abs() <= 1e-12 * (1.0 + rms),
+            "{name}"
+        );
+    }
+    let residual: Vec<&str> = v["root_residual"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(residual[0], "residual:fx");
+    assert_eq!(residual.len(), 6);
+    assert!(
+        v["contact_quality"]["single_support_frames"]
+            .as_u64()
+            .is_some()
+    );
+    // with `-o -` the JSON goes to standard error, the data alone to standard output
+    let o = articula()
+        .arg("id")
+        .arg(&take)
+        .args(["--contact", "none", "--json", "-o", "-"])
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    assert!(String::from_utf8_lossy(&o.stdout).starts_with("time,"));
+    let err = String::from_utf8_lossy(&o.stderr);
+    let json = &err[err.find('{').unwrap()..=err.rfind('}').unwrap()];
+    let v: serde_json::Value = serde_json::from_str(json).unwrap();
+    assert_eq!(v["ground_reactions"], "none");
+    assert_eq!(v["root_residual"].as_array().unwrap().len(), 0);
+}
+
+#[test]
+fn info_export_smooth_and_blend_json_parse_with_their_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.5);
+    let d = dir.path();
+    let info: serde_json::Value =
+        serde_json::from_slice(&run(&["info", "{take}", "--json"], &take, d)).unwrap();
+    let skeleton = info["skeleton"].as_array().unwrap();
+    assert_eq!(skeleton.len(), info["joints"].as_u64().unwrap() as usize);
+    assert_eq!(skeleton[0]["name"], "Hips");
+    assert!(skeleton[0]["parent"].is_null());
+    assert_eq!(skeleton[1]["parent"], "Hips");
+    assert!(info["notes"].is_array());
+    let keys = [
+        "command",
+        "takes",
+        "written",
+        "format",
+        "frames",
+        "frame_time_s",
+        "settings",
+        "notes",
+    ];
+    let parse = |bytes: Vec<u8>| -> serde_json::Value {
+        let v: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
+        for k in keys {
+            assert!(v.get(k).is_some(), "no {k} in {v}");
+        }
+        v
+    };
+    let states = d.join("s.csv");
+    let v = parse(run(
+        &["export", "states", "{take}", "--json", "-o", "{out}"],
+        &take,
+        &states,
+    ));
+    assert_eq!(v["format"], "csv");
+    assert_eq!(
+        v["written"][1],
+        states.with_extension("json").display().to_string()
+    );
+    assert_eq!(
+        v["frames"].as_u64().unwrap() as usize,
+        read_columns(&states).unwrap().1[0].len()
+    );
+    let v = parse(run(
+        &["export", "urdf", "{take}", "--json", "-o", "{out}"],
+        &take,
+        &d.join("m.urdf"),
+    ));
+    assert!(v["frames"].is_null());
+    let smooth = d.join("smooth.bvh");
+    let v = parse(run(
+        &["smooth", "{take}", "--json", "-o", "{out}"],
+        &take,
+        &smooth,
+    ));
+    assert_eq!(v["command"], "smooth");
+    assert_eq!(
+        v["frames"].as_u64().unwrap() as usize,
+        articula::io::bvh::read(&smooth).unwrap().frames
+    );
+    let blend = d.join("blend.bvh");
+    let v = parse(run(
+        &[
+            "blend", "{take}", "{take}", "--window", "0.2:0.3", "--json", "-o", "{out}",
+        ],
+        &take,
+        &blend,
+    ));
+    assert_eq!(v["takes"].as_array().unwrap().len(), 2);
+    assert!(blend.exists());
+}
+
+#[test]
+fn run_json_gives_every_expect_with_its_value_and_the_failing_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 0.5);
+    let session = dir.path().join("s.session");
+    let text = |hi: &str| {
+        format!(
+            "load {}\nexpect frames 30\nexpect peak LeftLeg.Xrotation torque between 1 {hi}\n\
+             export csv r.csv\nexport states st.csv\n",
+            take.display()
+        )
+    };
+    std::fs::write(&session, text("1000")).unwrap();
+    let o = articula()
+        .arg("run")
+        .arg(&session)
+        .arg("--out")
+        .arg(dir.path())
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["ok"], true);
+    let e = v["expectations"].as_array().unwrap();
+    assert_eq!(e.len(), 2);
+    assert_eq!(e[0]["line"], 2);
+    assert_eq!(e[0]["result"], "frames = 30");
+    assert!(e[1]["result"].as_str().unwrap().contains("N·m"), "{}", e[1]);
+    assert_eq!(e[0]["value"], 30.0);
+    assert_eq!(e[0]["unit"], "");
+    // the value is the knee's peak |τ| unrounded (over the quoted frames: at most the peak of
+    // every frame in the session's export), the one the result shows rounded
+    assert_eq!(e[1]["unit"], "N·m");
+    let (h, c) = read_columns(&dir.path().join("r.csv")).unwrap();
+    let knee = &c[h.iter().position(|n| n == "tau:LeftLeg.Xrotation").unwrap()];
+    let peak = knee.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let got = e[1]["value"].as_f64().unwrap();
+    assert!(got > 1.0 && got <= peak * (1.0 + 1e-12), "{got} vs {peak}");
+    let shown = format!("{got:.1} N·m");
+    assert!(
+        e[1]["result"].as_str().unwrap().contains(&shown),
+        "{shown}: {}",
+        e[1]
+    );
+    assert_eq!(e[1]["pass"], true);
+    // the session's CSVs have their sidecars too, their units from the same table
+    let m = model(&take);
+    for (csv, command) in [("r.csv", "export csv"), ("st.csv", "export states")] {
+        let path = dir.path().join(csv);
+        let side = sidecar_of(&path);
+        assert_eq!(side.command, command);
+        let header = read_columns(&path).unwrap().0;
+        let names: Vec<&str> = side.columns.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(names, header);
+        for c in &side.columns {
+            assert_eq!(
+                c.unit,
+                columns::unit_of(&c.name, Some(&m)).unwrap(),
+                "{}",
+                c.name
+            );
+        }
+    }
+    // a failing expect: the JSON still comes, with pass false, and the run fails
+    std::fs::write(&session, text("2")).unwrap();
+    let o = articula()
+        .arg("run")
+        .arg(&session)
+        .arg("--out")
+        .arg(dir.path())
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["ok"], false);
+    assert_eq!(v["expectations"][1]["pass"], false);
+    assert!(v["error"].as_str().unwrap().contains("expect"), "{v}");
+}
