@@ -18,13 +18,16 @@
 //!    of v.
 
 pub mod anatomy;
+pub mod commands;
 pub mod consistency;
 mod contact;
 mod edit;
+pub mod flags;
 pub mod formats;
 pub mod measured;
 mod mujoco;
 mod sim;
+pub mod table;
 
 pub use contact::{
     Contact, contact_choice, contact_feet, edge_frames, estimate_take_ground_reactions,
@@ -1102,6 +1105,18 @@ pub struct Job {
     pub measured: Option<crate::dynamics::grf::GroundReactions>,
 }
 
+impl Job {
+    /// A take's job: its model and its own states.
+    pub fn from_take(take: Take) -> Self {
+        Self {
+            model: take.model.clone(),
+            states: take.states.clone(),
+            take: Some(take),
+            measured: None,
+        }
+    }
+}
+
 /// Loads only the model of a source (for `bench`).
 pub fn load_model(src: &ModelSource, opts: &TakeOptions) -> Result<Model, Error> {
     Ok(match src {
@@ -1140,8 +1155,8 @@ pub fn load_source_with(
 ) -> Result<Job, Error> {
     let (model, own, take) = match src {
         ModelSource::Take(p) => {
-            let t = load_take(p, opts)?;
-            (t.model.clone(), Some(t.states.clone()), Some(t))
+            let job = Job::from_take(load_take(p, opts)?);
+            (job.model, Some(job.states), job.take)
         }
         ModelSource::Urdf(..) | ModelSource::Dh(_) => (robot_model(src, opts)?, None, None),
     };
@@ -1272,17 +1287,7 @@ pub(crate) fn write_rows(path: &Path, header: Vec<String>, rows: &[Vec<f64>]) ->
 
 /// `articula export states`.
 pub fn export_states(take: &Take, path: &Path) -> Result<(), Error> {
-    let s = &take.states;
-    let rows: Vec<Vec<f64>> = (0..s.len())
-        .map(|k| {
-            let mut r = vec![s.time[k]];
-            r.extend_from_slice(&s.q[k]);
-            r.extend_from_slice(&s.v[k]);
-            r.extend_from_slice(&s.a[k]);
-            r
-        })
-        .collect();
-    write_rows(path, states_header(&take.model), &rows)
+    table::take_states_table(take).write_csv(path)
 }
 
 /// `articula export positions`: world position of every BVH joint (m, the take's own axes),
@@ -1407,24 +1412,9 @@ pub fn write_inverse_dynamics(
     job: &Job,
     path: &Path,
 ) -> Result<Option<crate::dynamics::grf::GroundQuality>, Error> {
-    let (t, grf) = job_torques(job)?;
-    let mut header = vec!["time".to_string()];
-    header.extend(t.names.iter().cloned());
-    if let Some(g) = &grf {
-        header.extend(g.columns());
-    }
-    let rows: Vec<Vec<f64>> = (0..t.time.len())
-        .map(|k| {
-            let mut r = vec![t.time[k]];
-            r.extend_from_slice(&t.tau[k]);
-            if let Some(g) = &grf {
-                g.row(k, &mut r);
-            }
-            r
-        })
-        .collect();
-    write_rows(path, header, &rows)?;
-    Ok(grf.map(|g| g.quality()))
+    let (table, quality) = table::inverse_dynamics_table(job)?;
+    table.write_csv(path)?;
+    Ok(quality)
 }
 
 /// A job's generalized forces, with the ground reactions applied when the take has contact
