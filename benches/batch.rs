@@ -79,5 +79,10 @@ fn batch(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, batch);
+criterion_group! {
+    name = benches;
+    // no plots: the machines this runs on may have no fonts for criterion's plotters backend
+    config = Criterion::default().without_plots();
+    targets = batch
+}
 criterion_main!(benches);
