@@ -559,9 +559,14 @@ fn up_to_date(job: &Job) -> bool {
         && std::fs::read_to_string(&job.sidecar).is_ok_and(|recorded| recorded == args_text(job))
 }
 
-/// What the sidecar records: the child's arguments, one a line.
+/// What the sidecar records: the version of articula that made the output (a comment line,
+/// so that a new version redoes what an older one computed), then the child's arguments, one a
+/// line.
 fn args_text(job: &Job) -> String {
-    job.argv.iter().map(|a| format!("{a}\n")).collect()
+    let version = format!("# articula {}\n", env!("CARGO_PKG_VERSION"));
+    std::iter::once(version)
+        .chain(job.argv.iter().map(|a| format!("{a}\n")))
+        .collect()
 }
 
 /// Runs the child; its output in place, its log written, its sidecar recorded on success. The
@@ -622,7 +627,7 @@ fn read_back(row: &mut Row, of: &[String]) {
                 row.frames = columns.first().map(Vec::len);
                 for name in of {
                     if let Some(c) = header.iter().position(|h| h == name) {
-                        let (peak, rms) = peak_rms(&columns[c]);
+                        let (peak, rms) = articula::pipeline::table::peak_rms(&columns[c]);
                         row.figures.push((name.clone(), peak, rms));
                     }
                 }
@@ -641,17 +646,6 @@ fn read_back(row: &mut Row, of: &[String]) {
         }
         _ => {}
     }
-}
-
-/// Peak |x| and root mean square of a column.
-fn peak_rms(x: &[f64]) -> (f64, f64) {
-    let peak = x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-    let rms = if x.is_empty() {
-        0.0
-    } else {
-        (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
-    };
-    (peak, rms)
 }
 
 /// The summary's header and cells: take, the swept keys, status, seconds, frames, peak and RMS

@@ -292,15 +292,15 @@ pub enum ExportWhat {
     Gltf,
 }
 
-/// Every export: its command name (for flag checks and messages) and what it writes.
+/// Every export: its name in `pipeline::formats::export` (and in flag checks and messages).
 const EXPORTS: &[(ExportWhat, &str)] = &[
-    (ExportWhat::Positions, "export positions"),
-    (ExportWhat::Urdf, "export urdf"),
-    (ExportWhat::Mjcf, "export mjcf"),
-    (ExportWhat::States, "export states"),
-    (ExportWhat::Grf, "export grf"),
-    (ExportWhat::Trc, "export trc"),
-    (ExportWhat::Gltf, "export gltf"),
+    (ExportWhat::Positions, "positions"),
+    (ExportWhat::Urdf, "urdf"),
+    (ExportWhat::Mjcf, "mjcf"),
+    (ExportWhat::States, "states"),
+    (ExportWhat::Grf, "grf"),
+    (ExportWhat::Trc, "trc"),
+    (ExportWhat::Gltf, "gltf"),
 ];
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -419,25 +419,14 @@ pub struct ConsistencyArgs {
 
 impl ConsistencyArgs {
     /// Whether to reduce the residuals: `--consistent`, else `default`; refused without
-    /// contact.
+    /// contact (`pipeline::commands::reduce_residuals`).
     fn reduce(&self, contact: bool, default: bool) -> Result<bool> {
-        let on = match self.consistent.as_deref().map(str::trim) {
-            None => default,
-            Some("on") => true,
-            Some("off") => false,
-            Some(other) => bail!("--consistent {other}: expected on or off"),
-        };
-        if self.consistent.is_some() && !contact {
-            bail!(
-                "--consistent has no effect without ground contact (contact none, or auto on a \
-                 take that never stands on a floor): residuals against the ground reactions \
-                 need --contact feet; remove it or add --contact feet"
-            );
-        }
-        if self.json && !contact {
-            bail!("--json prints the consistency summary, which needs --contact feet");
-        }
-        Ok(on && contact)
+        Ok(pipeline::commands::reduce_residuals(
+            self.consistent.as_deref(),
+            self.json,
+            contact,
+            default,
+        )?)
     }
 }
 
@@ -465,154 +454,40 @@ pub struct SimArgs {
     pub duration: Option<f64>,
 }
 
-/// The take flags each command leaves unused: giving one is an error that says so, never a
-/// flag accepted and ignored (`simulate --contact feet` wrote the same bytes as without it).
-/// A command not listed here uses every take flag.
-const UNUSED_TAKE_FLAGS: &[(&str, &[&str], &str)] = &[
-    (
-        "info",
-        &["--contact", "--damping"],
-        "info describes the take and its model; ground forces and friction are for `id`",
-    ),
-    (
-        "export positions",
-        &[
-            "--mass",
-            "--sex",
-            "--segments",
-            "--link-mass",
-            "--smooth",
-            "--joints",
-            "--contact",
-            "--damping",
-            "--lock",
-        ],
-        "positions come from the file's channels (those below the root welded at their mean \
-         unless --joint-translations keep); no model, mass or smoothing enters",
-    ),
-    (
-        "export states",
-        &[
-            "--mass",
-            "--sex",
-            "--segments",
-            "--link-mass",
-            "--contact",
-            "--damping",
-        ],
-        "states are kinematics: no mass, contact or friction enters",
-    ),
-    (
-        "export trc",
-        &[
-            "--mass",
-            "--sex",
-            "--segments",
-            "--link-mass",
-            "--smooth",
-            "--joints",
-            "--contact",
-            "--damping",
-            "--lock",
-        ],
-        "markers are the joints' positions from the file's channels (those below the root \
-         welded at their mean unless --joint-translations keep); no model, mass or smoothing \
-         enters",
-    ),
-    (
-        "export gltf",
-        &["--smooth", "--contact", "--damping"],
-        "the animation is the file's channels (those below the root welded at their mean \
-         unless --joint-translations keep), as `export trc` has them: no smoothing, contact or \
-         friction enters",
-    ),
-    (
-        "export grf",
-        &["--damping"],
-        "joint friction changes the joint torques, not what the ground gives",
-    ),
-    (
-        "export urdf",
-        &["--smooth", "--contact", "--damping", "--keep-first-frame"],
-        "a URDF holds the model, not the motion",
-    ),
-    (
-        "export mjcf",
-        &["--smooth", "--contact", "--keep-first-frame"],
-        "an MJCF holds the model, not the motion",
-    ),
-    (
-        "simulate",
-        &["--contact"],
-        "the simulation has no ground contact model: the root residual carries the body \
-         (`id --contact feet` estimates ground forces)",
-    ),
-    (
-        "fd",
-        &["--contact"],
-        "forward dynamics applies the torques given; ground forces are estimated by `id`",
-    ),
-    (
-        "mass-matrix",
-        &["--contact"],
-        "D(q) depends on the configuration alone",
-    ),
-    (
-        "tradeoff",
-        &["--contact"],
-        "the trade-off simulations have no ground contact model",
-    ),
-    (
-        "bench",
-        &["--smooth", "--contact", "--keep-first-frame"],
-        "bench times the dynamics of the model at sample states, not the take's motion",
-    ),
-    (
-        "smooth",
-        &[
-            "--mass",
-            "--sex",
-            "--segments",
-            "--link-mass",
-            "--contact",
-            "--damping",
-        ],
-        "smoothing writes the motion; no mass, contact or friction enters",
-    ),
-];
-
 impl TakeArgs {
     fn options(&self) -> Result<TakeOptions> {
         Ok(self.options_and_gains()?.0)
     }
 
+    /// The flags as the library reads them (strings not yet validated).
+    fn flags(&self) -> pipeline::Flags<'_> {
+        pipeline::Flags {
+            unit: self.unit.as_deref(),
+            stature_m: self.stature,
+            up: self.up.as_deref(),
+            positions: self.positions.as_deref(),
+            joints: self.joints.as_deref(),
+            mass_kg: self.mass,
+            sex: self.sex.as_deref(),
+            segments: self.segments.as_deref(),
+            link_mass: &self.link_mass,
+            smooth: self.smooth.as_deref(),
+            lock: &self.lock,
+            subtree: self.subtree.as_deref(),
+            contact: self.contact.as_deref(),
+            keep_first_frame: self.keep_first_frame,
+            damping: &self.damping,
+            joint_translations: self.joint_translations.as_deref(),
+        }
+    }
+
     /// The take flags given (by their names on the command line).
     fn given(&self) -> Vec<&'static str> {
-        [
-            ("--unit", self.unit.is_some()),
-            ("--stature", self.stature.is_some()),
-            ("--up", self.up.is_some()),
-            ("--positions", self.positions.is_some()),
-            ("--subtree", self.subtree.is_some()),
-            ("--mass", self.mass.is_some()),
-            ("--sex", self.sex.is_some()),
-            ("--segments", self.segments.is_some()),
-            ("--link-mass", !self.link_mass.is_empty()),
-            ("--smooth", self.smooth.is_some()),
-            ("--joints", self.joints.is_some()),
-            ("--contact", self.contact.is_some()),
-            ("--damping", !self.damping.is_empty()),
-            ("--lock", !self.lock.is_empty()),
-            ("--keep-first-frame", self.keep_first_frame),
-            ("--joint-translations", self.joint_translations.is_some()),
-        ]
-        .into_iter()
-        .filter_map(|(f, given)| given.then_some(f))
-        .collect()
+        self.flags().given()
     }
 
     /// [`Self::options`] for `command`, refusing a take flag it would ignore
-    /// ([`UNUSED_TAKE_FLAGS`]).
+    /// (`pipeline::flags::UNUSED_TAKE_FLAGS`).
     fn options_for(&self, command: &str) -> Result<TakeOptions> {
         self.refuse_unused(command)?;
         self.options()
@@ -641,47 +516,16 @@ impl TakeArgs {
     }
 
     fn refuse_unused(&self, command: &str) -> Result<()> {
-        let Some((_, unused, why)) = UNUSED_TAKE_FLAGS.iter().find(|(c, _, _)| *c == command)
-        else {
-            return Ok(());
-        };
-        if let Some(flag) = self.given().into_iter().find(|f| unused.contains(f)) {
-            bail!("{flag} has no effect on `articula {command}`: {why}; remove it");
-        }
-        Ok(())
+        Ok(pipeline::flags::refuse_unused(command, &self.given())?)
     }
 
     /// The take options (the scene's, then the flags over them) and the scene's gains, reading
     /// the scene file once.
     fn options_and_gains(&self) -> Result<(TakeOptions, Option<articula::io::scene::Gains>)> {
-        let scene = self
-            .scene
-            .as_deref()
-            .map(articula::io::scene::read)
-            .transpose()?;
-        let mut o = match &scene {
-            Some(s) => TakeOptions::from_scene(s)?,
-            None => TakeOptions::default(),
-        };
-        o.apply_flags(&pipeline::Flags {
-            unit: self.unit.as_deref(),
-            stature_m: self.stature,
-            up: self.up.as_deref(),
-            positions: self.positions.as_deref(),
-            joints: self.joints.as_deref(),
-            mass_kg: self.mass,
-            sex: self.sex.as_deref(),
-            segments: self.segments.as_deref(),
-            link_mass: &self.link_mass,
-            smooth: self.smooth.as_deref(),
-            lock: &self.lock,
-            subtree: self.subtree.as_deref(),
-            contact: self.contact.as_deref(),
-            keep_first_frame: self.keep_first_frame,
-            damping: &self.damping,
-            joint_translations: self.joint_translations.as_deref(),
-        })?;
-        Ok((o, scene.and_then(|s| s.gains)))
+        Ok(pipeline::flags::options_from(
+            self.scene.as_deref(),
+            &self.flags(),
+        )?)
     }
 }
 
@@ -791,59 +635,37 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             json,
             output,
         } => {
-            let command = EXPORTS
+            let name = EXPORTS
                 .iter()
                 .find(|(w, _)| *w == what)
                 .map_or("export", |e| e.1);
-            let table = !matches!(
-                what,
-                ExportWhat::Urdf | ExportWhat::Mjcf | ExportWhat::Trc | ExportWhat::Gltf
-            );
-            if format.is_some() && !table {
-                bail!("--format has no effect on `articula {command}`; remove it");
-            }
-            if trc_units.is_some() && !matches!(what, ExportWhat::Trc) {
-                bail!("--trc-units is for `articula export trc`; remove it");
-            }
+            let command = format!("export {name}");
+            let mut take = pipeline::load_take(&take, &opts.options_for(&command)?)?;
+            let extras = formats::export(
+                &mut take,
+                name,
+                &output,
+                format.as_deref(),
+                trc_units.as_deref(),
+            )?;
             let format = TableFormat::choose(&output, format.as_deref())?;
-            if format != TableFormat::Csv && matches!(what, ExportWhat::Positions) {
-                bail!(
-                    "positions as OpenSim data are markers: use `articula export trc`, or write \
-                     positions as CSV"
-                );
-            }
-            let mut take = pipeline::load_take(&take, &opts.options_for(command)?)?;
             let mut written = vec![output.clone()];
-            match what {
-                ExportWhat::Positions => pipeline::export_positions(&take, &output)?,
-                ExportWhat::Urdf => pipeline::export_urdf(&take, &output)?,
-                ExportWhat::Mjcf => pipeline::export_mjcf(&take, &output)?,
-                ExportWhat::Gltf => pipeline::export_gltf(&take, &output)?,
-                ExportWhat::States => formats::export_states_as(&take, &output, format)?,
-                ExportWhat::Grf => {
-                    pipeline::resolve_contact(&mut take);
-                    print_notes(Some(&take));
-                    match formats::export_grf(&take, &output, format)? {
-                        formats::ExternalLoadsXml::Written(xml) => {
-                            wrote(&xml);
-                            written.push(xml);
-                        }
-                        formats::ExternalLoadsXml::None(why) if format != TableFormat::Csv => {
-                            eprintln!("note: no ExternalLoads XML: {why}")
-                        }
-                        formats::ExternalLoadsXml::None(_) => {}
+            if let Some(xml) = extras {
+                print_notes(Some(&take));
+                match xml {
+                    formats::ExternalLoadsXml::Written(xml) => {
+                        wrote(&xml);
+                        written.push(xml);
                     }
-                }
-                ExportWhat::Trc => {
-                    let units = match trc_units.as_deref() {
-                        Some(u) => u.parse()?,
-                        None => articula::report::opensim::TrcUnits::Mm,
-                    };
-                    formats::export_trc(&take, &output, units)?
+                    formats::ExternalLoadsXml::None(why) if format != TableFormat::Csv => {
+                        eprintln!("note: no ExternalLoads XML: {why}")
+                    }
+                    formats::ExternalLoadsXml::None(_) => {}
                 }
             }
+            let table = formats::EXPORTS.iter().any(|&(w, t)| w == name && t);
             if table && format == TableFormat::Csv {
-                written.extend(sidecar(&output, command, Some(&take), None)?);
+                written.extend(sidecar(&output, &command, Some(&take), None)?);
             }
             wrote(&output);
             if json {
@@ -851,12 +673,13 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                     ExportWhat::Urdf => "urdf",
                     ExportWhat::Mjcf => "mjcf",
                     ExportWhat::Trc => "trc",
+                    ExportWhat::Gltf => "glb",
                     _ => format.name(),
                 };
                 let motion = !matches!(what, ExportWhat::Urdf | ExportWhat::Mjcf);
                 print_json(
                     &pipeline::summary::WriteSummary::of_take(
-                        command, &take, kind, &written, motion,
+                        &command, &take, kind, &written, motion,
                     ),
                     &output,
                 )?;
@@ -952,11 +775,10 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 Some("include") => true,
                 Some(other) => bail!("--edges {other}: expected exclude or include"),
             };
-            let mut o = opts.options_for("anatomy")?;
-            // no gimbal lock, and smoothing on rotations, not on one Euler order's angles
-            if opts.scene.is_none() && opts.joints.is_none() {
-                o.joints = articula::model::bvh::JointModel::Ball;
-            }
+            let o = pipeline::commands::anatomy_options(
+                opts.options_for("anatomy")?,
+                opts.scene.is_some() || opts.joints.is_some(),
+            );
             let mut take = pipeline::load_take(&take, &o)?;
             pipeline::resolve_contact(&mut take);
             let contact = take.options.contact == pipeline::Contact::Feet;
@@ -1016,22 +838,16 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             let take = pipeline::load_take(&take, &options)?;
             print_notes(Some(&take));
             // gains: the scene's (if any), then the flags over them
-            let (mut kp, mut kv) = match gains {
-                Some(g) => (g.kp, g.kv),
-                None => (
-                    pipeline::PerJoint::all(400.0),
-                    pipeline::PerJoint::all(40.0),
-                ),
-            };
-            pipeline::parse_per_joint("kp", &sim.kp, &mut kp, "1/s²", "400 or LeftLeg=900")?;
-            pipeline::parse_per_joint("kv", &sim.kv, &mut kv, "1/s", "40 or LeftLeg=60")?;
-            let settings = pipeline::SimSettings::parse(
-                &sim.integrator,
-                sim.dt,
-                &kp,
-                &kv,
-                sim.mass_error,
-                sim.duration,
+            let settings = pipeline::commands::sim_settings(
+                &pipeline::commands::SimFlags {
+                    integrator: &sim.integrator,
+                    dt: sim.dt,
+                    kp: &sim.kp,
+                    kv: &sim.kv,
+                    mass_error: sim.mass_error,
+                    duration_s: sim.duration,
+                },
+                gains,
             )?;
             let summary = pipeline::simulate(&take, &settings, output.as_deref())?;
             if let Some(out) = &output {

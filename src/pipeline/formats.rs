@@ -342,3 +342,74 @@ pub fn export_trc(take: &Take, path: &Path, units: TrcUnits) -> Result<(), Error
         },
     )
 }
+
+/// Every `export WHAT`: its name and whether it writes a table (`--format` applies).
+pub const EXPORTS: &[(&str, bool)] = &[
+    ("positions", true),
+    ("urdf", false),
+    ("mjcf", false),
+    ("states", true),
+    ("grf", true),
+    ("trc", false),
+    ("gltf", false),
+];
+
+/// What an export wrote besides its output: `export grf`'s ExternalLoads XML, or why none.
+pub type ExportExtras = Option<ExternalLoadsXml>;
+
+/// `articula export WHAT` of a loaded take (the command line and the Python module): the
+/// table format by `format` or the output's extension, `trc_units` for `export trc`. Flags
+/// that do not apply to `what` are refused, never ignored.
+pub fn export(
+    take: &mut Take,
+    what: &str,
+    path: &Path,
+    format: Option<&str>,
+    trc_units: Option<&str>,
+) -> Result<ExportExtras, Error> {
+    let Some(&(_, table)) = EXPORTS.iter().find(|(w, _)| *w == what) else {
+        let known: Vec<&str> = EXPORTS.iter().map(|(w, _)| *w).collect();
+        return Err(Error::Invalid(format!(
+            "export {what}: expected one of {}",
+            known.join(", ")
+        )));
+    };
+    if format.is_some() && !table {
+        return Err(Error::Invalid(format!(
+            "--format has no effect on `articula export {what}`; remove it"
+        )));
+    }
+    if trc_units.is_some() && what != "trc" {
+        return Err(Error::Invalid(
+            "--trc-units is for `articula export trc`; remove it".into(),
+        ));
+    }
+    let format = TableFormat::choose(path, format)?;
+    if format != TableFormat::Csv && what == "positions" {
+        return Err(Error::Invalid(
+            "positions as OpenSim data are markers: use `articula export trc`, or write \
+             positions as CSV"
+                .into(),
+        ));
+    }
+    match what {
+        "positions" => super::export_positions(take, path)?,
+        "urdf" => super::export_urdf(take, path)?,
+        "mjcf" => super::export_mjcf(take, path)?,
+        "gltf" => super::export_gltf(take, path)?,
+        "states" => export_states_as(take, path, format)?,
+        "grf" => {
+            super::resolve_contact(take);
+            let xml = export_grf(take, path, format)?;
+            return Ok(Some(xml));
+        }
+        _ => {
+            let units = match trc_units {
+                Some(u) => u.parse()?,
+                None => TrcUnits::Mm,
+            };
+            export_trc(take, path, units)?
+        }
+    }
+    Ok(None)
+}

@@ -19,9 +19,11 @@
 
 pub mod anatomy;
 mod animation;
+pub mod commands;
 pub mod consistency;
 mod contact;
 mod edit;
+pub mod flags;
 pub mod formats;
 pub mod measured;
 mod mujoco;
@@ -29,6 +31,7 @@ mod sim;
 pub mod stages;
 mod states;
 pub mod summary;
+pub mod table;
 
 pub use animation::{TO_Y_UP, export_gltf, rig_world_positions, take_rig, to_y_up};
 pub use contact::{
@@ -862,6 +865,19 @@ pub struct Job {
     pub estimated: Option<crate::dynamics::grf::GroundReactions>,
 }
 
+impl Job {
+    /// A take's job: its model and its own states.
+    pub fn from_take(take: Take) -> Self {
+        Self {
+            model: take.model.clone(),
+            states: take.states.clone(),
+            take: Some(take),
+            measured: None,
+            estimated: None,
+        }
+    }
+}
+
 /// Loads only the model of a source (for `bench`).
 pub fn load_model(src: &ModelSource, opts: &TakeOptions) -> Result<Model, Error> {
     Ok(match src {
@@ -1047,17 +1063,7 @@ pub(crate) fn write_rows(path: &Path, header: Vec<String>, rows: &[Vec<f64>]) ->
 
 /// `articula export states`.
 pub fn export_states(take: &Take, path: &Path) -> Result<(), Error> {
-    let s = &take.states;
-    let rows: Vec<Vec<f64>> = (0..s.len())
-        .map(|k| {
-            let mut r = vec![s.time[k]];
-            r.extend_from_slice(&s.q[k]);
-            r.extend_from_slice(&s.v[k]);
-            r.extend_from_slice(&s.a[k]);
-            r
-        })
-        .collect();
-    write_rows(path, states_header(&take.model), &rows)
+    table::take_states_table(take).write_csv(path)
 }
 
 /// `articula export positions`: world position of every BVH joint, `pos:<joint>:x|y|z` (m, the
@@ -1180,23 +1186,8 @@ pub fn inverse_dynamics_with(
 /// how far the feet could give the ground force the motion needs
 /// ([`GroundReactions::quality`](crate::dynamics::grf::GroundReactions::quality)).
 pub fn write_inverse_dynamics(job: &Job, path: &Path) -> Result<IdOutcome, Error> {
-    let (t, grf) = job_torques(job)?;
-    let mut header = vec!["time".to_string()];
-    header.extend(t.names.iter().map(|n| columns::name("tau", &[n])));
-    if let Some(g) = &grf {
-        header.extend(g.columns());
-    }
-    let rows: Vec<Vec<f64>> = (0..t.time.len())
-        .map(|k| {
-            let mut r = vec![t.time[k]];
-            r.extend_from_slice(&t.tau[k]);
-            if let Some(g) = &grf {
-                g.row(k, &mut r);
-            }
-            r
-        })
-        .collect();
-    write_rows(path, header, &rows)?;
+    let (table, t, grf) = table::inverse_dynamics_parts(job)?;
+    table.write_csv(path)?;
     Ok(IdOutcome::new(job, &t, grf.as_ref()))
 }
 

@@ -1,7 +1,7 @@
 //! Simulation jobs: computed-torque tracking of a take, the `bench` timings and the
 //! speed/accuracy `tradeoff` table.
 
-use super::{PerJoint, States, Take, TakeOptions, load_take, parse_flag, write_rows};
+use super::{PerJoint, States, Take, TakeOptions, load_take, parse_flag};
 use crate::dynamics::{self, Workspace};
 use crate::error::Error;
 use crate::model::bvh::JointModel;
@@ -167,39 +167,7 @@ pub fn simulate(
     let options = settings.options_for(&take.model)?;
     let result = dynamics::simulate::simulate(&take.model, &reference, &options)?;
     if let Some(path) = output {
-        let m = &take.model;
-        let mut h = vec!["time".to_string()];
-        h.extend(
-            m.q_names
-                .iter()
-                .map(|n| crate::report::columns::name("q", &[n])),
-        );
-        h.extend(
-            m.v_names
-                .iter()
-                .map(|n| crate::report::columns::name("v", &[n])),
-        );
-        h.extend(
-            m.v_names
-                .iter()
-                .map(|n| crate::report::columns::name("tau", &[n])),
-        );
-        h.extend(
-            m.v_names
-                .iter()
-                .map(|n| crate::report::columns::name("err", &[n])),
-        );
-        let rows: Vec<Vec<f64>> = (0..result.time.len())
-            .map(|k| {
-                let mut r = vec![result.time[k]];
-                r.extend_from_slice(&result.q[k]);
-                r.extend_from_slice(&result.v[k]);
-                r.extend_from_slice(&result.tau[k]);
-                r.extend_from_slice(&result.error[k]);
-                r
-            })
-            .collect();
-        write_rows(path, h, &rows)?;
+        super::table::simulation_table(&take.model, &result).write_csv(path)?;
     }
     Ok(SimSummary { result })
 }

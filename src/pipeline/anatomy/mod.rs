@@ -751,6 +751,11 @@ pub fn column_name(name: &str) -> String {
 /// beyond Hicks et al.'s thresholds, 0 elsewhere), and last `edge` (1 within the smoothing's
 /// reach of the take's first or last frame, whose accelerations are not trustworthy).
 pub fn write_anatomy(a: &Anatomy, path: &std::path::Path) -> Result<(), Error> {
+    anatomy_table(a).write_csv(path)
+}
+
+/// The table [`write_anatomy`] writes.
+pub fn anatomy_table(a: &Anatomy) -> crate::pipeline::table::Table {
     let mut header = vec!["time".to_string()];
     header.extend(a.names.iter().map(|n| column_name(n)));
     let mut cols: Vec<&[f64]> = vec![&a.time];
@@ -782,5 +787,5 @@ pub fn write_anatomy(a: &Anatomy, path: &std::path::Path) -> Result<(), Error> {
         .collect();
     header.push("edge".into());
     cols.push(&edge);
-    crate::report::csv::write_columns(path, &header, &cols)
+    crate::pipeline::table::Table::from_columns(header, &cols)
 }
