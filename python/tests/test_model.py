@@ -35,7 +35,7 @@ def test_rnea_equals_cli(cli, tmp_path):
     write_states(tmp_path / "s.csv", m, q, v, a)
     cli("id", "--urdf", URDF, "--states", tmp_path / "s.csv", "-o", tmp_path / "id.csv")
     header, values = read_csv(tmp_path / "id.csv")
-    assert header[1:] == m.v_names
+    assert header[1:] == [f"tau:{n}" for n in m.v_names]
     assert np.array_equal(m.rnea(q, v, a), values[:, 1:])
     # one state as a 1-D array is one row
     assert np.array_equal(m.rnea(q[3], v[3], a[3]), values[3, 1:])
