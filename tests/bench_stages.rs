@@ -5,13 +5,10 @@
 
 mod common;
 
-use articula::pipeline::{STAGES, stages::cycle_take_text};
-use assert_cmd::Command;
-use std::path::Path;
+use common::cli::articula;
 
-fn articula() -> Command {
-    Command::cargo_bin("articula").expect("binary")
-}
+use articula::pipeline::{STAGES, stages::cycle_take_text};
+use std::path::Path;
 
 fn bench_json(args: &[&str]) -> serde_json::Value {
     let out = articula()

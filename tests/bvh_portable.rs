@@ -13,14 +13,11 @@
 //! `tools/check_threejs.mjs` and `tools/check_blender.py` check the same with the real readers.
 
 use articula::io::bvh::{self, Bvh, PositionMode, parse_str};
-use assert_cmd::Command;
 use std::path::{Path, PathBuf};
 
 mod common;
 
-fn articula() -> Command {
-    Command::cargo_bin("articula").expect("binary")
-}
+use common::cli::articula;
 
 /// A two-legged take whose root position channels follow `convention` (`"replace"`: the root's
 /// channels are its position, its OFFSET the rest place; `"add"`: they add to the OFFSET),

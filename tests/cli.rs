@@ -5,27 +5,11 @@
 
 mod common;
 
+use common::cli::{articula, walk};
+
 use articula::report::csv::read_columns;
-use assert_cmd::Command;
 use predicates::prelude::*;
-use std::path::{Path, PathBuf};
-
-fn articula() -> Command {
-    Command::cargo_bin("articula").expect("binary")
-}
-
-/// A generated walk of `secs` seconds at 60 fps in `dir`.
-fn walk(dir: &Path, secs: f64) -> PathBuf {
-    let p = dir.join("walk.bvh");
-    articula()
-        .args(["generate", "walk", "--fps", "60", "--duration"])
-        .arg(secs.to_string())
-        .arg("-o")
-        .arg(&p)
-        .assert()
-        .success();
-    p
-}
+use std::path::Path;
 
 fn column<'a>(h: &[String], c: &'a [Vec<f64>], name: &str) -> &'a [f64] {
     let i = h

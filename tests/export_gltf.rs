@@ -18,15 +18,12 @@
 use articula::dynamics::{Workspace, kinematics::forward_kinematics};
 use articula::motion::smooth::SmoothSpec;
 use articula::pipeline::{TakeOptions, joint_centres, load_take, to_y_up};
-use assert_cmd::Command;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use std::path::{Path, PathBuf};
 
 mod common;
 
-fn articula() -> Command {
-    Command::cargo_bin("articula").expect("binary")
-}
+use common::cli::articula;
 
 /// The glTF of `take` written by the CLI, parsed and validated.
 fn export(take: &Path, out: &Path) -> gltf::Gltf {

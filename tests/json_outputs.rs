@@ -8,28 +8,12 @@
 
 mod common;
 
+use common::cli::{articula, walk};
+
 use articula::report::columns;
 use articula::report::csv::read_columns;
 use articula::report::sidecar::Sidecar;
-use assert_cmd::Command;
-use std::path::{Path, PathBuf};
-
-fn articula() -> Command {
-    Command::cargo_bin("articula").expect("binary")
-}
-
-/// A generated walk of `secs` seconds at 60 fps in `dir`.
-fn walk(dir: &Path, secs: f64) -> PathBuf {
-    let p = dir.join("walk.bvh");
-    articula()
-        .args(["generate", "walk", "--fps", "60", "--duration"])
-        .arg(secs.to_string())
-        .arg("-o")
-        .arg(&p)
-        .assert()
-        .success();
-    p
-}
+use std::path::Path;
 
 /// Runs `args` (`{take}` replaced by the take, `{out}` by `out`), which must succeed; its
 /// standard output.

@@ -14,14 +14,11 @@
 use articula::model::JointKind;
 use articula::model::bvh::JointModel;
 use articula::pipeline::{TakeOptions, load_take};
-use assert_cmd::Command;
 use std::path::{Path, PathBuf};
 
 mod common;
 
-fn articula() -> Command {
-    Command::cargo_bin("articula").expect("binary")
-}
+use common::cli::articula;
 
 /// A generated 1 s walk (Y up) in `dir`.
 fn walk(dir: &Path) -> PathBuf {
