@@ -274,7 +274,8 @@ def run(argv):
             worst_abs = max(worst_abs, abs(x - y))
             if rel > worst_rel:
                 worst_rel, where = rel, (k, name, x, y)
-    missing = [c for c in t if c != "time" and c not in compared]
+    # every torque column `tau:<coord>` must have been compared
+    missing = [c for c in t if c != "time" and c[len("tau:"):] not in compared]
     print(f"{a.take} {' '.join(a.opts)} ({a.format}): MuJoCo {mujoco.__version__}, nq {m.nq}, "
           f"nv {m.nv}, nu {m.nu}, ngeom {m.ngeom}, gravity {m.opt.gravity}, {n} frames, {len(compared)} coordinates compared"
           + (f", NOT compared: {missing}" if missing else ""))
