@@ -125,7 +125,8 @@ def positions_csv(path):
     """Joint names and rows [time, x, y, z per joint] of `export positions`."""
     with open(path) as f:
         head, *rows = [line.strip().split(",") for line in f if line.strip()]
-    names = [head[i][:-2] for i in range(1, len(head), 3)]
+    # `pos:<joint>:x|y|z` (articula's one column scheme)
+    names = [head[i].removeprefix("pos:")[:-2] for i in range(1, len(head), 3)]
     return names, [[float(x) for x in r] for r in rows]
 
 

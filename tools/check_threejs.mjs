@@ -99,11 +99,12 @@ ${rows.join('\n')}
 }
 
 // articula's joint centres: rows of [time, x, y, z per joint], names from the header
+// (`pos:<joint>:x|y|z`, articula's one column scheme)
 function positionsCsv(path) {
   const [head, ...rows] = readFileSync(path, 'utf8').trim().split('\n');
   const cols = head.split(',');
   const names = [];
-  for (let i = 1; i < cols.length; i += 3) names.push(cols[i].slice(0, -2));
+  for (let i = 1; i < cols.length; i += 3) names.push(cols[i].replace(/^pos:/, '').slice(0, -2));
   return { names, rows: rows.map((r) => r.split(',').map(Number)) };
 }
 
