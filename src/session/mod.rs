@@ -63,7 +63,9 @@
 //! then says the take's residuals against Hicks et al.'s thresholds), `edges exclude|include`
 //! (whether the frames within the smoothing's reach of the take's ends count in the
 //! accelerations' and torques' min, max, peak, mean and RMS, as `anatomy --edges`; frames whose
-//! residuals stay beyond the thresholds never count), `link.<joint>.mass KG`,
+//! residuals stay beyond the thresholds never count), `overlay mirror|none` (the curves also
+//! draw the selected coordinate's mirror, `knee_r` beside `knee_l`: a view setting, nothing is
+//! recomputed), `link.<joint>.mass KG`,
 //! `lock J1,J2,…` (or `none`),
 //! `keep_first_frame true|false` (keep a rest pose stored as frame 0, `--keep-first-frame`; it
 //! acts when a take is read, so it applies to the takes loaded after it),
