@@ -102,7 +102,7 @@ impl ColumnStats {
         let (k, peak) = x.iter().enumerate().fold((0, 0.0f64), |(bk, b), (k, v)| {
             if v.abs() > b { (k, v.abs()) } else { (bk, b) }
         });
-        let rms = (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt();
+        let (_, rms) = super::table::peak_rms(x);
         Self {
             name,
             unit: unit.into(),

@@ -174,7 +174,7 @@ fn decimals(kind: Kind, x: f64) -> usize {
 }
 
 /// `x` with `d` decimals, never `-0.0`.
-fn fixed(x: f64, d: usize) -> String {
+pub fn fixed(x: f64, d: usize) -> String {
     let s = format!("{x:.d$}");
     match s.strip_prefix('-') {
         Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),

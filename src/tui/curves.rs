@@ -464,11 +464,7 @@ const LEFT_OUT: Color = Color::DarkGray;
 /// A tick's value with the decimals its step needs: `50` for a step of 50, `0.5` for 0.5.
 pub fn tick_label(v: f64, step: f64) -> String {
     let d = (-step.abs().log10().floor()).clamp(0.0, 9.0) as usize;
-    let s = format!("{v:.d$}");
-    match s.strip_prefix('-') {
-        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
-        _ => s,
-    }
+    units::fixed(v, d)
 }
 
 /// Runs of consecutive frames that are all quoted or all left out: `(first, last, quoted)`;
