@@ -705,13 +705,6 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             output,
         } => {
             let format = TableFormat::choose(&output, format.as_deref())?;
-            if grf.is_some() && consistency.consistent.is_some() {
-                bail!(
-                    "--consistent reduces the residuals of the estimated ground reactions; \
-                     with --grf the residual columns say what the measured forces leave to the \
-                     root: remove it"
-                );
-            }
             let o = opts.options_for_source("id", &src)?;
             let mut job = pipeline::load_source(&src.source()?, src.states.as_deref(), &o)?;
             if let Some(t) = job.take.as_mut() {
@@ -722,7 +715,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 .as_ref()
                 .is_some_and(|t| t.options.contact == pipeline::Contact::Feet);
             let c = match &grf {
-                Some(path) => {
+                Some(path) if consistency.consistent.is_none() => {
                     need(path)?;
                     pipeline::measured::use_measured_grf(
                         &mut job,
@@ -730,6 +723,22 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                         grf_offset.unwrap_or(0.0),
                     )?;
                     None
+                }
+                Some(path) => {
+                    // residual reduction against the measured forces (the mass adjusted too)
+                    need(path)?;
+                    let take = job.take.as_ref().ok_or_else(|| {
+                        anyhow::anyhow!("--grf needs a take: ground reactions act on its feet")
+                    })?;
+                    let loads =
+                        pipeline::measured::measured_loads(take, path, grf_offset.unwrap_or(0.0))?;
+                    let args = ConsistencyArgs {
+                        json: false,
+                        ..consistency.clone()
+                    };
+                    let reduce = args.reduce(true, false)?;
+                    let own = src.states.is_none();
+                    pipeline::consistency::consistent_job(&mut job, reduce, own, Some(&loads))?
                 }
                 None => {
                     // id's --json is its own summary (with the consistency one inside), so
@@ -739,7 +748,12 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                         ..consistency.clone()
                     };
                     let reduce = args.reduce(contact, false)?;
-                    pipeline::consistency::consistent_job(&mut job, reduce, src.states.is_none())?
+                    pipeline::consistency::consistent_job(
+                        &mut job,
+                        reduce,
+                        src.states.is_none(),
+                        None,
+                    )?
                 }
             };
             let mut outcome = formats::write_inverse_dynamics_as(&job, &output, format)?;

@@ -70,8 +70,11 @@ fn per_frame_loops_allocate_only_their_outputs_serial_and_in_parallel() {
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            // rayon's queue blocks, with more than one worker (see the module doc)
-            let slack = if threads == 1 { 0 } else { n / 16 };
+            // rayon's queue blocks, with more than one worker (see the module doc); and a few
+            // one-off allocations of the pool's sleeping workers, which a loaded machine
+            // wakes at other moments (seen: 2, once, under a load of 11 on 2 cores) — far
+            // below one per frame
+            let slack = 4 + if threads == 1 { 0 } else { n / 16 };
             let within = |extra: usize, expected: usize, what: &str| {
                 assert!(
                     extra.abs_diff(expected) <= slack,

@@ -77,7 +77,7 @@ fn the_kept_ground_reaction_estimate_is_the_fresh_one() {
     };
     let src = pipeline::ModelSource::Take(common::repo("data/demo_walk.bvh"));
     let mut job = pipeline::load_source_with(&src, None, &opts, StateColumns::QVA).unwrap();
-    pipeline::consistency::consistent_job(&mut job, false, true).unwrap();
+    pipeline::consistency::consistent_job(&mut job, false, true, None).unwrap();
     assert!(job.estimated.is_some());
     let (kept, kept_grf) = pipeline::job_torques(&job).unwrap();
     job.estimated = None;

@@ -1,5 +1,5 @@
 //! Residual reduction (issue 14 item 4; OpenSim's RRA, Delp et al. 2007): the trunk's mass
-//! centre and a smooth pelvis offset adjusted so that the root residuals fall within Hicks et
+//! centre, a smooth pelvis offset and rotation (and the mass, against measured forces) adjusted so that the root residuals fall within Hicks et
 //! al.'s 2015 thresholds (peak force ≤ 5 % of the peak external force, RMS moment ≤ 1 % of COM
 //! height × peak external force).
 //!
@@ -33,7 +33,7 @@ fn demo() -> Take {
 
 #[test]
 fn the_demo_walk_meets_hicks_thresholds_after_reduction_and_not_before() {
-    let (adjusted, _, c) = consistent_take(&demo(), true).unwrap();
+    let (adjusted, _, c) = consistent_take(&demo(), true, None).unwrap();
     let after = c.after.unwrap();
     eprintln!("{}", c.text());
     assert!(!c.before.meets(), "{:?}", c.before);
@@ -53,7 +53,7 @@ fn the_demo_walk_meets_hicks_thresholds_after_reduction_and_not_before() {
 fn a_trunk_mass_centre_moved_3_cm_forward_is_found_again() {
     // the demo walk made consistent is the truth; its trunk's mass centre moved 3 cm along the
     // walk in the model used for estimation (the ball model's root position is q[0..3], world)
-    let (truth, _, c0) = consistent_take(&demo(), true).unwrap();
+    let (truth, _, c0) = consistent_take(&demo(), true, None).unwrap();
     let truth = truth.unwrap();
     let trunk = trunk_bodies(&truth);
     assert!(!trunk.is_empty());
@@ -66,7 +66,7 @@ fn a_trunk_mass_centre_moved_3_cm_forward_is_found_again() {
     let moved = Vector3::ith(forward, 0.03);
     let mut wrong = truth.clone();
     wrong.model = with_trunk_offset(&truth.model, &trunk, &moved);
-    let (_, _, c) = consistent_take(&wrong, true).unwrap();
+    let (_, _, c) = consistent_take(&wrong, true, None).unwrap();
     let after = c.after.unwrap();
     let found = c.adjustments.as_ref().unwrap().trunk_offset_m;
     let truth_rms = c0.after.unwrap().rms_moment_nm;
@@ -96,12 +96,12 @@ fn a_trunk_mass_centre_moved_3_cm_forward_is_found_again() {
 #[test]
 fn a_uniform_change_of_mass_changes_no_residual_percentage() {
     let take = demo();
-    let (_, _, c) = consistent_take(&take, false).unwrap();
+    let (_, _, c) = consistent_take(&take, false, None).unwrap();
     let mut heavy = take.clone();
     for i in heavy.model.inertia.iter_mut() {
         *i = SpatialInertia::new(i.mass * 1.02, i.com, i.inertia_com * 1.02);
     }
-    let (_, _, h) = consistent_take(&heavy, false).unwrap();
+    let (_, _, h) = consistent_take(&heavy, false, None).unwrap();
     assert!((h.before.peak_external_n / c.before.peak_external_n - 1.02).abs() < 1e-9);
     assert!((h.before.moment_pct() - c.before.moment_pct()).abs() < 1e-9);
     assert!((h.before.force_pct() - c.before.force_pct()).abs() < 1e-9);
@@ -196,4 +196,80 @@ fn the_workbench_reduces_with_contact_unless_told_not_to_and_says_so() {
     );
     let e = workbench::fails(&mut wb, "set consistent maybe");
     assert!(e.contains("expected auto, on or off"), "{e}");
+}
+
+/// `articula id TAKE --grf F --consistent on --json` (`--mass`) and its consistency JSON.
+fn id_against(take: &Path, grf: &Path, mass: &str, dir: &Path) -> serde_json::Value {
+    let out = common::cli::articula()
+        .arg("id")
+        .arg(take)
+        .args(["--mass", mass, "--consistent", "on", "--json", "--grf"])
+        .arg(grf)
+        .arg("-o")
+        .arg(dir.join("id.csv"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    v["consistency"].clone()
+}
+
+/// Against measured ground reactions RRA adjusts the total mass from the mean vertical
+/// residual (Delp et al. 2007): forces estimated for a 75 kg walker, given to the model of a
+/// heavier and of a lighter one, bring the mass back to about 75 kg; the residuals fall.
+#[test]
+fn against_measured_forces_the_mass_is_found_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = common::repo("data/demo_walk.bvh");
+    let grf = dir.path().join("g.csv");
+    common::cli::articula()
+        .args(["export", "grf"])
+        .arg(&take)
+        .args(["--mass", "75", "-o"])
+        .arg(&grf)
+        .assert()
+        .success();
+    for mass in ["77.25", "72"] {
+        let c = id_against(&take, &grf, mass, dir.path());
+        let a = &c["adjustments"];
+        assert_eq!(a["ground_reactions"], "measured");
+        let m: f64 = mass.parse().unwrap();
+        let found = m + a["mass_change_kg"].as_f64().unwrap();
+        assert!((found - 75.0).abs() < 0.75, "{mass} kg → {found} kg\n{c:#}");
+        let (before, after) = (&c["before"], &c["after"]);
+        assert!(
+            after["rms_residual_moment_nm"].as_f64() < before["rms_residual_moment_nm"].as_f64()
+        );
+        assert!(
+            after["peak_residual_force_n"].as_f64() < before["peak_residual_force_n"].as_f64(),
+            "{c:#}"
+        );
+        assert!(a["pelvis_rotation_peak_deg"].as_f64().unwrap() <= 5.0);
+    }
+}
+
+/// The pelvis rotations are adjusted within their bounds and say so, in both joint models
+/// (the euler root through its Euler angles), and the demo walk still meets the thresholds.
+#[test]
+fn the_pelvis_rotations_are_adjusted_within_bounds_in_both_joint_models() {
+    for joints in ["ball", "euler"] {
+        let o = TakeOptions {
+            joints: joints.parse().unwrap(),
+            ..opts()
+        };
+        let take = pipeline::load_take(&common::repo("data/demo_walk.bvh"), &o).unwrap();
+        let (_, _, c) = consistent_take(&take, true, None).unwrap();
+        let a = c.adjustments.as_ref().unwrap();
+        let (peak, rms) = a.rotation_peak_rms_rad.expect("rotations adjusted");
+        assert!(
+            peak <= 5f64.to_radians() && rms <= 2f64.to_radians(),
+            "{joints}"
+        );
+        assert!(c.text().contains("pelvis rotation peak"), "{}", c.text());
+        assert!(c.after.unwrap().meets(), "{joints}: {}", c.text());
+    }
 }

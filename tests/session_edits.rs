@@ -129,7 +129,7 @@ fn a_scene_applies_stature_up_positions_and_subtree_as_the_cli_does() {
     // down, of the take made consistent (the workbench's `consistent auto`)
     pipeline::resolve_contact(&mut t);
     let tau = if t.options.contact == pipeline::Contact::Feet {
-        let (_, g, _) = pipeline::consistency::consistent_take(&t, true).unwrap();
+        let (_, g, _) = pipeline::consistency::consistent_take(&t, true, None).unwrap();
         g.tau.concat()
     } else {
         pipeline::inverse_dynamics(&t.model, &t.states).tau.concat()

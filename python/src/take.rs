@@ -128,7 +128,7 @@ impl Take {
                 .as_ref()
                 .is_some_and(|t| t.options.contact == Contact::Feet);
             let reduce = commands::reduce_residuals(consistent.as_deref(), false, contact, false)?;
-            let c = consistency::consistent_job(&mut job, reduce, true)?;
+            let c = consistency::consistent_job(&mut job, reduce, true, None)?;
             let (table, quality) = table::inverse_dynamics_table(&job)?;
             let mut notes = job.take.as_ref().map_or(vec![], |t| t.notes.clone());
             notes.extend(quality.map(|q| q.to_string()));

@@ -5,11 +5,12 @@
 
 use super::{Take, anatomy::find_take_human, contact_feet, estimate_take_ground_reactions};
 use crate::dynamics::grf::GroundReactions;
+use crate::dynamics::grf::measured::{FootLoads, apply_ground_reactions};
 use crate::dynamics::residual::{
     FORCE_SHARE, MOMENT_SHARE, ResidualFigures, counted_frames, external_forces, residual_figures,
     split_norms,
 };
-use crate::dynamics::rra::{Motion, ReductionBounds, Trunk, com_heights, reduce_residuals};
+use crate::dynamics::rra::{Ground, Motion, ReductionBounds, Trunk, com_heights, reduce_residuals};
 use crate::error::Error;
 use crate::motion::contact::ContactParams;
 use nalgebra::Vector3;
@@ -24,6 +25,13 @@ pub struct Adjustments {
     /// Largest and RMS horizontal pelvis offset over the take (m).
     pub pelvis_peak_m: f64,
     pub pelvis_rms_m: f64,
+    /// Largest and RMS pelvis rotation over the take (rad); `None`: not adjusted (an euler
+    /// root near gimbal lock).
+    pub rotation_peak_rms_rad: Option<(f64, f64)>,
+    /// The total mass's change (kg): against measured ground reactions only, else 0.
+    pub mass_change_kg: f64,
+    /// Whether the ground reactions were measured (`--grf`) rather than estimated.
+    pub measured: bool,
     /// The largest change of the pelvis offset within one foot's contact phase (m): how far
     /// the offset slides a foot on the floor (the whole body moves with it, as in RRA).
     pub stance_slide_m: f64,
@@ -31,6 +39,63 @@ pub struct Adjustments {
     pub bounded: Vec<&'static str>,
     /// The bounds used.
     pub bounds: ReductionBounds,
+}
+
+impl Adjustments {
+    /// The adjustments as lines for the terminal (`mass_kg`: the body mass as loaded).
+    fn text(&self, mass_kg: f64) -> String {
+        let c = self.trunk_offset_m * 100.0;
+        let mass = if self.measured {
+            format!(
+                "mass {:.1} → {:.1} kg ({:+.1} %, bound {:.0} %; the measured vertical forces \
+                 against the motion's)",
+                mass_kg,
+                mass_kg + self.mass_change_kg,
+                100.0 * self.mass_change_kg / mass_kg.max(1e-12),
+                100.0 * self.bounds.mass_share
+            )
+        } else {
+            format!(
+                "mass {mass_kg:.1} kg, unchanged (the ground reactions are estimated from the \
+                 motion: a mass change scales every force and moment alike)"
+            )
+        };
+        let rotation = match self.rotation_peak_rms_rad {
+            Some((peak, rms)) => format!(
+                "pelvis rotation peak {:.1}°, RMS {:.1}° (bounds {:.0}°, {:.0}°)",
+                peak.to_degrees(),
+                rms.to_degrees(),
+                self.bounds.rotation_peak_rad.to_degrees(),
+                self.bounds.rotation_rms_rad.to_degrees()
+            ),
+            None => "pelvis rotation not adjusted (the root's Euler angles come near gimbal \
+                     lock: --joints ball adjusts it)"
+                .into(),
+        };
+        format!(
+            "adjustments: {mass}; trunk mass centre ({:+.1}, {:+.1}, {:+.1}) cm = {:.1} cm (trunk \
+             {:.1} kg, its frame; bound {:.0} cm); pelvis offset peak {:.1} cm, RMS {:.1} cm \
+             (horizontal, knots every {:.2} s; bounds {:.0} cm, {:.0} cm); {rotation}{}; the \
+             pelvis offset slides a foot in contact by up to {:.1} cm\n",
+            c.x,
+            c.y,
+            c.z,
+            c.norm(),
+            self.trunk_mass_kg,
+            100.0 * self.bounds.trunk_com_m,
+            100.0 * self.pelvis_peak_m,
+            100.0 * self.pelvis_rms_m,
+            self.bounds.knot_spacing_s,
+            100.0 * self.bounds.pelvis_peak_m,
+            100.0 * self.bounds.pelvis_rms_m,
+            if self.bounded.is_empty() {
+                String::new()
+            } else {
+                format!("; at the {} bound", self.bounded.join(" and "))
+            },
+            100.0 * self.stance_slide_m
+        )
+    }
 }
 
 /// A take's consistency: the residual figures before and after reduction, per frame.
@@ -41,8 +106,8 @@ pub struct Consistency {
     /// After residual reduction (`None`: `--consistent off`).
     pub after: Option<ResidualFigures>,
     pub adjustments: Option<Adjustments>,
-    /// The body mass (kg), not adjusted (`dynamics::rra`: estimated ground reactions make it
-    /// unobservable).
+    /// The body mass as loaded (kg); residual reduction adjusts it against measured ground
+    /// reactions only (`dynamics::rra`: estimated ones make it unobservable).
     pub mass_kg: f64,
     /// Per frame: |residual force| (N) and |residual moment| (N·m) of the final model and
     /// motion, whether the frame counts, and whether it lies beyond the thresholds.
@@ -67,9 +132,14 @@ impl Consistency {
 pub fn consistent_take(
     take: &Take,
     reduce: bool,
+    measured: Option<&FootLoads>,
 ) -> Result<(Option<Take>, GroundReactions, Consistency), Error> {
-    let before = estimate_take_ground_reactions(take)?;
     let s = &take.states;
+    let up = take.up.index();
+    let before = match measured {
+        Some(loads) => apply_ground_reactions(&take.model, loads, &s.time, &s.q, &s.v, &s.a, up)?,
+        None => estimate_take_ground_reactions(take)?,
+    };
     let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)?;
     let counted = counted_frames(s.len(), super::edge_frames(take));
     let heights = com_heights(&take.model, &s.q, before.up, before.floor);
@@ -87,9 +157,16 @@ pub fn consistent_take(
     let across = trunk_long_axis(take)
         .and_then(|e| Trunk::across(&e))
         .unwrap_or([Vector3::zeros(); 2]);
+    let ground = match measured {
+        Some(loads) => Ground::Measured(loads),
+        None => Ground::Estimated {
+            feet: &feet,
+            params: &params,
+        },
+    };
     let r = reduce_residuals(
         &take.model,
-        &feet,
+        ground,
         Trunk {
             bodies: &bodies,
             across,
@@ -100,8 +177,7 @@ pub fn consistent_take(
             v: &s.v,
             a: &s.a,
         },
-        take.up.index(),
-        &params,
+        up,
         &counted,
         &bounds,
     )
@@ -114,6 +190,9 @@ pub fn consistent_take(
         trunk_mass_kg: r.trunk_mass_kg,
         pelvis_peak_m,
         pelvis_rms_m,
+        rotation_peak_rms_rad: r.rotation_peak_rms(),
+        mass_change_kg: (r.mass_scale - 1.0) * mass_kg,
+        measured: measured.is_some(),
         stance_slide_m: stance_slide(&r.pelvis, &r.ground.contact),
         bounded: r.bounded.clone(),
         bounds,
@@ -221,16 +300,19 @@ fn finish(
         match adjustments.as_ref() {
             Some(a) if !a.bounded.is_empty() => why.push(format!(
                 "the {} bound held the adjustments back (trunk mass centre ≤ {:.0} cm, pelvis \
-                 offset ≤ {:.0} cm peak and {:.0} cm RMS, OpenSim's guidelines for RRA): what \
-                 remains would take a larger change of the model or the motion than they allow",
+                 offset ≤ {:.0} cm peak and {:.0} cm RMS, pelvis rotation ≤ {:.0}° and {:.0}°, \
+                 OpenSim's guidelines for RRA): what remains would take a larger change of the \
+                 model or the motion than they allow",
                 a.bounded.join(" and "),
                 100.0 * a.bounds.trunk_com_m,
                 100.0 * a.bounds.pelvis_peak_m,
-                100.0 * a.bounds.pelvis_rms_m
+                100.0 * a.bounds.pelvis_rms_m,
+                a.bounds.rotation_peak_rad.to_degrees(),
+                a.bounds.rotation_rms_rad.to_degrees()
             )),
             Some(_) => why.push(
                 "the adjustments stop inside their bounds: what remains is no smooth change of \
-                 the trunk's mass centre or the pelvis path (the frames above)"
+                 the trunk's mass centre or the pelvis path and orientation (the frames above)"
                     .into(),
             ),
             None => {}
@@ -406,33 +488,7 @@ impl Consistency {
             format!("{:.0} %", 100.0 * MOMENT_SHARE)
         );
         if let Some(a) = &self.adjustments {
-            let c = a.trunk_offset_m * 100.0;
-            out += &format!(
-                "adjustments: mass {:.1} kg, unchanged (the ground reactions are estimated from \
-                 the motion: a mass change scales every force and moment alike); trunk mass \
-                 centre ({:+.1}, {:+.1}, {:+.1}) cm = {:.1} cm (trunk {:.1} kg, its frame; bound \
-                 {:.0} cm); pelvis offset peak {:.1} cm, RMS {:.1} cm (horizontal, knots every \
-                 {:.2} s; bounds {:.0} cm, {:.0} cm){}; it slides a foot in contact by up to \
-                 {:.1} cm\n",
-                self.mass_kg,
-                c.x,
-                c.y,
-                c.z,
-                c.norm(),
-                a.trunk_mass_kg,
-                100.0 * a.bounds.trunk_com_m,
-                100.0 * a.pelvis_peak_m,
-                100.0 * a.pelvis_rms_m,
-                a.bounds.knot_spacing_s,
-                100.0 * a.bounds.pelvis_peak_m,
-                100.0 * a.bounds.pelvis_rms_m,
-                if a.bounded.is_empty() {
-                    String::new()
-                } else {
-                    format!("; at the {} bound", a.bounded.join(" and "))
-                },
-                100.0 * a.stance_slide_m
-            );
+            out += &a.text(self.mass_kg);
         }
         if self.last().meets() {
             out += "consistency: within Hicks et al.'s thresholds\n";
@@ -465,7 +521,10 @@ impl Consistency {
         let adjustments = self.adjustments.as_ref().map(|a| {
             serde_json::json!({
                 "mass_kg": self.mass_kg,
-                "mass_change_kg": 0.0,
+                "mass_change_kg": a.mass_change_kg,
+                "ground_reactions": if a.measured { "measured" } else { "estimated" },
+                "pelvis_rotation_peak_deg": a.rotation_peak_rms_rad.map(|r| r.0.to_degrees()),
+                "pelvis_rotation_rms_deg": a.rotation_peak_rms_rad.map(|r| r.1.to_degrees()),
                 "trunk_com_offset_m": a.trunk_offset_m.as_slice(),
                 "trunk_mass_kg": a.trunk_mass_kg,
                 "pelvis_offset_peak_m": a.pelvis_peak_m,
@@ -476,6 +535,9 @@ impl Consistency {
                     "trunk_com_m": a.bounds.trunk_com_m,
                     "pelvis_peak_m": a.bounds.pelvis_peak_m,
                     "pelvis_rms_m": a.bounds.pelvis_rms_m,
+                    "pelvis_rotation_peak_deg": a.bounds.rotation_peak_rad.to_degrees(),
+                    "pelvis_rotation_rms_deg": a.bounds.rotation_rms_rad.to_degrees(),
+                    "mass_share": a.bounds.mass_share,
                     "knot_spacing_s": a.bounds.knot_spacing_s,
                 },
             })
@@ -524,7 +586,7 @@ pub fn anatomy_consistent(take: &Take, reduce: bool) -> Result<super::anatomy::A
     if take.options.contact == super::Contact::None {
         return super::anatomy::anatomy(take);
     }
-    let (adjusted, ground, c) = consistent_take(take, reduce)?;
+    let (adjusted, ground, c) = consistent_take(take, reduce, None)?;
     let mut a = super::anatomy::anatomy_with(adjusted.as_ref().unwrap_or(take), Some(&ground))?;
     a.consistency = Some(c);
     Ok(a)
@@ -536,11 +598,12 @@ pub fn consistent_job(
     job: &mut super::Job,
     reduce: bool,
     own_states: bool,
+    measured: Option<&FootLoads>,
 ) -> Result<Option<Consistency>, Error> {
     let Some(take) = job.take.as_ref() else {
         return Ok(None);
     };
-    if take.options.contact == super::Contact::None {
+    if take.options.contact == super::Contact::None && measured.is_none() {
         return Ok(None);
     }
     if reduce && !own_states {
@@ -551,7 +614,17 @@ pub fn consistent_job(
         ));
     }
     let feet = take.options.contact == super::Contact::Feet;
-    let (adjusted, estimated, c) = consistent_take(take, reduce)?;
+    let (adjusted, estimated, c) = consistent_take(take, reduce, measured)?;
+    if measured.is_some() {
+        // the measured loads on the (adjusted) motion: what the root still supplies
+        job.measured = Some(estimated);
+        if let Some(t) = adjusted {
+            job.model = t.model.clone();
+            job.states = t.states.clone();
+            job.take = Some(t);
+        }
+        return Ok(Some(c));
+    }
     if adjusted.is_none() && feet {
         // the take as it is: the very estimate `job_torques` would make again
         job.estimated = Some(estimated);

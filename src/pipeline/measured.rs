@@ -174,6 +174,22 @@ pub fn measured_ground_reactions(
     path: &Path,
     offset_s: f64,
 ) -> Result<GroundReactions, Error> {
+    let loads = measured_loads(take, path, offset_s)?;
+    let s = &take.states;
+    apply_ground_reactions(
+        &take.model,
+        &loads,
+        &s.time,
+        &s.q,
+        &s.v,
+        &s.a,
+        take.up.index(),
+    )
+}
+
+/// The loads of the file `path` on `take`'s feet, resampled to its frames (the file's clock
+/// = the take's + `offset_s`).
+pub fn measured_loads(take: &Take, path: &Path, offset_s: f64) -> Result<FootLoads, Error> {
     if !offset_s.is_finite() {
         return Err(Error::Invalid(format!(
             "--grf-offset {offset_s}: expected seconds"
@@ -208,7 +224,7 @@ pub fn measured_ground_reactions(
             loads.free_moment[k].push(t.dot(&e_up));
         }
     }
-    apply_ground_reactions(&take.model, &loads, &s.time, &s.q, &s.v, &s.a, up)
+    Ok(loads)
 }
 
 /// Makes `job` use the measured ground reactions of `path` (`articula id --grf`).

@@ -185,7 +185,7 @@ fn run_once(path: &Path, text: &[u8], opts: &TakeOptions) -> Result<StageRun, Er
     if let Some(t) = job.take.as_mut() {
         super::resolve_contact(t);
     }
-    super::consistency::consistent_job(&mut job, false, true)?;
+    super::consistency::consistent_job(&mut job, false, true, None)?;
     let (tau, _) = super::job_torques_marked(&job, &mut done)?;
     std::hint::black_box(&tau);
     let contact = job

@@ -707,7 +707,8 @@ impl Engine for Builtin {
                 // take made consistent unless `consistent off` (residual reduction)
                 let (t, g) = if t.options.contact == pipeline::Contact::Feet {
                     let reduce = params.consistent.unwrap_or(true);
-                    let (adjusted, g, c) = pipeline::consistency::consistent_take(&t, reduce)?;
+                    let (adjusted, g, c) =
+                        pipeline::consistency::consistent_take(&t, reduce, None)?;
                     for (k, b) in c.beyond.iter().enumerate() {
                         if *b && k < left_out.len() {
                             left_out[k] = Some(LeftOut::Beyond);

@@ -1,0 +1,377 @@
+//! Residual reduction: the small changes of model and motion that make a take's ground
+//! reactions explain its motion, as OpenSim's Residual Reduction Algorithm does (Delp et al.
+//! 2007, "OpenSim: open-source software to create and analyze dynamic simulations of
+//! movement", *IEEE TBME* 54, 1940–1950; the OpenSim user's guide, "How RRA works") and
+//! AddBiomechanics (Werling et al. 2023, *PLoS ONE* 18, e0295152: mass centres and the root
+//! trajectory fitted to the ground reactions).
+//!
+//! What the feet cannot give stays at the root ([`super::grf`]): mostly a moment, the needed
+//! centre of pressure lying off the feet times the vertical force. The adjustments that move
+//! it:
+//!
+//! 1. **the trunk's mass centre**: a constant offset `δc` (m, in each trunk body's frame)
+//!    moves the whole-body centre of mass by `(m_trunk / M) δc` and the needed centre of
+//!    pressure with it (RRA's torso COM adjustment);
+//! 2. **the pelvis trajectory**: a smooth horizontal offset `δp(t)` of the root translation
+//!    (a cubic B-spline with knots every [`ReductionBounds::knot_spacing_s`], the whole body
+//!    moving with it, as in RRA), whose whole-body force `M δp̈` acting at the centre of mass
+//!    moves the needed centre of pressure by about `−h δp̈ / g`;
+//! 3. **the pelvis rotations**: a smooth rotation `R_δ(t) = exp([θ(t)])` of the whole body
+//!    about the pelvis (tilt, list and rotation, as RRA's pelvis coordinates; same knots),
+//!    whose moment `I θ̈` (and gravity's, as the body tilts) changes the needed wrench
+//!    ([`root`]); skipped, and said, on an euler root near gimbal lock;
+//! 4. **the total mass**, against measured ground reactions only ([`Ground::Measured`]): RRA
+//!    finds it from the mean vertical residual force. Against estimated ones it is not
+//!    adjusted: the feet carry the needed vertical force whatever the mass, and a mass change
+//!    scales every force and moment alike, so no residual percentage changes.
+//!
+//! Method: Gauss–Newton on the residuals of the counted frames
+//! ([`super::residual::counted_frames`]), `Σ |n|² + h² |f|²` (moment `n` about the pelvis,
+//! force `f`, `h` the mean COM height), with the change of the needed wrench (exact for the
+//! trunk and mass: RNEA is linear in the inertial parameters; a rigid translation adds `M δp̈`
+//! at the centre of mass; finite differences of inverse dynamics for the rotation) passed to
+//! the residual where a clamp holds (the feet's centre of pressure at the edge of the support,
+//! a force at the friction cone, flight) or whole against measured forces; a Tikhonov term per
+//! block keeps the adjustments within [`ReductionBounds`] (raised until they are), and each
+//! step is kept only if the re-evaluated residuals fall (the clamps are not linear).
+
+mod problem;
+mod root;
+
+use super::grf::measured::FootLoads;
+use super::grf::{GroundReactions, floating_root};
+use super::residual::centre_of_mass;
+use super::{Workspace, forward_kinematics};
+use crate::error::Error;
+use crate::model::Model;
+use crate::motion::contact::{ContactParams, Foot};
+use crate::motion::spline::UniformBSpline;
+use nalgebra::{DVector, Vector3};
+use problem::{Evaluated, Problem};
+use root::{root_rotation, root_translation};
+
+/// How far residual reduction may change the model and the motion (OpenSim's guidelines for
+/// RRA, "Simulation with OpenSim — Best Practices": kinematics within 2 cm and 2° RMS, 5 cm
+/// and 5° at the largest; the mass within 5 %).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReductionBounds {
+    /// Largest trunk mass-centre offset (m).
+    pub trunk_com_m: f64,
+    /// Largest horizontal pelvis offset (m) at any frame.
+    pub pelvis_peak_m: f64,
+    /// Largest RMS of the pelvis offset over the take (m): Hicks et al. 2015 ask that the
+    /// tracked kinematics stay within 2 cm.
+    pub pelvis_rms_m: f64,
+    /// Largest pelvis rotation (rad, the angle of `R_δ`) at any frame.
+    pub rotation_peak_rad: f64,
+    /// Largest RMS of the pelvis rotation over the take (rad).
+    pub rotation_rms_rad: f64,
+    /// Largest relative change of the total mass (measured ground reactions only).
+    pub mass_share: f64,
+    /// Knot spacing of the pelvis offset and rotation (s): each basis function spans four
+    /// intervals (0.6 s at the default 0.15 s, about a step), the fastest change they make.
+    /// Measured on the shared walks: 0.3 s removes a tenth of the residual moment, 0.15 s
+    /// most of it.
+    pub knot_spacing_s: f64,
+    /// Gauss–Newton iterations at most.
+    pub iterations: usize,
+}
+
+/// The most knots the pelvis offset gets per axis: the normal equations are dense, so their
+/// size is bounded (Cholesky of 5·256 + 3 unknowns takes a fraction of a second); a take
+/// longer than 256 × 0.15 s = 38 s gets a coarser offset ([`ReductionBounds::for_take`]).
+pub const MAX_KNOTS: usize = 256;
+
+impl ReductionBounds {
+    /// The default bounds with the knot spacing widened to fit a take of `duration_s` sampled
+    /// every `dt` s: at least three frames per interval (a keyframed take at 1 s per frame
+    /// gets 3 s), and at most [`MAX_KNOTS`] knots (a long take gets slower corrections, which
+    /// may leave more of its residual: the report says the spacing used). A banded solver
+    /// would lift the cap.
+    pub fn for_take(duration_s: f64, dt: f64) -> Self {
+        let d = Self::default();
+        Self {
+            knot_spacing_s: d
+                .knot_spacing_s
+                .max(3.0 * dt)
+                .max(duration_s / MAX_KNOTS as f64),
+            ..d
+        }
+    }
+}
+
+impl Default for ReductionBounds {
+    fn default() -> Self {
+        Self {
+            trunk_com_m: 0.05,
+            pelvis_peak_m: 0.05,
+            pelvis_rms_m: 0.02,
+            rotation_peak_rad: 5f64.to_radians(),
+            rotation_rms_rad: 2f64.to_radians(),
+            mass_share: 0.05,
+            knot_spacing_s: 0.15,
+            iterations: 12,
+        }
+    }
+}
+
+/// A take's motion: sample times (s) and q, v, a per sample.
+#[derive(Debug, Clone, Copy)]
+pub struct Motion<'a> {
+    pub time: &'a [f64],
+    pub q: &'a [Vec<f64>],
+    pub v: &'a [Vec<f64>],
+    pub a: &'a [Vec<f64>],
+}
+
+/// The ground reactions the residuals are reduced against.
+#[derive(Debug, Clone, Copy)]
+pub enum Ground<'a> {
+    /// Estimated from the motion with the feet `feet` ([`super::grf`]), again at each step.
+    Estimated {
+        feet: &'a [Foot],
+        params: &'a ContactParams,
+    },
+    /// Measured (force plates, `id --grf`): they stay as they are; the mass is adjusted too.
+    Measured(&'a FootLoads),
+}
+
+/// What residual reduction found: the adjusted model and motion and their ground reactions.
+#[derive(Debug, Clone)]
+pub struct Reduction {
+    /// The model with the trunk's mass centre moved (and the mass scaled).
+    pub model: Model,
+    /// The motion with the pelvis offset and rotation (nq, nv, nv per sample).
+    pub q: Vec<Vec<f64>>,
+    pub v: Vec<Vec<f64>>,
+    pub a: Vec<Vec<f64>>,
+    /// Ground reactions of the adjusted model and motion.
+    pub ground: GroundReactions,
+    /// The trunk's mass-centre offset (m, trunk bodies' frame).
+    pub trunk_offset: Vector3<f64>,
+    /// The trunk's mass (kg).
+    pub trunk_mass_kg: f64,
+    /// Per frame: the pelvis offset (m, world).
+    pub pelvis: Vec<Vector3<f64>>,
+    /// Per frame: the pelvis rotation vector (rad, world); `None`: not adjusted (an euler
+    /// root near gimbal lock).
+    pub rotation: Option<Vec<Vector3<f64>>>,
+    /// The mass scale (1: not adjusted).
+    pub mass_scale: f64,
+    /// The bounds the adjustments end against, within a tenth (`trunk`, `pelvis offset`,
+    /// `pelvis rotation`, `mass`).
+    pub bounded: Vec<&'static str>,
+    /// Gauss–Newton steps kept.
+    pub steps: usize,
+}
+
+impl Reduction {
+    /// Largest and RMS pelvis offset (m).
+    pub fn pelvis_peak_rms(&self) -> (f64, f64) {
+        peak_rms(&self.pelvis)
+    }
+
+    /// Largest and RMS pelvis rotation (rad); `None` when not adjusted.
+    pub fn rotation_peak_rms(&self) -> Option<(f64, f64)> {
+        self.rotation.as_deref().map(peak_rms)
+    }
+}
+
+fn peak_rms(p: &[Vector3<f64>]) -> (f64, f64) {
+    let peak = p.iter().map(|x| x.norm()).fold(0.0, f64::max);
+    let ms = p.iter().map(|x| x.norm_squared()).sum::<f64>() / p.len().max(1) as f64;
+    (peak, ms.sqrt())
+}
+
+/// The trunk whose mass centre residual reduction moves: its bodies, and the two directions
+/// (in their frames) across its long axis along which it may move. RRA moves the torso's mass
+/// centre forward–back and side to side only: along the trunk, the offset changes the needed
+/// wrench through the trunk's rotational accelerations alone and is not to be found from it.
+#[derive(Debug, Clone, Copy)]
+pub struct Trunk<'a> {
+    pub bodies: &'a [usize],
+    pub across: [Vector3<f64>; 2],
+}
+
+impl Trunk<'_> {
+    /// The two unit directions across `long` (a direction along the trunk in its bodies'
+    /// frame, from the lumbar joint to the head); `None` if `long` is zero.
+    pub fn across(long: &Vector3<f64>) -> Option<[Vector3<f64>; 2]> {
+        let e = long.try_normalize(1e-12)?;
+        let seed = Vector3::ith(e.iamin(), 1.0);
+        let u = e.cross(&seed).normalize();
+        Some([u, e.cross(&u)])
+    }
+}
+
+/// Residual reduction (module doc) of the motion `motion` of `model` against the ground
+/// reactions `ground`, with the trunk `trunk` (whose mass centre may move across it) and the
+/// frames `counted` ([`super::residual::counted_frames`]).
+///
+/// Errors: those of the ground reactions' estimate or application; a model without a floating
+/// root whose translation is three prismatic joints or a free joint; a motion of one instant.
+pub fn reduce_residuals(
+    model: &Model,
+    ground: Ground,
+    trunk: Trunk,
+    motion: Motion,
+    up: usize,
+    counted: &[bool],
+    bounds: &ReductionBounds,
+) -> Result<Reduction, Error> {
+    let translation = root_translation(model).ok_or_else(|| {
+        Error::Invalid(format!(
+            "model {}: residual reduction moves the root, and needs a floating root (a free \
+             joint, or three prismatic joints then the rotations); use --consistent off",
+            model.name
+        ))
+    })?;
+    let n = motion.time.len();
+    let spline = match (motion.time.first(), motion.time.last()) {
+        (Some(&t0), Some(&t1)) if counted.len() == n => {
+            UniformBSpline::new(t0, t1, bounds.knot_spacing_s)
+        }
+        _ => None,
+    }
+    .ok_or_else(|| {
+        Error::Invalid(format!(
+            "residual reduction needs a motion over time and a mask per frame (got {n} samples, \
+             {} flags); use --consistent off",
+            counted.len()
+        ))
+    })?;
+    let mut problem = Problem {
+        model,
+        ground,
+        trunk,
+        motion,
+        up,
+        counted,
+        spline,
+        translation,
+        rotation: None,
+        root: floating_root(model).unwrap_or(1),
+        height: 1.0,
+    };
+    // the translations first, then the rotations from there: each stage keeps only steps
+    // that lower the residuals, so adding the rotations never ends above the translations
+    let x0 = DVector::zeros(problem.layout().len);
+    let mut e = problem.evaluate(&x0)?;
+    problem.height = mean_com_height(problem.model, &e, problem.counted);
+    e.cost = problem.cost(&e.ground);
+    let (mut x, mut e) = solve(&problem, bounds, x0, e)?;
+    if let Some(r) = root_rotation(model, motion.q) {
+        let from = problem.layout();
+        problem.rotation = Some(r);
+        let to = problem.layout();
+        let mut wider = DVector::zeros(to.len);
+        wider
+            .rows_mut(0, from.translation + 2 * problem.spline.len())
+            .copy_from(&x.rows(0, from.translation + 2 * problem.spline.len()));
+        if let (Some(a), Some(b)) = (from.mass, to.mass) {
+            wider[b] = x[a];
+        }
+        (x, e) = solve(&problem, bounds, wider, e)?;
+    }
+    // the bounds the adjustments end against (within a tenth of them)
+    let pelvis = problem.pelvis(&x);
+    let rotation = problem.rotation.map(|_| problem.pelvis_rotation(&x));
+    let (peak, rms) = peak_rms(&pelvis);
+    let (rpeak, rrms) = rotation.as_deref().map_or((0.0, 0.0), peak_rms);
+    let mass_scale = problem.mass_scale(&x);
+    let near = |value: f64, bound: f64| value > 0.9 * bound;
+    let mut bounded = vec![];
+    for (name, at) in [
+        (
+            "trunk",
+            near(problem.trunk_offset(&x).norm(), bounds.trunk_com_m),
+        ),
+        (
+            "pelvis offset",
+            near(peak, bounds.pelvis_peak_m) || near(rms, bounds.pelvis_rms_m),
+        ),
+        (
+            "pelvis rotation",
+            near(rpeak, bounds.rotation_peak_rad) || near(rrms, bounds.rotation_rms_rad),
+        ),
+        ("mass", near((mass_scale - 1.0).abs(), bounds.mass_share)),
+    ] {
+        if at {
+            bounded.push(name);
+        }
+    }
+    Ok(Reduction {
+        pelvis,
+        rotation,
+        mass_scale,
+        trunk_offset: problem.trunk_offset(&x),
+        trunk_mass_kg: trunk.bodies.iter().map(|&b| model.inertia[b].mass).sum(),
+        model: e.model,
+        q: e.q,
+        v: e.v,
+        a: e.a,
+        ground: e.ground,
+        bounded,
+        steps: e.steps,
+    })
+}
+
+/// Gauss–Newton from `x` (evaluated as `e`): each step kept only if the re-evaluated
+/// residuals fall (halved until they do, eight times at most); stops when a step gains less
+/// than a thousandth.
+fn solve(
+    problem: &Problem,
+    bounds: &ReductionBounds,
+    mut x: DVector<f64>,
+    mut e: Evaluated,
+) -> Result<(DVector<f64>, Evaluated), Error> {
+    let mut mu = [1e-4; 4];
+    for _ in 0..bounds.iterations {
+        let Some(next) = problem.step(&x, &e, bounds, &mut mu) else {
+            break;
+        };
+        let mut accepted = None;
+        let mut dx = &next - &x;
+        for _ in 0..8 {
+            let trial = &x + &dx;
+            let t = problem.evaluate(&trial)?;
+            if t.cost < e.cost {
+                accepted = Some((trial, t));
+                break;
+            }
+            dx *= 0.5;
+        }
+        let Some((xn, mut en)) = accepted else {
+            break;
+        };
+        let gain = (e.cost - en.cost) / e.cost.max(1e-12);
+        en.steps = e.steps + 1;
+        (x, e) = (xn, en);
+        if gain < 1e-3 {
+            break;
+        }
+    }
+    Ok((x, e))
+}
+
+/// Mean height of the whole-body centre of mass over the floor, over the counted frames (m).
+fn mean_com_height(model: &Model, e: &Evaluated, counted: &[bool]) -> f64 {
+    com_heights(model, &e.q, e.ground.up, e.ground.floor)
+        .iter()
+        .zip(counted)
+        .filter(|(_, c)| **c)
+        .map(|(h, _)| *h)
+        .sum::<f64>()
+        / counted.iter().filter(|c| **c).count().max(1) as f64
+}
+
+/// Per sample: the height of the whole-body centre of mass over the floor (m).
+pub fn com_heights(model: &Model, q: &[Vec<f64>], up: usize, floor: f64) -> Vec<f64> {
+    let mut ws = Workspace::new(model);
+    q.iter()
+        .map(|qk| {
+            forward_kinematics(model, &mut ws, qk);
+            centre_of_mass(model, &ws)[up] - floor
+        })
+        .collect()
+}

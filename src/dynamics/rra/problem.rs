@@ -1,0 +1,691 @@
+//! The least-squares problem residual reduction solves ([`super`]): its parameters, one
+//! evaluation of the adjusted model and motion, and the Gauss–Newton normal equations.
+//!
+//! Parameters `x`, in blocks: the trunk offset's two coordinates; the pelvis offset's spline
+//! coefficients along each horizontal axis; the pelvis rotation's along each world axis (when
+//! the root can be rotated, [`super::root::root_rotation`]); the mass scale (with measured
+//! ground reactions only: estimated ones carry whatever the motion needs).
+
+use super::root::{BodyRotation, RootRotation, RootTranslation, rotate_root, shift_root};
+use super::{Ground, Motion, ReductionBounds, Trunk, peak_rms};
+use crate::dynamics::grf::measured::apply_ground_reactions;
+use crate::dynamics::grf::{
+    GroundReactions, about, estimate_ground_reactions_progress, root_wrench,
+};
+use crate::dynamics::residual::{centre_of_mass, with_trunk_offset};
+use crate::dynamics::{Workspace, forward_kinematics, rnea};
+use crate::error::Error;
+use crate::model::Model;
+use crate::motion::spline::UniformBSpline;
+use crate::spatial::SpatialInertia;
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+
+/// The trunk offset's coordinates.
+pub(super) const NT: usize = 2;
+
+/// The problem residual reduction solves, fixed over its iterations.
+pub(super) struct Problem<'a> {
+    pub model: &'a Model,
+    pub ground: Ground<'a>,
+    pub trunk: Trunk<'a>,
+    pub motion: Motion<'a>,
+    pub up: usize,
+    pub counted: &'a [bool],
+    pub spline: UniformBSpline,
+    pub translation: RootTranslation,
+    /// `None`: the root's rotations are not adjusted.
+    pub rotation: Option<RootRotation>,
+    pub root: usize,
+    /// Weight of the residual force against the moment (m): the mean COM height.
+    pub height: f64,
+}
+
+/// One evaluation: the adjusted model, motion and their ground reactions.
+pub(super) struct Evaluated {
+    pub model: Model,
+    pub q: Vec<Vec<f64>>,
+    pub v: Vec<Vec<f64>>,
+    pub a: Vec<Vec<f64>>,
+    pub ground: GroundReactions,
+    pub cost: f64,
+    /// Gauss–Newton steps taken to reach it.
+    pub steps: usize,
+}
+
+/// Where the parameter blocks start in `x`, and its length.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Layout {
+    pub translation: usize,
+    pub rotation: Option<usize>,
+    pub mass: Option<usize>,
+    pub len: usize,
+}
+
+/// `model` with every body's mass and inertia scaled by `s` (its mass centres kept).
+fn with_mass_scale(model: &Model, s: f64) -> Model {
+    let mut m = model.clone();
+    for i in m.inertia.iter_mut() {
+        *i = SpatialInertia::new(i.mass * s, i.com, i.inertia_com * s);
+    }
+    m
+}
+
+impl Problem<'_> {
+    pub fn layout(&self) -> Layout {
+        let nb = self.spline.len();
+        let translation = NT;
+        let mut len = NT + 2 * nb;
+        let rotation = self.rotation.map(|_| {
+            len += 3 * nb;
+            len - 3 * nb
+        });
+        let mass = matches!(self.ground, Ground::Measured(_)).then(|| {
+            len += 1;
+            len - 1
+        });
+        Layout {
+            translation,
+            rotation,
+            mass,
+            len,
+        }
+    }
+
+    /// The two horizontal axes.
+    fn horizontal(&self) -> [usize; 2] {
+        [(self.up + 1) % 3, (self.up + 2) % 3]
+    }
+
+    /// The trunk's mass-centre offset (m, its bodies' frame) for parameters `x`.
+    pub fn trunk_offset(&self, x: &DVector<f64>) -> Vector3<f64> {
+        self.trunk.across[0] * x[0] + self.trunk.across[1] * x[1]
+    }
+
+    /// The mass scale for parameters `x` (1 + the relative change).
+    pub fn mass_scale(&self, x: &DVector<f64>) -> f64 {
+        self.layout().mass.map_or(1.0, |i| 1.0 + x[i])
+    }
+
+    /// A spline curve on the axes `axes` from coefficients starting at `at`, and its first and
+    /// second derivatives, at time `t`.
+    fn curve(&self, x: &DVector<f64>, at: usize, axes: &[usize], t: f64) -> [Vector3<f64>; 3] {
+        let nb = self.spline.len();
+        let (i, b) = self.spline.basis(t);
+        let mut out = [Vector3::zeros(); 3];
+        for (h, &axis) in axes.iter().enumerate() {
+            let c = &x.as_slice()[at + h * nb..at + (h + 1) * nb];
+            for (order, o) in out.iter_mut().enumerate() {
+                o[axis] = (0..4).map(|j| b[order][j] * c[i + j]).sum();
+            }
+        }
+        out
+    }
+
+    /// The pelvis offset, its rate and acceleration at time `t` for parameters `x`.
+    fn pelvis_at(&self, x: &DVector<f64>, t: f64) -> [Vector3<f64>; 3] {
+        self.curve(x, self.layout().translation, &self.horizontal(), t)
+    }
+
+    /// The pelvis rotation vector `θ` (rad, world), its rate and acceleration at `t`.
+    fn rotation_at(&self, x: &DVector<f64>, t: f64) -> Option<[Vector3<f64>; 3]> {
+        let at = self.layout().rotation?;
+        Some(self.curve(x, at, &[0, 1, 2], t))
+    }
+
+    /// Per frame: the pelvis offset (m, world).
+    pub fn pelvis(&self, x: &DVector<f64>) -> Vec<Vector3<f64>> {
+        self.motion
+            .time
+            .iter()
+            .map(|&t| self.pelvis_at(x, t)[0])
+            .collect()
+    }
+
+    /// Per frame: the pelvis rotation vector (rad, world); zeros when not adjusted.
+    pub fn pelvis_rotation(&self, x: &DVector<f64>) -> Vec<Vector3<f64>> {
+        self.motion
+            .time
+            .iter()
+            .map(|&t| self.rotation_at(x, t).map_or(Vector3::zeros(), |r| r[0]))
+            .collect()
+    }
+
+    /// The model and motion adjusted by `x`, their ground reactions and cost.
+    pub fn evaluate(&self, x: &DVector<f64>) -> Result<Evaluated, Error> {
+        let trunk = with_trunk_offset(self.model, self.trunk.bodies, &self.trunk_offset(x));
+        let s = self.mass_scale(x);
+        let model = if s == 1.0 {
+            trunk
+        } else {
+            with_mass_scale(&trunk, s)
+        };
+        let (mut q, mut v, mut a) = (
+            self.motion.q.to_vec(),
+            self.motion.v.to_vec(),
+            self.motion.a.to_vec(),
+        );
+        let mut ws = Workspace::new(&model);
+        for k in 0..q.len() {
+            let t = self.motion.time[k];
+            let [p, dp, ddp] = self.pelvis_at(x, t);
+            forward_kinematics(&model, &mut ws, &q[k]);
+            let rot = ws.o_x_i[self.root].rot;
+            shift_root(
+                &self.translation,
+                &rot,
+                &p,
+                &dp,
+                &ddp,
+                &mut q[k],
+                &mut v[k],
+                &mut a[k],
+            );
+            if let (Some(r), Some([th, dth, ddth])) = (&self.rotation, self.rotation_at(x, t)) {
+                let d = BodyRotation::exp(&th, &dth, &ddth);
+                if !rotate_root(r, &rot, &d, &mut q[k], &mut v[k], &mut a[k]) {
+                    return Err(Error::Invalid(format!(
+                        "residual reduction: the root's Euler angles reach gimbal lock at \
+                         {t:.3} s under the pelvis rotation; use --joints ball or \
+                         --consistent off"
+                    )));
+                }
+            }
+        }
+        let time = self.motion.time;
+        let ground = match self.ground {
+            Ground::Estimated { feet, params } => estimate_ground_reactions_progress(
+                &model,
+                feet,
+                time,
+                &q,
+                &v,
+                &a,
+                self.up,
+                params,
+                &mut |_| true,
+            )?,
+            Ground::Measured(loads) => {
+                apply_ground_reactions(&model, loads, time, &q, &v, &a, self.up)?
+            }
+        };
+        let cost = self.cost(&ground);
+        Ok(Evaluated {
+            model,
+            q,
+            v,
+            a,
+            ground,
+            cost,
+            steps: 0,
+        })
+    }
+
+    /// `Σ |n|² + h² |f|²` over the counted frames.
+    pub fn cost(&self, g: &GroundReactions) -> f64 {
+        (0..g.residual.len())
+            .filter(|&k| self.counted[k])
+            .map(|k| {
+                self.weighted(&g.residual[k])
+                    .iter()
+                    .map(|r| r * r)
+                    .sum::<f64>()
+            })
+            .sum()
+    }
+
+    /// A residual `[fx, fy, fz, tx, ty, tz]` as the least-squares residual `[n; h f]`.
+    fn weighted(&self, r: &[f64; 6]) -> [f64; 6] {
+        let h = self.height;
+        [r[3], r[4], r[5], h * r[0], h * r[1], h * r[2]]
+    }
+}
+
+/// A residual this small is met (N·m; N): the feet give the wrench there.
+const MET: f64 = 1e-3;
+/// The step of the trunk offset's finite differences (m); the needed wrench is linear in the
+/// first moments `mᵢ cᵢ`, nearly so in `cᵢ` (the parallel-axis term is second order).
+const TRUNK_STEP: f64 = 0.005;
+/// The step of the rotation's finite differences (rad, rad/s, rad/s²): the needed wrench is
+/// linear in the angular acceleration, smooth in the angle and rate.
+const ROTATION_STEP: f64 = 1e-6;
+
+/// What one frame's residual does with a change of the needed wrench (about the pelvis):
+/// passed whole in flight and against measured forces; with estimated forces in stance, the
+/// moment where a clamp holds, less the moment of the force change at the feet's centre of
+/// pressure `cop`, and the force where one holds.
+struct Pass {
+    whole: bool,
+    moment_clamped: bool,
+    force_clamped: bool,
+    lever: Vector3<f64>,
+    height: f64,
+}
+
+impl Pass {
+    fn new(
+        g: &GroundReactions,
+        k: usize,
+        pelvis: &Vector3<f64>,
+        height: f64,
+        measured: bool,
+    ) -> Self {
+        let r = &g.residual[k];
+        let load: f64 = g.grf[k].iter().map(|f| f[g.up]).sum();
+        let whole = measured || load <= 1e-9;
+        let cop = if whole {
+            *pelvis
+        } else {
+            g.grf[k]
+                .iter()
+                .zip(&g.cop[k])
+                .map(|(f, c)| c * f[g.up])
+                .sum::<Vector3<f64>>()
+                / load
+        };
+        Self {
+            whole,
+            moment_clamped: Vector3::new(r[3], r[4], r[5]).norm() > MET,
+            force_clamped: Vector3::new(r[0], r[1], r[2]).norm() > MET,
+            lever: cop - pelvis,
+            height,
+        }
+    }
+
+    fn apply(&self, dn: Vector3<f64>, df: Vector3<f64>) -> [f64; 6] {
+        let (n, f) = if self.whole {
+            (dn, df)
+        } else {
+            let zero = Vector3::zeros();
+            let n = if self.moment_clamped {
+                dn - self.lever.cross(&df)
+            } else {
+                zero
+            };
+            (n, if self.force_clamped { df } else { zero })
+        };
+        let h = self.height;
+        [n.x, n.y, n.z, h * f.x, h * f.y, h * f.z]
+    }
+}
+
+/// One frame's Jacobian: its columns' indices in `x` and their entries (`[n; h f]`).
+struct Local {
+    cols: Vec<usize>,
+    jac: Vec<[f64; 6]>,
+}
+
+impl Local {
+    fn push(&mut self, col: usize, entries: [f64; 6]) {
+        self.cols.push(col);
+        self.jac.push(entries);
+    }
+
+    /// `JᵀJ += JₖᵀJₖ`, `Jᵀr += Jₖᵀrₖ`.
+    fn accumulate(&self, rk: &[f64; 6], jtj: &mut DMatrix<f64>, jtr: &mut DVector<f64>) {
+        let dot = |a: &[f64; 6], b: &[f64; 6]| (0..6).map(|r| a[r] * b[r]).sum::<f64>();
+        for (a, ja) in self.cols.iter().zip(&self.jac) {
+            jtr[*a] += dot(ja, rk);
+            for (b, jb) in self.cols.iter().zip(&self.jac) {
+                jtj[(*a, *b)] += dot(ja, jb);
+            }
+        }
+    }
+}
+
+/// Scratch for one frame's finite differences, allocated once per normal equations.
+struct Scratch {
+    ws: Workspace,
+    q: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+}
+
+impl Problem<'_> {
+    /// The Gauss–Newton normal equations `JᵀJ`, `Jᵀr` at `x` (evaluated as `e`): per counted
+    /// frame, the residual `r = [n; h f]` and how each parameter changes it (module doc).
+    pub fn normal_equations(
+        &self,
+        x: &DVector<f64>,
+        e: &Evaluated,
+    ) -> (DMatrix<f64>, DVector<f64>) {
+        let np = self.layout().len;
+        let (mut jtj, mut jtr) = (DMatrix::zeros(np, np), DVector::zeros(np));
+        let offset = self.trunk_offset(x);
+        let s = self.mass_scale(x);
+        let moved: Vec<Model> = self
+            .trunk
+            .across
+            .iter()
+            .map(|u| {
+                let m =
+                    with_trunk_offset(self.model, self.trunk.bodies, &(offset + u * TRUNK_STEP));
+                if s == 1.0 { m } else { with_mass_scale(&m, s) }
+            })
+            .collect();
+        let mut ws = Workspace::new(&e.model);
+        let mut scratch = Scratch {
+            ws: Workspace::new(&e.model),
+            q: vec![0.0; e.model.nq],
+            v: vec![0.0; e.model.nv],
+            a: vec![0.0; e.model.nv],
+        };
+        let mut local = Local {
+            cols: Vec::with_capacity(NT + 21),
+            jac: Vec::with_capacity(NT + 21),
+        };
+        for k in (0..e.q.len()).filter(|&k| self.counted[k]) {
+            self.frame_jacobian(x, e, k, &moved, &mut ws, &mut scratch, &mut local);
+            let rk = self.weighted(&e.ground.residual[k]);
+            local.accumulate(&rk, &mut jtj, &mut jtr);
+        }
+        (jtj, jtr)
+    }
+
+    /// Frame `k`'s Jacobian into `local` (`moved`: the models with the trunk offset moved
+    /// along each direction by [`TRUNK_STEP`]).
+    #[allow(clippy::too_many_arguments)]
+    fn frame_jacobian(
+        &self,
+        x: &DVector<f64>,
+        e: &Evaluated,
+        k: usize,
+        moved: &[Model],
+        ws: &mut Workspace,
+        scratch: &mut Scratch,
+        local: &mut Local,
+    ) {
+        let layout = self.layout();
+        let s = self.mass_scale(x);
+        let measured = matches!(self.ground, Ground::Measured(_));
+        {
+            local.cols.clear();
+            local.jac.clear();
+            forward_kinematics(&e.model, ws, &e.q[k]);
+            let pelvis = ws.o_x_i[self.root].trans;
+            let pass = Pass::new(&e.ground, k, &pelvis, self.height, measured);
+            let needed = e.ground.wrench[k];
+            // trunk: finite differences of the needed wrench
+            for (j, m) in moved.iter().enumerate() {
+                let sw = &mut scratch.ws;
+                forward_kinematics(m, sw, &e.q[k]);
+                rnea(m, sw, &e.q[k], &e.v[k], &e.a[k], None);
+                let w = about(&root_wrench(m, sw), &pelvis);
+                let d: [f64; 6] = std::array::from_fn(|c| (w[c] - needed[c]) / TRUNK_STEP);
+                local.push(j, pass.apply(v3(&d, 3), v3(&d, 0)));
+            }
+            self.pelvis_columns(&e.model, ws, &e.ground, k, &pass, local);
+            if let (Some(at), Some(r)) = (layout.rotation, &self.rotation) {
+                let rot = ws.o_x_i[self.root].rot;
+                self.rotation_columns(e, k, at, r, &rot, &pelvis, &pass, scratch, local);
+            }
+            if let Some(at) = layout.mass {
+                // the needed wrench is linear in the inertial parameters
+                let d: [f64; 6] = std::array::from_fn(|c| needed[c] / s);
+                local.push(at, pass.apply(v3(&d, 3), v3(&d, 0)));
+            }
+        }
+    }
+
+    /// The pelvis spline's columns of frame `k`'s Jacobian: a rigid translation adds the force
+    /// `M δp̈` at the centre of mass (`ws` at frame `k`); against measured forces, which stay
+    /// where they act, the pelvis's move `δp` adds `δp × F` to the residual moment about it.
+    fn pelvis_columns(
+        &self,
+        model: &Model,
+        ws: &Workspace,
+        g: &GroundReactions,
+        k: usize,
+        pass: &Pass,
+        local: &mut Local,
+    ) {
+        let nb = self.spline.len();
+        let at = self.layout().translation;
+        let mass = model.total_mass();
+        let lever = centre_of_mass(model, ws) - ws.o_x_i[self.root].trans;
+        let applied: Vector3<f64> = g.grf[k].iter().sum();
+        let measured = matches!(self.ground, Ground::Measured(_));
+        let (i0, b) = self.spline.basis(self.motion.time[k]);
+        for (h, axis) in self.horizontal().into_iter().enumerate() {
+            for (j, (value, acc)) in b[0].iter().zip(&b[2]).enumerate() {
+                let df = Vector3::ith(axis, mass * acc);
+                let mut dn = lever.cross(&df);
+                if measured {
+                    dn += Vector3::ith(axis, *value).cross(&applied);
+                }
+                local.push(at + h * nb + i0 + j, pass.apply(dn, df));
+            }
+        }
+    }
+
+    /// The pelvis rotation's columns of frame `k`'s Jacobian: the needed wrench's change with
+    /// a rotation of the whole body about the pelvis, its rate and acceleration along each
+    /// world axis (finite differences of inverse dynamics), chained with the spline's basis.
+    #[allow(clippy::too_many_arguments)]
+    fn rotation_columns(
+        &self,
+        e: &Evaluated,
+        k: usize,
+        at: usize,
+        r: &RootRotation,
+        rot: &Matrix3<f64>,
+        pelvis: &Vector3<f64>,
+        pass: &Pass,
+        scratch: &mut Scratch,
+        local: &mut Local,
+    ) {
+        let nb = self.spline.len();
+        let needed = e.ground.wrench[k];
+        let (i0, b) = self.spline.basis(self.motion.time[k]);
+        for axis in 0..3 {
+            let mut d = [[0.0; 6]; 3];
+            for (order, dk) in d.iter_mut().enumerate() {
+                let e_axis = Vector3::ith(axis, ROTATION_STEP);
+                let turn = match order {
+                    0 => BodyRotation::exp(&e_axis, &Vector3::zeros(), &Vector3::zeros()),
+                    1 => BodyRotation::exp(&Vector3::zeros(), &e_axis, &Vector3::zeros()),
+                    _ => BodyRotation::exp(&Vector3::zeros(), &Vector3::zeros(), &e_axis),
+                };
+                scratch.q.copy_from_slice(&e.q[k]);
+                scratch.v.copy_from_slice(&e.v[k]);
+                scratch.a.copy_from_slice(&e.a[k]);
+                if !rotate_root(
+                    r,
+                    rot,
+                    &turn,
+                    &mut scratch.q,
+                    &mut scratch.v,
+                    &mut scratch.a,
+                ) {
+                    continue;
+                }
+                let sw = &mut scratch.ws;
+                forward_kinematics(&e.model, sw, &scratch.q);
+                rnea(&e.model, sw, &scratch.q, &scratch.v, &scratch.a, None);
+                let w = about(&root_wrench(&e.model, sw), pelvis);
+                *dk = std::array::from_fn(|c| (w[c] - needed[c]) / ROTATION_STEP);
+            }
+            for j in 0..4usize {
+                let col: [f64; 6] =
+                    std::array::from_fn(|c| d.iter().zip(&b).map(|(dk, bk)| dk[c] * bk[j]).sum());
+                let entries = pass.apply(v3(&col, 3), v3(&col, 0));
+                local.push(at + axis * nb + i0 + j, entries);
+            }
+        }
+    }
+
+    /// Whether `x` keeps within the bounds, per block: trunk, pelvis offset, pelvis rotation,
+    /// mass.
+    pub fn within(&self, x: &DVector<f64>, bounds: &ReductionBounds) -> [bool; 4] {
+        let trunk = self.trunk_offset(x).norm() <= bounds.trunk_com_m;
+        let (peak, rms) = peak_rms(&self.pelvis(x));
+        let (rpeak, rrms) = peak_rms(&self.pelvis_rotation(x));
+        [
+            trunk,
+            peak <= bounds.pelvis_peak_m && rms <= bounds.pelvis_rms_m,
+            rpeak <= bounds.rotation_peak_rad && rrms <= bounds.rotation_rms_rad,
+            (self.mass_scale(x) - 1.0).abs() <= bounds.mass_share,
+        ]
+    }
+
+    /// The block (0 trunk, 1 pelvis offset, 2 pelvis rotation, 3 mass) of parameter `i`.
+    fn block(&self, i: usize) -> usize {
+        let l = self.layout();
+        if i < l.translation {
+            0
+        } else if l.mass == Some(i) {
+            3
+        } else if l.rotation.is_some_and(|r| i >= r) {
+            2
+        } else {
+            1
+        }
+    }
+
+    /// One regularized Gauss–Newton step from `x`, its Tikhonov weights raised until the step
+    /// keeps within the bounds; `mu` (per block) keeps the weights reached.
+    pub fn step(
+        &self,
+        x: &DVector<f64>,
+        e: &Evaluated,
+        bounds: &ReductionBounds,
+        mu: &mut [f64; 4],
+    ) -> Option<DVector<f64>> {
+        let (jtj, jtr) = self.normal_equations(x, e);
+        let np = x.len();
+        let mut s = [0.0; 4];
+        let mut n = [0usize; 4];
+        for i in 0..np {
+            s[self.block(i)] += jtj[(i, i)];
+            n[self.block(i)] += 1;
+        }
+        let s: [f64; 4] = std::array::from_fn(|b| (s[b] / n[b].max(1) as f64).max(1e-12));
+        for _ in 0..20 {
+            let mut a = jtj.clone();
+            let mut rhs = -&jtr;
+            for i in 0..np {
+                let block = self.block(i);
+                let l = mu[block] * s[block];
+                a[(i, i)] += l;
+                rhs[i] -= l * x[i];
+            }
+            let next = x + a.cholesky()?.solve(&rhs);
+            let ok = self.within(&next, bounds);
+            if ok.iter().all(|b| *b) {
+                return Some(next);
+            }
+            for (b, within) in ok.iter().enumerate() {
+                if !within {
+                    mu[b] *= 4.0;
+                }
+            }
+        }
+        None
+    }
+}
+
+/// Three entries of a wrench `[fx, fy, fz, tx, ty, tz]` from `at`.
+fn v3(w: &[f64; 6], at: usize) -> Vector3<f64> {
+    Vector3::new(w[at], w[at + 1], w[at + 2])
+}
+
+#[cfg(test)]
+mod tests {
+    //! Against measured forces the residual is linear in the adjustments to first order and no
+    //! clamp intervenes: the Jacobian's prediction of a small step must equal the change that
+    //! evaluating the step gives (pelvis offset, rotation and mass).
+    use super::super::root::{root_rotation, root_translation};
+    use super::*;
+    use crate::dynamics::grf::measured::FootLoads;
+    use crate::dynamics::samples::{SplitMix64, random_configuration, random_tree, random_vector};
+
+    #[test]
+    fn the_jacobian_predicts_a_small_step_against_measured_forces() {
+        let model = random_tree(9, 21, true);
+        let mut rng = SplitMix64(5);
+        let n = 12;
+        let time: Vec<f64> = (0..n).map(|k| 0.05 * k as f64).collect();
+        let (mut q, mut v, mut a) = (vec![], vec![], vec![]);
+        for _ in 0..n {
+            let (mut qk, mut vk, mut ak) = (
+                vec![0.0; model.nq],
+                vec![0.0; model.nv],
+                vec![0.0; model.nv],
+            );
+            random_configuration(&model, &mut rng, &mut qk);
+            random_vector(&mut rng, 1.0, &mut vk);
+            random_vector(&mut rng, 1.0, &mut ak);
+            q.push(qk);
+            v.push(vk);
+            a.push(ak);
+        }
+        let loads = FootLoads {
+            feet: vec!["left".into()],
+            bodies: vec![3],
+            force: (0..n).map(|_| vec![rng.vec3(200.0)]).collect(),
+            cop: (0..n).map(|_| vec![rng.vec3(0.5)]).collect(),
+            free_moment: (0..n).map(|_| vec![rng.range(-5.0, 5.0)]).collect(),
+        };
+        let counted = vec![true; n];
+        let problem = Problem {
+            model: &model,
+            ground: Ground::Measured(&loads),
+            trunk: Trunk {
+                bodies: &[],
+                across: [Vector3::zeros(); 2],
+            },
+            motion: Motion {
+                time: &time,
+                q: &q,
+                v: &v,
+                a: &a,
+            },
+            up: 2,
+            counted: &counted,
+            spline: UniformBSpline::new(0.0, time[n - 1], 0.15).unwrap(),
+            translation: root_translation(&model).unwrap(),
+            rotation: root_rotation(&model, &q),
+            root: 1,
+            height: 1.0,
+        };
+        let layout = problem.layout();
+        assert!(layout.rotation.is_some() && layout.mass.is_some());
+        let x0 = DVector::zeros(layout.len);
+        let e0 = problem.evaluate(&x0).unwrap();
+        let mut dx = DVector::zeros(layout.len);
+        for i in NT..layout.len {
+            dx[i] = rng.range(-1e-5, 1e-5);
+        }
+        let e1 = problem.evaluate(&dx).unwrap();
+        let mut ws = Workspace::new(&e0.model);
+        let mut scratch = Scratch {
+            ws: Workspace::new(&e0.model),
+            q: vec![0.0; model.nq],
+            v: vec![0.0; model.nv],
+            a: vec![0.0; model.nv],
+        };
+        let mut local = Local {
+            cols: vec![],
+            jac: vec![],
+        };
+        for k in 0..n {
+            problem.frame_jacobian(&x0, &e0, k, &[], &mut ws, &mut scratch, &mut local);
+            let (r0, r1) = (
+                problem.weighted(&e0.ground.residual[k]),
+                problem.weighted(&e1.ground.residual[k]),
+            );
+            for row in 0..6 {
+                let predicted: f64 = local
+                    .cols
+                    .iter()
+                    .zip(&local.jac)
+                    .map(|(c, j)| j[row] * dx[*c])
+                    .sum();
+                let actual = r1[row] - r0[row];
+                assert!(
+                    (predicted - actual).abs() <= 1e-3 * actual.abs().max(1e-4),
+                    "frame {k} row {row}: predicted {predicted:e}, actual {actual:e}"
+                );
+            }
+        }
+    }
+}
