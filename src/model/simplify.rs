@@ -2,8 +2,9 @@
 //! freedom from a [`Model`], lumping the removed bodies' inertia into the body they are now
 //! welded to.
 //!
-//! A locked joint is held at its neutral configuration (q = 0: the rest pose for BVH models),
-//! so the reduced model is exact for motions in which the locked coordinates stay at rest: its
+//! A locked joint is held at its neutral configuration (q = 0: the rest pose for BVH models), or
+//! at a configuration given ([`lock_bodies_at`]: e.g. its mean pose over a take), so the reduced
+//! model is exact for motions in which the locked coordinates stay there; at rest: its
 //! inverse dynamics equals the full model's for the kept coordinates when the locked ones have
 //! `q = 0`, `v = a = 0` (the lumped inertia is the composite rigid body of Featherstone 2008,
 //! §6.2). Bodies welded to the world keep their mass in the world's inertia entry, so

@@ -29,6 +29,11 @@
 //! TOL on every frame of the take. The search costs O(candidates²) inverse dynamics runs over
 //! the subsample.
 
+mod table;
+mod tolerance;
+
+pub use tolerance::{Tolerance, parse_auto, split_lock};
+
 use super::{Contact, States, Take, contact_choice};
 use crate::error::Error;
 use crate::model::Model;
@@ -36,7 +41,6 @@ use crate::model::bvh::{BvhMap, follow_reduction};
 use crate::model::simplify::{self, Reduction};
 use serde::Serialize;
 use std::fmt::Write as _;
-use std::path::Path;
 
 /// The search uses at most about this many frames of the take (every `s`-th frame).
 pub const SEARCH_FRAMES: usize = 200;
@@ -50,91 +54,6 @@ const TIMING_BATCHES: usize = 7;
 
 /// States timed per model: the first of the search frames.
 const TIMING_STATES: usize = 32;
-
-/// How far a reduced model may move the outputs: their peak error over the take.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Tolerance {
-    /// Percent of the full model's peak |τ| over the outputs (`auto:2%`).
-    Percent(f64),
-    /// N·m (`auto:1nm`).
-    NewtonMetres(f64),
-}
-
-impl Tolerance {
-    /// The tolerance in N·m for outputs whose full-model peak |τ| is `peak`.
-    pub fn newton_metres(self, peak: f64) -> f64 {
-        match self {
-            Tolerance::Percent(p) => p / 100.0 * peak,
-            Tolerance::NewtonMetres(x) => x,
-        }
-    }
-}
-
-impl std::fmt::Display for Tolerance {
-    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        match self {
-            Tolerance::Percent(p) => write!(f, "{p}%"),
-            Tolerance::NewtonMetres(x) => write!(f, "{x}nm"),
-        }
-    }
-}
-
-/// What a tolerance's unit makes of its number.
-type MakeTolerance = fn(f64) -> Tolerance;
-
-/// Units a tolerance may be written in (lowercase), and what each makes of the number.
-const TOLERANCE_UNITS: &[(&str, MakeTolerance)] = &[
-    ("%", Tolerance::Percent),
-    ("nm", Tolerance::NewtonMetres),
-    ("n*m", Tolerance::NewtonMetres),
-    ("n·m", Tolerance::NewtonMetres),
-];
-
-/// A `--lock` value: `auto:TOL` gives its tolerance, any other value `None` (a joint name).
-///
-/// Errors: `auto:` followed by anything but a number ≥ 0 with `%` or `nm`.
-pub fn parse_auto(value: &str) -> Result<Option<Tolerance>, Error> {
-    let Some(tol) = value.trim().strip_prefix("auto:") else {
-        return Ok(None);
-    };
-    let bad = || {
-        Error::Invalid(format!(
-            "--lock {value}: expected auto:TOL with TOL the largest peak error allowed on the \
-             outputs, in % of their peak (auto:2%) or in N·m (auto:1nm)"
-        ))
-    };
-    let t = tol.trim().to_lowercase();
-    let (number, make) = TOLERANCE_UNITS
-        .iter()
-        .find_map(|(unit, make)| t.strip_suffix(unit).map(|n| (n, make)))
-        .ok_or_else(bad)?;
-    let x: f64 = number.trim().parse().map_err(|_| bad())?;
-    if !(x.is_finite() && x >= 0.0) {
-        return Err(bad());
-    }
-    Ok(Some(make(x)))
-}
-
-/// The `--lock` values split into the one `auto:TOL` (if any) and the joints named.
-///
-/// Errors: a bad `auto:` value, or more than one.
-pub fn split_lock(lock: &[String]) -> Result<(Option<Tolerance>, Vec<String>), Error> {
-    let mut auto = None;
-    let mut named = vec![];
-    for l in lock {
-        match parse_auto(l)? {
-            Some(_) if auto.is_some() => {
-                return Err(Error::Invalid(format!(
-                    "--lock {l}: one auto:TOL at most (the joints named beside it are locked \
-                     first)"
-                )));
-            }
-            Some(t) => auto = Some(t),
-            None => named.push(l.clone()),
-        }
-    }
-    Ok((auto, named))
-}
 
 /// Where a locked joint is held.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -826,122 +745,4 @@ pub fn lock_auto(mut take: Take, tol: Tolerance) -> Result<Take, Error> {
     take.states = states;
     take.notes.push(note);
     Ok(take)
-}
-
-impl Reduce {
-    /// The table `articula tradeoff --reduce` prints.
-    pub fn text(&self) -> String {
-        let mut s = String::new();
-        let _ = writeln!(
-            s,
-            "reduce {}: outputs {} ({}), contact {}",
-            self.take,
-            self.outputs,
-            match &self.coordinates {
-                Some(c) => format!("tau of {}", c.join(", ")),
-                None => "every joint rotation the model keeps".into(),
-            },
-            self.contact
-        );
-        let _ = writeln!(
-            s,
-            "search on {} of {} frames (every {}), each step verified on all; error = reduced − \
-             full model on the outputs, % of their peak |τ| {:.3} N·m and RMS {:.3} N·m",
-            self.search_frames,
-            self.frames,
-            self.search_every,
-            self.output_peak_nm,
-            self.output_rms_nm
-        );
-        let _ = writeln!(
-            s,
-            "{:>4}  {:<22} {:<5} {:>4} {:>9}  {:>22}  {:>22}",
-            "step",
-            "locked",
-            "hold",
-            "nv",
-            "µs/frame",
-            "search peak / RMS N·m",
-            "all peak / RMS N·m"
-        );
-        for (k, st) in self.steps.iter().enumerate() {
-            let f =
-                |x: &Figures| format!("{:.3} ({:.1}%) / {:.3}", x.peak_nm, x.peak_pct, x.rms_nm);
-            let _ = writeln!(
-                s,
-                "{:>4}  {:<22} {:<5} {:>4} {:>9.2}  {:>22}  {:>22}",
-                k,
-                st.locked.as_deref().unwrap_or("(full model)"),
-                st.hold.map_or("", Hold::name),
-                st.nv,
-                st.time_per_frame_s * 1e6,
-                f(&st.search),
-                f(&st.all)
-            );
-        }
-        let mean: Vec<&str> = self
-            .holds
-            .iter()
-            .filter(|h| h.chosen == Hold::Mean)
-            .map(|h| h.joint.as_str())
-            .collect();
-        let _ = writeln!(
-            s,
-            "held at their mean pose over the take (less error than at rest): {}",
-            if mean.is_empty() {
-                "none".into()
-            } else {
-                mean.join(", ")
-            }
-        );
-        for k in &self.skipped {
-            let _ = writeln!(s, "left out: {k}");
-        }
-        s
-    }
-
-    /// The CSV header (`report::columns`' scheme).
-    pub fn header() -> Vec<String> {
-        let mut h: Vec<String> = ["step", "locked", "hold", "nv", "time_per_frame"]
-            .map(String::from)
-            .to_vec();
-        for frames in ["search", "all"] {
-            for (kind, which) in [
-                ("error", "peak"),
-                ("error", "rms"),
-                ("error_pct", "peak"),
-                ("error_pct", "rms"),
-            ] {
-                h.push(crate::report::columns::name(kind, &[frames, which]));
-            }
-        }
-        h
-    }
-
-    /// Writes the steps as CSV, one row per step ([`Reduce::header`]; SI: s, N·m, %).
-    pub fn write_csv(&self, path: &Path) -> Result<(), Error> {
-        let mut buf = ryu::Buffer::new();
-        let mut num = |x: f64| buf.format(x).to_string();
-        let rows: Vec<Vec<String>> = self
-            .steps
-            .iter()
-            .enumerate()
-            .map(|(k, s)| {
-                let mut r = vec![
-                    k.to_string(),
-                    s.locked.clone().unwrap_or_default(),
-                    s.hold.map_or("", Hold::name).to_string(),
-                    s.nv.to_string(),
-                    num(s.time_per_frame_s),
-                ];
-                for f in [&s.search, &s.all] {
-                    for x in [f.peak_nm, f.rms_nm, f.peak_pct, f.rms_pct] {
-                        r.push(num(x));
-                    }
-                }
-                r
-            })
-            .collect();
-        crate::report::csv::write_table(path, &Self::header(), &rows)
-    }
 }
