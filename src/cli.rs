@@ -201,7 +201,8 @@ pub enum Cmd {
         )]
         minutes: Option<f64>,
     },
-    /// Measure the speed/accuracy trade of integrators, steps and joint models.
+    /// Measure the speed/accuracy trade of integrators, steps and joint models; with
+    /// --reduce, of locking joints greedily, the one that changes the outputs least first.
     Tradeoff {
         take: PathBuf,
         #[command(flatten)]
@@ -209,6 +210,19 @@ pub enum Cmd {
         /// Simulated time (s) from the start of the take.
         #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
         duration: f64,
+        /// Lock joints one by one, the one whose locking changes the outputs (--of) least
+        /// first: each step's nv, RNEA time per frame and error on the outputs (peak and RMS,
+        /// N·m and %), searched on a subsample of the frames and verified on all.
+        #[arg(long, conflicts_with = "duration")]
+        reduce: bool,
+        /// The outputs of --reduce (comma-separated): anatomical joints (knee_l, hip_r, …),
+        /// BVH joints or coordinates. Default: knee_l,knee_r for a human, else every joint.
+        #[arg(long, value_delimiter = ',', requires = "reduce")]
+        of: Vec<String>,
+        /// With --reduce: the steps as JSON (keys take, outputs, coordinates, contact, frames,
+        /// search_frames, search_every, output_peak_nm, output_rms_nm, steps, holds, skipped).
+        #[arg(long, requires = "reduce")]
+        json: bool,
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
@@ -370,7 +384,9 @@ pub struct TakeArgs {
     /// Smoothing: none, gaussian:<sigma s>, butterworth:<cutoff>hz (default butterworth:6hz).
     #[arg(long)]
     pub smooth: Option<String>,
-    /// Joints to lock (comma-separated); their DOFs leave the model.
+    /// Joints to lock (comma-separated); their DOFs leave the model. `auto:TOL` (`auto:2%` of
+    /// the outputs' peak, `auto:1nm`) locks every joint the take can do without within TOL on
+    /// the knee moments of a human, every joint torque otherwise (docs/speed-accuracy.md).
     #[arg(long, value_delimiter = ',')]
     pub lock: Vec<String>,
     /// Keep only the subtree below this joint.
@@ -919,8 +935,40 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         Cmd::Tradeoff {
             take,
             opts,
+            reduce: true,
+            of,
+            json,
+            output,
+            ..
+        } => {
+            let o = opts.options_for("tradeoff --reduce")?;
+            if articula::pipeline::reduce::split_lock(&o.lock)?.0.is_some() {
+                bail!(
+                    "--lock auto:TOL reduces the model before --reduce would: give the joints \
+                     to lock by name, or drop --reduce"
+                );
+            }
+            let take = pipeline::load_take(&take, &o)?;
+            print_notes(Some(&take));
+            let r = pipeline::reduce::reduce(&take, (!of.is_empty()).then_some(&of[..]))?;
+            let text = if json {
+                format!("{}\n", serde_json::to_string_pretty(&r)?)
+            } else {
+                r.text()
+            };
+            report(&text, output.as_deref());
+            if let Some(out) = output {
+                r.write_csv(&out)?;
+                sidecar(&out, "tradeoff --reduce", Some(&take), None)?;
+                wrote(&out);
+            }
+        }
+        Cmd::Tradeoff {
+            take,
+            opts,
             duration,
             output,
+            ..
         } => {
             let table = pipeline::tradeoff(&take, &opts.options_for("tradeoff")?, duration)?;
             report(&table.text(), output.as_deref());

@@ -104,6 +104,23 @@ pub fn time_algorithms(model: &Model, batches: usize) -> Result<BenchResult, Err
     })
 }
 
+/// Nanoseconds per RNEA call (median over `batches` batches of at least ~2 ms each) at the
+/// given states, cycled through in order: the inverse dynamics cost of one frame of a take
+/// (`articula tradeoff --reduce` times each reduced model so, at the take's own states).
+/// `q`, `v`, `a` hold one state per entry (`nq`, `nv`, `nv` long); none: 0.
+pub fn time_rnea(model: &Model, q: &[&[f64]], v: &[&[f64]], a: &[&[f64]], batches: usize) -> f64 {
+    if q.is_empty() {
+        return 0.0;
+    }
+    let mut ws = Workspace::new(model);
+    median_ns(batches, || {
+        for ((q, v), a) in q.iter().zip(v).zip(a) {
+            black_box(rnea(model, &mut ws, q, v, a, None));
+        }
+        q.len()
+    })
+}
+
 /// Median over `batches` of the time per call of `f` (which returns how many calls it made),
 /// each batch repeating `f` for at least 2 ms.
 fn median_ns(batches: usize, mut f: impl FnMut() -> usize) -> f64 {

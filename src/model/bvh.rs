@@ -493,18 +493,44 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
 
     // the reduced model; the map follows the bodies
     let r = simplify::lock_bodies(&full, &lock);
-    for m in &mut maps {
-        let ch_body = |q: usize| {
-            (1..full.nbodies())
-                .rev()
-                .find(|&i| full.idx_q[i] <= q && full.joints[i].nq() > 0)
-                .unwrap_or(0)
-        };
+    let mut map = BvhMap {
+        joint_model: opts.joints,
+        scale_to_m: scale,
+        joints: maps,
+    };
+    follow_reduction(&full, &r, None, &mut map);
+    Ok((r.model, map))
+}
+
+/// Makes `map`, a map of `full`, one of the reduced model `r` (`simplify::lock_bodies_at`
+/// on `full` with `hold`): each channel's coordinate moves to the reduced model's or, when its
+/// joint was locked, becomes none, its rest value then the held one (`hold`'s coordinate,
+/// in file units; `None`: rest stays rest); each BVH joint's frame follows its body.
+pub fn follow_reduction(
+    full: &Model,
+    r: &simplify::Reduction,
+    hold: Option<&[f64]>,
+    map: &mut BvhMap,
+) {
+    let ch_body = |q: usize| {
+        (1..full.nbodies())
+            .rev()
+            .find(|&i| full.idx_q[i] <= q && full.joints[i].nq() > 0)
+            .unwrap_or(0)
+    };
+    let scale = map.scale_to_m;
+    for m in &mut map.joints {
         for c in &mut m.channels {
-            c.q = c.q.and_then(|q| {
-                let i = ch_body(q);
-                r.kept[i].map(|k| r.model.idx_q[k] + (q - full.idx_q[i]))
-            });
+            let Some(q) = c.q else { continue };
+            let i = ch_body(q);
+            c.q = r.kept[i].map(|k| r.model.idx_q[k] + (q - full.idx_q[i]));
+            if let (None, Some(h)) = (c.q, hold) {
+                c.rest = if c.channel.is_rotation() {
+                    h[q].to_degrees()
+                } else {
+                    h[q] / scale + c.rest
+                };
+            }
         }
         m.quat_q = m.quat_q.and_then(|q| {
             let i = ch_body(q);
@@ -514,12 +540,6 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
         m.body = body;
         m.frame = x.compose(&m.frame);
     }
-    let map = BvhMap {
-        joint_model: opts.joints,
-        scale_to_m: scale,
-        joints: maps,
-    };
-    Ok((r.model, map))
 }
 
 #[cfg(test)]

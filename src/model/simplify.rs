@@ -2,8 +2,9 @@
 //! freedom from a [`Model`], lumping the removed bodies' inertia into the body they are now
 //! welded to.
 //!
-//! A locked joint is held at its neutral configuration (q = 0: the rest pose for BVH models),
-//! so the reduced model is exact for motions in which the locked coordinates stay at rest: its
+//! A locked joint is held at its neutral configuration (q = 0: the rest pose for BVH models), or
+//! at a configuration given ([`lock_bodies_at`]: e.g. its mean pose over a take), so the reduced
+//! model is exact for motions in which the locked coordinates stay there; at rest: its
 //! inverse dynamics equals the full model's for the kept coordinates when the locked ones have
 //! `q = 0`, `v = a = 0` (the lumped inertia is the composite rigid body of Featherstone 2008,
 //! §6.2). Bodies welded to the world keep their mass in the world's inertia entry, so
@@ -32,6 +33,14 @@ pub struct Reduction {
 /// Removes the joints of the bodies with `lock[i] == true` (`lock[0]`, the world, is ignored):
 /// each such body is welded to its parent at the joint's neutral configuration.
 pub fn lock_bodies(model: &Model, lock: &[bool]) -> Reduction {
+    lock_bodies_at(model, lock, None)
+}
+
+/// [`lock_bodies`] with each locked joint held at its coordinates in `hold` (a configuration of
+/// `model`, `nq` long: e.g. the mean pose over a take, [`mean_configuration`]) instead of its
+/// neutral one; `None`: neutral. The reduced model is then exact for motions in which the
+/// locked coordinates stay at `hold` with `v = a = 0`.
+pub fn lock_bodies_at(model: &Model, lock: &[bool], hold: Option<&[f64]>) -> Reduction {
     let n = model.nbodies();
     let mut b = ModelBuilder::new(model.name.clone(), model.gravity);
     let mut body_map = vec![(0usize, SpatialTransform::IDENTITY); n];
@@ -44,9 +53,15 @@ pub fn lock_bodies(model: &Model, lock: &[bool]) -> Reduction {
         let (target, x_t_p) = body_map[model.parent[i]];
         let placement = x_t_p.compose(&model.placement[i]);
         if lock.get(i).copied().unwrap_or(false) {
-            // weld body i to `target` at rest: lump its inertia, move its shape
+            // weld body i to `target` where it is held: lump its inertia, move its shape
             let mut q0 = [0.0; 7];
-            joint.neutral(&mut q0[..joint.nq()]);
+            match hold {
+                Some(h) => {
+                    let iq = model.idx_q[i];
+                    q0[..joint.nq()].copy_from_slice(&h[iq..iq + joint.nq()]);
+                }
+                None => joint.neutral(&mut q0[..joint.nq()]),
+            }
             let x = placement.compose(&joint.transform(&q0[..joint.nq()]));
             body_map[i] = (target, x);
             let lumped = model.inertia[i].transformed(&x);
@@ -85,6 +100,48 @@ pub fn lock_bodies(model: &Model, lock: &[bool]) -> Reduction {
         body_map,
         kept,
     }
+}
+
+/// The mean configuration of `model` over the configurations `qs` (each `nq` long): the
+/// arithmetic mean of every revolute and prismatic coordinate and of a free joint's position;
+/// for a quaternion (spherical and free joints), the normalized sum of the quaternions each
+/// turned to the hemisphere of the first (a chordal mean, close to the rotation mean for the
+/// spreads of a joint over a take). Neutral for an empty `qs`.
+pub fn mean_configuration<'a>(model: &Model, qs: impl IntoIterator<Item = &'a [f64]>) -> Vec<f64> {
+    let mut sum = vec![0.0; model.nq];
+    let mut first: Option<Vec<f64>> = None;
+    let mut count = 0usize;
+    let quat = |i: usize| match model.joints[i] {
+        crate::model::JointKind::Spherical => Some(model.idx_q[i]),
+        crate::model::JointKind::Free => Some(model.idx_q[i] + 3),
+        _ => None,
+    };
+    for q in qs {
+        let f = first.get_or_insert_with(|| q.to_vec());
+        for (s, x) in sum.iter_mut().zip(q) {
+            *s += x;
+        }
+        // quaternions: q and −q are the same rotation; add the one near the first's
+        for i in 1..model.nbodies() {
+            if let Some(k) = quat(i) {
+                let dot: f64 = (0..4).map(|c| q[k + c] * f[k + c]).sum();
+                if dot < 0.0 {
+                    for c in 0..4 {
+                        sum[k + c] -= 2.0 * q[k + c];
+                    }
+                }
+            }
+        }
+        count += 1;
+    }
+    if count == 0 {
+        return model.neutral();
+    }
+    for s in &mut sum {
+        *s /= count as f64;
+    }
+    model.normalize(&mut sum);
+    sum
 }
 
 /// `shape` (given in a body frame b) expressed in frame a, where `x` is b's pose in a.

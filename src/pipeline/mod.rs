@@ -27,6 +27,7 @@ pub mod flags;
 pub mod formats;
 pub mod measured;
 mod mujoco;
+pub mod reduce;
 mod sim;
 pub mod stages;
 mod states;
@@ -86,7 +87,9 @@ pub struct TakeOptions {
     /// Low-pass applied to q before differentiation; `None`: the default that fits the take
     /// ([`default_smoothing`]: `butterworth:6hz`, or none on a keyframed or low-rate take).
     pub smooth: Option<SmoothSpec>,
-    /// Joints whose DOFs leave the model (held at the rest pose).
+    /// Joints whose DOFs leave the model (held at the rest pose), and at most one
+    /// `auto:TOL` (`auto:2%`, `auto:1nm`): then the joints [`reduce::lock_auto`] finds can go
+    /// within TOL on this take go too.
     pub lock: Vec<String>,
     /// Keep only the subtree below this joint.
     pub subtree: Option<String>,
@@ -300,6 +303,7 @@ impl TakeOptions {
         }
         if !f.lock.is_empty() {
             self.lock = f.lock.iter().map(|s| s.trim().to_string()).collect();
+            reduce::split_lock(&self.lock)?;
         }
         if let Some(s) = f.subtree {
             self.subtree = Some(s.to_string());
@@ -679,6 +683,8 @@ pub fn take_from_bvh_marked(
     } else {
         None
     };
+    // `--lock auto:TOL` applies once the take's states are known (below)
+    let (auto_lock, named_locks) = reduce::split_lock(&opts.lock)?;
     let mut mopts = BvhModelOptions {
         name,
         joints: opts.joints,
@@ -686,7 +692,7 @@ pub fn take_from_bvh_marked(
         up,
         positions: positions.clone(),
         body,
-        lock: opts.lock.clone(),
+        lock: named_locks,
         subtree: opts.subtree.clone(),
         segments: None,
         held_positions: vec![],
@@ -811,7 +817,7 @@ pub fn take_from_bvh_marked(
         done,
     )?;
     notes.extend(passages);
-    Ok(Take {
+    let take = Take {
         path: path.to_path_buf(),
         bvh,
         options: opts.clone(),
@@ -830,7 +836,11 @@ pub fn take_from_bvh_marked(
         states,
         notes,
         human,
-    })
+    };
+    match auto_lock {
+        Some(tol) => reduce::lock_auto(take, tol),
+        None => Ok(take),
+    }
 }
 
 fn at_file(path: &Path, e: Error) -> Error {

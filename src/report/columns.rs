@@ -123,6 +123,42 @@ pub const KINDS: &[Kind] = &[
     kind("M", "joint-space mass matrix entry", UnitRule::MassMatrix),
     kind("power", "mechanical power tau * v", UnitRule::Fixed("W")),
     kind("current", "motor current", UnitRule::Fixed("A")),
+    kind(
+        "step",
+        "reduction step: joints locked so far (0: the full model)",
+        UnitRule::Fixed("1"),
+    ),
+    kind(
+        "locked",
+        "the joint locked at this step (a name)",
+        UnitRule::Fixed("text"),
+    ),
+    kind(
+        "hold",
+        "where the locked joint is held: rest (its rest pose) or mean (its mean pose over the take)",
+        UnitRule::Fixed("text"),
+    ),
+    kind(
+        "nv",
+        "degrees of freedom of the model",
+        UnitRule::Fixed("1"),
+    ),
+    kind(
+        "time_per_frame",
+        "inverse dynamics (RNEA) time per frame at the take's states",
+        UnitRule::Fixed("s"),
+    ),
+    kind(
+        "error",
+        "reduced minus full model on the outputs (search: the searched frames; all: every \
+         frame): peak |e| or RMS",
+        UnitRule::ByComponent(&[("peak", "N*m"), ("rms", "N*m")]),
+    ),
+    kind(
+        "error_pct",
+        "error in % of the full model's outputs: peak |e| / peak |tau|, RMS e / RMS tau",
+        UnitRule::Fixed("%"),
+    ),
 ];
 
 /// A column name from its kind and parts: `name("tau", &["LeftLeg.Xrotation"])` is

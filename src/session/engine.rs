@@ -322,31 +322,6 @@ fn contact_brief(q: &crate::dynamics::grf::GroundQuality, meets: bool) -> String
     format!("{feet}; residuals {residuals} Hicks et al.")
 }
 
-/// The anatomical joints of human `h` (`pipeline::anatomy`'s names: `pelvis`, `lumbar`,
-/// `hip_l`, `knee_l`, `ankle_l`, `shoulder_l`, `elbow_l`, …) and the BVH joint at each one's
-/// centre, whose channels turn the distal segment.
-fn anatomical_joints(h: &crate::model::skeleton::Human, bvh: &Bvh) -> Vec<(String, String)> {
-    use crate::model::anthropometry::Side;
-    let name = |j: usize| bvh.joints[j].name.clone();
-    let suffix = |s: Side| if s == Side::Left { "_l" } else { "_r" };
-    let mut out = vec![("pelvis".to_string(), name(h.pelvis))];
-    for leg in &h.legs {
-        let side = suffix(leg.side);
-        out.push((format!("hip{side}"), name(leg.hip)));
-        out.push((format!("knee{side}"), name(leg.knee)));
-        out.push((format!("ankle{side}"), name(leg.ankle)));
-    }
-    if let Some(s) = &h.spine {
-        out.push(("lumbar".into(), name(s.lumbar)));
-        for arm in s.arms.iter().flatten() {
-            let side = suffix(arm.side);
-            out.push((format!("shoulder{side}"), name(arm.shoulder)));
-            out.push((format!("elbow{side}"), name(arm.elbow)));
-        }
-    }
-    out
-}
-
 /// The anatomical angles (rad) and moments (N·m) of a human take as a table
 /// ([`Analysis::anatomy`]); empty for a take that is not a human's, or whose segments have no
 /// frame somewhere (the inverse dynamics stands without them).
@@ -731,7 +706,7 @@ impl Engine for Builtin {
                 if !anatomy.names.is_empty()
                     && let Ok(h) = &t.human
                 {
-                    anatomy_joints = anatomical_joints(h, &t.bvh);
+                    anatomy_joints = pipeline::anatomy::anatomical_joints(h, &t.bvh);
                 }
                 ctl.check()?;
                 let grf = g.map(|g| g.tau);

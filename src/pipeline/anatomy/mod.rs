@@ -789,3 +789,31 @@ pub fn anatomy_table(a: &Anatomy) -> crate::pipeline::table::Table {
     cols.push(&edge);
     crate::pipeline::table::Table::from_columns(header, &cols)
 }
+
+/// The anatomical joints of human `h` (`pipeline::anatomy`'s names: `pelvis`, `lumbar`,
+/// `hip_l`, `knee_l`, `ankle_l`, `shoulder_l`, `elbow_l`, …) and the BVH joint at each one's
+/// centre, whose channels turn the distal segment.
+pub fn anatomical_joints(
+    h: &crate::model::skeleton::Human,
+    bvh: &crate::io::bvh::Bvh,
+) -> Vec<(String, String)> {
+    use crate::model::anthropometry::Side;
+    let name = |j: usize| bvh.joints[j].name.clone();
+    let suffix = |s: Side| if s == Side::Left { "_l" } else { "_r" };
+    let mut out = vec![("pelvis".to_string(), name(h.pelvis))];
+    for leg in &h.legs {
+        let side = suffix(leg.side);
+        out.push((format!("hip{side}"), name(leg.hip)));
+        out.push((format!("knee{side}"), name(leg.knee)));
+        out.push((format!("ankle{side}"), name(leg.ankle)));
+    }
+    if let Some(s) = &h.spine {
+        out.push(("lumbar".into(), name(s.lumbar)));
+        for arm in s.arms.iter().flatten() {
+            let side = suffix(arm.side);
+            out.push((format!("shoulder{side}"), name(arm.shoulder)));
+            out.push((format!("elbow{side}"), name(arm.elbow)));
+        }
+    }
+    out
+}
