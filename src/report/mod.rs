@@ -19,6 +19,7 @@ pub mod chart;
 pub mod columns;
 pub mod csv;
 pub mod knee;
+pub mod labels;
 pub mod motor;
 pub mod opensim;
 pub mod sidecar;

@@ -24,7 +24,7 @@
 //! `data/motor_classes.toml` ([`default_catalogue`]), another is read by [`read_catalogue`].
 
 use crate::error::Error;
-use crate::report::chart::{Panel, Series, Table, fmt_value, stacked_svg};
+use crate::report::chart::{ImageFormat, Panel, Series, Table, fmt_value, stacked_chart};
 use crate::report::knee::{check_series, peak_abs, rms};
 
 /// Motor constant and transmission of one joint's drive.
@@ -351,6 +351,18 @@ pub fn motor_svg(
     specs: &[MotorSpec],
     loads: &[JointLoad],
 ) -> Result<String, Error> {
+    let bytes = motor_chart(joints, specs, loads, None, ImageFormat::Svg)?;
+    String::from_utf8(bytes).map_err(|e| Error::Invalid(format!("chart: SVG is not UTF-8: {e}")))
+}
+
+/// [`motor_svg`] as SVG or PNG bytes, with `caption` (the figure's context) under it.
+pub fn motor_chart(
+    joints: &[JointMotion],
+    specs: &[MotorSpec],
+    loads: &[JointLoad],
+    caption: Option<&str>,
+    format: ImageFormat,
+) -> Result<Vec<u8>, Error> {
     if joints.is_empty() {
         return Err(Error::Invalid("motor report: no joint to plot".into()));
     }
@@ -421,7 +433,7 @@ pub fn motor_svg(
             })
             .collect(),
     };
-    stacked_svg(
+    stacked_chart(
         &[
             panel("Joint torque", "torque (N·m)", &torque),
             panel("Joint speed", "speed (rad/s)", &speed),
@@ -429,6 +441,8 @@ pub fn motor_svg(
             panel("Motor current I = τ/(Km·N·η)", "current (A)", &current),
         ],
         Some(&table),
+        caption,
+        format,
     )
 }
 

@@ -13,6 +13,8 @@ pub enum ExportKind {
     Csv,
     /// Angle and torque curves of the selected coordinate (report chart).
     Svg,
+    /// The same chart as a PNG bitmap (`report::chart`, same layout).
+    Png,
     /// The active take's motion as the user sees it (blended, smoothed) as a BVH take.
     Bvh,
     /// The motion of the last `run sim` as a BVH take.
@@ -46,6 +48,7 @@ pub const EXPORT_WORDS: &[(&str, ExportKind)] = &[
     ("trc", ExportKind::Trc),
     ("grf", ExportKind::Grf),
     ("gltf", ExportKind::Gltf),
+    ("png", ExportKind::Png),
 ];
 
 impl ExportKind {
@@ -198,7 +201,7 @@ pub enum Command {
     Play,
     /// `pause`.
     Pause,
-    /// `export csv|svg|bvh|urdf|mjcf PATH`.
+    /// `export csv|svg|png|bvh|urdf|mjcf PATH`.
     Export { kind: ExportKind, path: PathBuf },
     /// `compare weights 60,80,100 [joint J] PATH`.
     CompareWeights {
@@ -522,7 +525,7 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
         }
         "export" => {
             let usage =
-                "export csv|svg|bvh|urdf|mjcf|states|trc|grf|gltf PATH, or export bvh sim PATH";
+                "export csv|svg|bvh|urdf|mjcf|states|trc|grf|gltf|png PATH, or export bvh sim PATH";
             arity(&[2, 3], usage)?;
             if args.len() == 3 && (args[0] != "bvh" || args[1] != "sim") {
                 return Err(syntax(lineno, format!("usage: {usage}")));

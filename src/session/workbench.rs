@@ -6,7 +6,7 @@ use super::engine::{Analysis, Builtin, Control, Engine, Params, Take, TakeData};
 use super::units::{self, Bare, Kind, Measure};
 use crate::model::{JointKind, Model};
 use crate::pipeline::{PerJoint, TakeOptions};
-use crate::report::chart::{Panel, Series, stacked_svg};
+use crate::report::chart::{ImageFormat, Panel, Series, stacked_chart};
 use crate::report::knee::{self, MassRun};
 use crate::report::motor::{self, JointMotion};
 use std::fmt::Write as _;
@@ -365,14 +365,20 @@ impl Job {
                 };
                 crate::pipeline::summary::write_sidecar(out, &p)?;
             }
-            ExportKind::Svg => {
+            ExportKind::Svg | ExportKind::Png => {
                 let r = self.results(ctl, analysis, 0.8)?;
                 let coord = self
                     .selection(analysis)
-                    .ok_or_else(|| err("export svg: select a joint first"))?;
-                let svg = selection_svg(&r, &coord)?;
+                    .ok_or_else(|| err("export svg|png: select a joint first"))?;
+                let format = if kind == ExportKind::Png {
+                    ImageFormat::Png
+                } else {
+                    ImageFormat::Svg
+                };
+                let bytes =
+                    selection_chart(&r, &coord, Some(&self.caption(r.scale, None)), format)?;
                 ctl.check()?;
-                crate::report::chart::write_svg(out, &svg)?;
+                crate::report::chart::write_chart(out, &bytes)?;
             }
             ExportKind::Bvh => {
                 // what the user sees: the take (as loaded or blended) smoothed as set
@@ -417,6 +423,52 @@ impl Job {
         })
     }
 
+    /// A chart's caption: the take, the body (mass, the skeleton's height, sex), joint model,
+    /// smoothing, contact model and residual reduction as computed, or the robot's own model;
+    /// `scale` the take's length scale (m per file unit), `masses` the body masses compared
+    /// (none: the one set).
+    fn caption(&self, scale: f64, masses: Option<&[f64]>) -> String {
+        let t = &self.params.take;
+        let mut parts: Vec<(&str, String)> = vec![];
+        if let Some(take) = self.take.as_ref() {
+            let file = Path::new(&take.source).file_name();
+            let name = file.map_or_else(|| take.source.clone(), |f| f.to_string_lossy().into());
+            parts.push(("take", name));
+            if let Some(bvh) = take.bvh() {
+                let up = t.up.unwrap_or_else(|| crate::io::bvh::detect_up(bvh));
+                let height = t
+                    .stature_m
+                    .unwrap_or_else(|| crate::io::bvh::stature(bvh, up) * scale);
+                let mass = masses.map_or_else(
+                    || t.body.mass_kg.to_string(),
+                    |m| m.iter().map(f64::to_string).collect::<Vec<_>>().join(", "),
+                );
+                parts.push(("body", format!("{mass} kg, {height:.2} m, {}", t.body.sex)));
+                parts.push(("joints", t.joints.to_string()));
+                let smooth = t.smooth.as_ref().map_or_else(
+                    || {
+                        format!(
+                            "default ({})",
+                            crate::pipeline::default_smoothing(bvh.frame_time).0
+                        )
+                    },
+                    |s| s.to_string(),
+                );
+                parts.push(("smoothing", smooth));
+                parts.push(("contact", t.contact.to_string()));
+                let consistent = match self.params.consistent {
+                    None => "auto",
+                    Some(true) => "on",
+                    Some(false) => "off",
+                };
+                parts.push(("residual reduction", consistent.into()));
+            } else {
+                parts.push(("model", "the robot's own masses and inertias".into()));
+            }
+        }
+        crate::report::chart::caption(&parts)
+    }
+
     /// The results' model as MJCF: every motor's gear the drive's `N·η` (so the control is the
     /// motor shaft's torque), a floor under a BVH take's frames (none under a robot).
     fn mjcf(&self, r: &Analysis) -> Result<String, SessionError> {
@@ -459,11 +511,13 @@ impl Job {
         let take = self.take()?;
         let n = masses.len().max(1) as f64;
         let mut runs = Vec::with_capacity(masses.len());
+        let mut scale = 1.0;
         for (i, &mass_kg) in masses.iter().enumerate() {
             ctl.set_span(i as f64 / n, (i + 1) as f64 / n);
             let mut params = self.params.clone();
             params.take.body.mass_kg = mass_kg;
             let r = self.engine.inverse_dynamics(take, &params, ctl)?;
+            scale = r.scale;
             let tau = torque_series(&r, coord)
                 .ok_or_else(|| err(format!("no coordinate '{coord}' in the model")))?;
             runs.push(MassRun {
@@ -473,13 +527,14 @@ impl Job {
                 t: r.time,
             });
         }
-        let text = if is_csv(out) {
-            knee::curves_csv(&runs)?
+        let bytes = if is_csv(out) {
+            knee::curves_csv(&runs)?.into_bytes()
         } else {
-            knee::knee_svg_with_table(coord, &runs)?
+            let caption = self.caption(scale, Some(masses));
+            knee::knee_chart(coord, &runs, Some(&caption), image_format(out))?
         };
         ctl.check()?;
-        crate::io::write_atomic(out, text.as_bytes())?;
+        crate::io::write_atomic(out, &bytes)?;
         let message = format!(
             "compared {coord} torque at {} kg: wrote {}",
             masses
@@ -559,16 +614,19 @@ impl Job {
             return Err(err("report motor: the motor catalogue is empty"));
         }
         let loads = motor::size_motors(&joints, &specs, &self.motor_classes)?;
-        let text = match (curves, is_csv(out)) {
-            (true, true) => motor::motor_curves_csv(&joints, &specs)?,
+        let bytes = match (curves, is_csv(out)) {
+            (true, true) => motor::motor_curves_csv(&joints, &specs)?.into_bytes(),
             (true, false) => {
                 return Err(err("report motor curves: the curves are written as .csv"));
             }
-            (false, true) => motor::motor_table_csv(&loads),
-            (false, false) => motor::motor_svg(&joints, &specs, &loads)?,
+            (false, true) => motor::motor_table_csv(&loads).into_bytes(),
+            (false, false) => {
+                let caption = self.caption(r.scale, None);
+                motor::motor_chart(&joints, &specs, &loads, Some(&caption), image_format(out))?
+            }
         };
         ctl.check()?;
-        crate::io::write_atomic(out, text.as_bytes())?;
+        crate::io::write_atomic(out, &bytes)?;
         let classes: Vec<String> = loads
             .iter()
             .map(|l| format!("{} {}", l.joint, motor::class_name(l)))
@@ -1838,6 +1896,11 @@ impl Workbench {
     }
 }
 
+/// The image format of a chart path: PNG for `.png`, SVG for anything else.
+fn image_format(p: &Path) -> ImageFormat {
+    ImageFormat::of_path(p).unwrap_or(ImageFormat::Svg)
+}
+
 /// True for a `.csv` path (anything else is written as SVG).
 fn is_csv(p: &Path) -> bool {
     p.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv"))
@@ -1846,6 +1909,17 @@ fn is_csv(p: &Path) -> bool {
 /// The paper's figure 4 for one coordinate: its angle (deg) or position (m) and its torque
 /// over time, minimum and maximum marked.
 pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> {
+    let bytes = selection_chart(r, coord, None, ImageFormat::Svg)?;
+    String::from_utf8(bytes).map_err(|e| err(format!("chart: SVG is not UTF-8: {e}")))
+}
+
+/// [`selection_svg`] as SVG or PNG bytes, with `caption` (the figure's context) under it.
+pub fn selection_chart(
+    r: &Analysis,
+    coord: &str,
+    caption: Option<&str>,
+    format: ImageFormat,
+) -> Result<Vec<u8>, SessionError> {
     let (Some(q), Some(tau)) = (angle_series(r, coord), torque_series(r, coord)) else {
         return Err(err(format!("no coordinate '{coord}' in the model")));
     };
@@ -1894,7 +1968,7 @@ pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> 
             shaded_label: "not quoted (edge/feet)",
         },
     ];
-    Ok(stacked_svg(&panels, None)?)
+    Ok(stacked_chart(&panels, None, caption, format)?)
 }
 
 /// A statistic over a series (0 for an empty one).
