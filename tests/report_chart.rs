@@ -142,6 +142,7 @@ fn stacked_panels_and_table() {
             mark_min_max: true,
             shaded: &[(0.0, 0.1)],
             shaded_label: "not quoted",
+            bands: &[],
         },
         Panel {
             title: "speed",
@@ -151,6 +152,7 @@ fn stacked_panels_and_table() {
             mark_min_max: false,
             shaded: &[],
             shaded_label: "",
+            bands: &[],
         },
     ];
     let table = Table {

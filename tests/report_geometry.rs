@@ -306,6 +306,7 @@ fn a_common_prefix_heads_the_legend_and_names_stay_readable() {
         mark_min_max: true,
         shaded: &[],
         shaded_label: "",
+        bands: &[],
     }];
     let svg = stacked_svg(&panels, None).unwrap();
     assert_clean(&svg, "prefix");

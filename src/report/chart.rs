@@ -65,7 +65,24 @@ pub struct Panel<'a> {
     pub shaded: &'a [(f64, f64)],
     /// The legend entry of the shading (e.g. `"not quoted"`).
     pub shaded_label: &'a str,
+    /// Filled bands drawn under the curves (a mean ± SD, a normative range); none: `&[]`.
+    pub bands: &'a [Band],
 }
+
+/// A filled band between `lo[i]` and `hi[i]` at `x[i]` (same length, finite), drawn under the
+/// curves: translucent in the colour of series `color`, or grey (a reference range) for `None`,
+/// which also gets a legend entry `label` when it is not empty.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Band {
+    pub label: String,
+    pub x: Vec<f64>,
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+    pub color: Option<usize>,
+}
+
+/// The fill of a reference band.
+const REFERENCE: RGBColor = RGBColor(0x70, 0x70, 0x70);
 
 /// A table drawn as text under the panels: one `<text>` per cell, columns left-aligned.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -153,6 +170,7 @@ pub fn time_series_svg(
             mark_min_max,
             shaded: &[],
             shaded_label: "",
+            bands: &[],
         }],
         None,
     )
@@ -481,6 +499,16 @@ fn validate(p: &Panel<'_>) -> Result<(), Error> {
             p.title
         )));
     }
+    for b in p.bands {
+        let n = b.x.len();
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        if b.lo.len() != n || b.hi.len() != n || !finite(&b.x) || !finite(&b.lo) || !finite(&b.hi) {
+            return Err(Error::Invalid(format!(
+                "chart {:?}: band {:?} needs as many finite lower and upper values as abscissae",
+                p.title, b.label
+            )));
+        }
+    }
     for s in p.series {
         if s.x.len() != s.y.len() {
             return Err(Error::Invalid(format!(
@@ -574,9 +602,11 @@ where
         fold(|s| &s.x, f64::NEG_INFINITY, f64::max),
         0.02,
     )?;
+    let band_lo = p.bands.iter().flat_map(|b| b.lo.iter().copied());
+    let band_hi = p.bands.iter().flat_map(|b| b.hi.iter().copied());
     let (ylo, yhi) = (
-        fold(|s| &s.y, f64::INFINITY, f64::min),
-        fold(|s| &s.y, f64::NEG_INFINITY, f64::max),
+        band_lo.fold(fold(|s| &s.y, f64::INFINITY, f64::min), f64::min),
+        band_hi.fold(fold(|s| &s.y, f64::NEG_INFINITY, f64::max), f64::max),
     );
     // noise alone spans no axis: a flat panel is drawn around its (denoised) value
     let (ylo, yhi) = if labels::idle(ylo, yhi, res) {
@@ -620,6 +650,22 @@ where
                 [(a.max(x0), y0), (b.min(x1), y1)],
                 SHADE.filled(),
             )))
+            .map_err(plot_err)?;
+    }
+
+    // bands: reference ranges grey, a curve's spread in its colour, both translucent
+    for b in p.bands {
+        let fill = b
+            .color
+            .map_or(REFERENCE.mix(0.35), |k| series_style(k).0.mix(0.18));
+        let outline: Vec<(f64, f64)> =
+            b.x.iter()
+                .zip(&b.hi)
+                .map(|(x, y)| (*x, *y))
+                .chain(b.x.iter().zip(&b.lo).rev().map(|(x, y)| (*x, *y)))
+                .collect();
+        chart
+            .draw_series(std::iter::once(Polygon::new(outline, fill.filled())))
             .map_err(plot_err)?;
     }
 
@@ -739,10 +785,18 @@ fn legend_entries(p: &Panel<'_>) -> Vec<String> {
         out.push(fit(&format!("{prefix}…")));
     }
     out.extend(names.iter().map(|n| fit(&n[prefix.len()..])));
+    out.extend(reference_bands(p).map(|b| fit(&b.label)));
     if !p.shaded.is_empty() {
         out.push(fit(p.shaded_label));
     }
     out
+}
+
+/// The bands with a legend entry: reference ranges with a label.
+fn reference_bands<'a>(p: &'a Panel<'_>) -> impl Iterator<Item = &'a Band> {
+    p.bands
+        .iter()
+        .filter(|b| b.color.is_none() && !b.label.is_empty())
 }
 
 /// The longest prefix shared by all of `names` (two or more) that ends in a separator (`:`,
@@ -785,7 +839,9 @@ where
     let style = TextStyle::from((FONT, LEGEND_FONT).into_font())
         .color(&BLACK)
         .pos(Pos::new(HPos::Left, VPos::Center));
-    let headed = legend.len() > p.series.len() + usize::from(!p.shaded.is_empty());
+    let references: Vec<&Band> = reference_bands(p).collect();
+    let headed =
+        legend.len() > p.series.len() + references.len() + usize::from(!p.shaded.is_empty());
     let mut y = 48;
     let mut lines = legend.iter();
     if headed && let Some(head) = lines.next() {
@@ -807,11 +863,13 @@ where
                     .map_err(plot_err)?;
             }
         } else {
-            area.draw(&Rectangle::new(
-                [(lx, y - 6), (lx + 22, y + 6)],
-                SHADE.filled(),
-            ))
-            .map_err(plot_err)?;
+            let fill = if k < p.series.len() + references.len() {
+                REFERENCE.mix(0.35).filled()
+            } else {
+                SHADE.filled()
+            };
+            area.draw(&Rectangle::new([(lx, y - 6), (lx + 22, y + 6)], fill))
+                .map_err(plot_err)?;
         }
         area.draw(&Text::new(line.as_str(), (lx + 30, y), style.clone()))
             .map_err(plot_err)?;

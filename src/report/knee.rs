@@ -312,6 +312,7 @@ fn knee_chart_impl(
             mark_min_max: true,
             shaded: &shaded,
             shaded_label: "not quoted (edge/feet)",
+            bands: &[],
         }],
         table,
         caption,

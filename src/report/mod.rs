@@ -18,6 +18,7 @@
 pub mod chart;
 pub mod columns;
 pub mod csv;
+pub mod gait;
 pub mod knee;
 pub mod labels;
 pub mod motor;

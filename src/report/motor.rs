@@ -405,6 +405,7 @@ pub fn motor_chart(
         mark_min_max: true,
         shaded: &[],
         shaded_label: "",
+        bands: &[],
     };
     let table = Table {
         header: [

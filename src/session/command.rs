@@ -212,6 +212,8 @@ pub enum Command {
     /// `report motor [curves] PATH`: the sizing (SVG chart and table, or the CSV table), or
     /// with `curves` the plotted curves as CSV.
     ReportMotor { path: PathBuf, curves: bool },
+    /// `report gait PATH`: the clinical gait view (report::gait) of the active human take.
+    ReportGait { path: PathBuf },
     /// `expect …`.
     Expect(Expectation),
     /// `screen PATH`: write the current screen as text.
@@ -574,8 +576,14 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
             }
         }
         "report" => {
-            let usage = "usage: report motor [curves] PATH";
+            let usage = "usage: report motor [curves] PATH, or report gait PATH";
             arity(&[2, 3], usage)?;
+            if args[0] == "gait" {
+                arity(&[2], usage)?;
+                return Ok(Some(Command::ReportGait {
+                    path: PathBuf::from(&args[1]),
+                }));
+            }
             if args[0] != "motor" || (args.len() == 3 && args[1] != "curves") {
                 return Err(syntax(lineno, usage));
             }

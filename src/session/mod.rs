@@ -46,6 +46,7 @@
 //! | `export bvh sim PATH` | the motion of the last `run sim` (under the current parameters) as BVH |
 //! | `compare weights 60,80,100 [joint J] PATH` | re-run inverse dynamics at each body mass; J's torque (default: the selection) per mass: a chart with the peak/RMS table (`.svg`, or `.png` as a bitmap) or the curves (`.csv`, `t_s`, `tau_<m>kg_Nm`) |
 //! | `report motor PATH` | motor sizing (report::motor) of every revolute joint of a robot (or of the selected joint of an avatar): torque, speed, power and current curves with the table of peak/RMS torque, peak speed and power, peak/RMS current and the motor class each needs (`.svg`, or `.png` as a bitmap), or the table alone (`.csv`) |
+//! | `report gait PATH` | the clinical gait view (report::gait; docs/reports.md) of the active human take: hip, knee and ankle moments (N·m/kg) over the gait cycle from each foot's strikes, mean ± SD, left and right, stance shaded, the speed-matched Schwartz 2008 band (`.svg` or `.png`); its message gives each side's cycles and stance |
 //! | `report motor curves PATH.csv` | the plotted curves: `time`, `tau:<joint>`, `v:`, `power:`, `current:` (s, N·m, rad/s, W, A) |
 //! | `expect …` | an assertion (below); a failed expect fails the replay |
 //! | `screen PATH` | write the current screen of the TUI (as text) to PATH |

@@ -66,6 +66,8 @@ enum Task {
     },
     /// `report motor [curves] PATH`.
     ReportMotor { out: PathBuf, curves: bool },
+    /// `report gait PATH`.
+    ReportGait { out: PathBuf },
     /// A cheap command that needs fresh inverse-dynamics results (an `expect`): the results
     /// are computed by the job, the command is applied by [`Workbench::finish`].
     Then(Box<Command>),
@@ -335,6 +337,7 @@ impl Job {
             Task::Export { kind, out } => self.export(ctl, analysis, *kind, out),
             Task::Compare { masses, coord, out } => self.compare(ctl, masses, coord, out),
             Task::ReportMotor { out, curves } => self.report_motor(ctl, analysis, out, *curves),
+            Task::ReportGait { out } => self.report_gait(ctl, out),
             Task::Then(cmd) => {
                 self.results(ctl, analysis, 1.0)?;
                 Ok(Output::Then(cmd.clone()))
@@ -634,6 +637,43 @@ impl Job {
         Ok(Output::Wrote {
             path: out.to_path_buf(),
             message: format!("motors: {}; wrote {}", classes.join(", "), out.display()),
+        })
+    }
+}
+
+impl Job {
+    /// The clinical gait view (report::gait) of the active take, as `articula anatomy` computes
+    /// its moments: the session's take options, with ground contact the take made consistent
+    /// unless `consistent off`.
+    fn report_gait(&self, ctl: &Control, out: &Path) -> Result<Output, SessionError> {
+        use crate::report::gait;
+        let take = self.take()?;
+        let bvh = take.bvh().ok_or_else(|| {
+            err("report gait: the gait view needs a human take (BVH), not a robot")
+        })?;
+        let mut t = crate::pipeline::take_from_bvh_with(
+            Path::new(&take.source),
+            bvh.clone(),
+            &self.params.take,
+            &mut ctl.stage(0.0, 0.3),
+        )?;
+        crate::pipeline::resolve_contact(&mut t);
+        ctl.check()?;
+        let reduce = self.params.consistent.unwrap_or(true)
+            && t.options.contact == crate::pipeline::Contact::Feet;
+        let mut a = crate::pipeline::consistency::anatomy_consistent(&t, reduce)?;
+        a.include_edges = self.params.include_edges;
+        ctl.check()?;
+        let caption = self.caption(t.scale_to_m, None);
+        let notes = gait::write_gait(&a, &t, Some(&caption), out)?;
+        let mut message = format!("gait report: wrote {}", out.display());
+        for n in notes {
+            message.push_str("; ");
+            message.push_str(&n);
+        }
+        Ok(Output::Wrote {
+            path: out.to_path_buf(),
+            message,
         })
     }
 }
@@ -985,6 +1025,12 @@ impl Workbench {
                     curves: *curves,
                 },
                 format!("report motor {}", path.display()),
+            ),
+            Command::ReportGait { path } => (
+                Task::ReportGait {
+                    out: self.out_path(path),
+                },
+                format!("report gait {}", path.display()),
             ),
             Command::Expect(e)
                 if needs_results(e) && self.take().is_some() && self.fresh_results().is_none() =>
@@ -1957,6 +2003,7 @@ pub fn selection_chart(
             mark_min_max: true,
             shaded: &[],
             shaded_label: "",
+            bands: &[],
         },
         Panel {
             title: &title_t,
@@ -1966,6 +2013,7 @@ pub fn selection_chart(
             mark_min_max: true,
             shaded: &shaded,
             shaded_label: "not quoted (edge/feet)",
+            bands: &[],
         },
     ];
     Ok(stacked_chart(&panels, None, caption, format)?)
