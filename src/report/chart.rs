@@ -17,7 +17,11 @@
 //! constant curve, a single point) are widened so the chart still has an extent.
 
 use crate::error::Error;
+use crate::report::caption::{CAPTION_FONT, CAPTION_LINE, encode_png, wrap_caption};
+pub use crate::report::caption::{caption, elide_middle};
 use crate::report::labels;
+pub use crate::report::legend::common_prefix;
+use crate::report::legend::{draw_legend, legend_entries};
 use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
@@ -82,7 +86,7 @@ pub struct Band {
 }
 
 /// The fill of a reference band.
-const REFERENCE: RGBColor = RGBColor(0x70, 0x70, 0x70);
+pub(crate) const REFERENCE: RGBColor = RGBColor(0x70, 0x70, 0x70);
 
 /// A table drawn as text under the panels: one `<text>` per cell, columns left-aligned.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -123,7 +127,7 @@ pub fn series_style(k: usize) -> (RGBColor, bool) {
     (PALETTE[k % PALETTE.len()], k >= PALETTE.len())
 }
 
-const FONT: &str = "sans-serif";
+pub(crate) const FONT: &str = "sans-serif";
 const MONO: &str = "monospace";
 
 /// Registers the embedded fonts with plotters once per process.
@@ -304,77 +308,9 @@ where
     root.present().map_err(plot_err)
 }
 
-/// Height (px) of a caption line and its font size.
-const CAPTION_LINE: u32 = 18;
-const CAPTION_FONT: u32 = 12;
-
-/// The caption as lines that fit the width (0.6 em a glyph), broken after its ` · ` separators
-/// (a part longer than a line is elided in the middle).
-fn wrap_caption(caption: &str) -> Vec<String> {
-    let max = ((WIDTH as f64 - 24.0) / (0.6 * CAPTION_FONT as f64)) as usize;
-    let mut lines: Vec<String> = vec![];
-    let mut line = String::new();
-    for part in caption.split(" · ").map(|p| elide_middle(p.trim(), max)) {
-        let extra = if line.is_empty() { 0 } else { 3 };
-        if !line.is_empty() && line.chars().count() + extra + part.chars().count() > max {
-            lines.push(std::mem::take(&mut line));
-        }
-        if !line.is_empty() {
-            line.push_str(" · ");
-        }
-        line.push_str(&part);
-    }
-    if !line.is_empty() {
-        lines.push(line);
-    }
-    lines
-}
-
-/// `s` shortened to `max` characters by an ellipsis in its middle (both ends stay readable).
-pub fn elide_middle(s: &str, max: usize) -> String {
-    let n = s.chars().count();
-    if n <= max || max < 3 {
-        return s.to_string();
-    }
-    let head = (max - 1) / 2;
-    let tail = max - 1 - head;
-    let mut out: String = s.chars().take(head).collect();
-    out.push('…');
-    out.extend(s.chars().skip(n - tail));
-    out
-}
-
-/// An RGB buffer as PNG bytes.
-fn encode_png(rgb: &[u8], width: u32, height: u32) -> Result<Vec<u8>, Error> {
-    let fail = |e: png::EncodingError| Error::Invalid(format!("chart: PNG encoding failed: {e}"));
-    let mut out = vec![];
-    {
-        let mut enc = png::Encoder::new(&mut out, width, height);
-        enc.set_color(png::ColorType::Rgb);
-        enc.set_depth(png::BitDepth::Eight);
-        let mut w = enc.write_header().map_err(fail)?;
-        w.write_image_data(rgb).map_err(fail)?;
-        w.finish().map_err(fail)?;
-    }
-    Ok(out)
-}
-
 /// Writes a chart (SVG or PNG bytes of [`stacked_chart`]) to `path` atomically.
 pub fn write_chart(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     crate::io::write_atomic(path, bytes)
-}
-
-/// A chart's caption: its context `parts` (`("take", "walk.bvh")`, `("body", "80 kg")`, …)
-/// as `take walk.bvh · body 80 kg · … · articula 0.1.0`, so a figure pasted into a report
-/// still says what it was computed from and by which version.
-pub fn caption(parts: &[(&str, String)]) -> String {
-    let mut out: Vec<String> = parts
-        .iter()
-        .filter(|(_, v)| !v.is_empty())
-        .map(|(k, v)| format!("{k} {v}"))
-        .collect();
-    out.push(format!("articula {}", env!("CARGO_PKG_VERSION")));
-    out.join(" · ")
 }
 
 /// Writes an SVG document to `path` atomically.
@@ -556,7 +492,7 @@ fn padded(lo: f64, hi: f64, frac: f64) -> Result<(f64, f64), Error> {
     }
 }
 
-fn plot_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> Error {
+pub(crate) fn plot_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> Error {
     Error::Invalid(format!("drawing the chart failed: {e}"))
 }
 
@@ -764,126 +700,12 @@ where
     Ok(())
 }
 
-/// The legend's lines: each series' label without the prefix all of them share (a rig's
-/// `mixamorig:`), which heads the legend instead, each at most a quarter of the chart's width
-/// (elided in the middle), and the shading's entry.
-fn legend_entries(p: &Panel<'_>) -> Vec<String> {
-    let names: Vec<&str> = p.series.iter().map(|s| s.label.as_str()).collect();
-    let prefix = common_prefix(&names);
-    let max_chars = ((WIDTH as f64 / 4.0 - 40.0) / (LEGEND_FONT as f64 * 0.6)) as usize;
-    let fit = |s: &str| {
-        if s.chars().count() > max_chars {
-            let mut t: String = s.chars().take(max_chars - 1).collect();
-            t.push('…');
-            t
-        } else {
-            s.to_string()
-        }
-    };
-    let mut out: Vec<String> = vec![];
-    if !prefix.is_empty() {
-        out.push(fit(&format!("{prefix}…")));
-    }
-    out.extend(names.iter().map(|n| fit(&n[prefix.len()..])));
-    out.extend(reference_bands(p).map(|b| fit(&b.label)));
-    if !p.shaded.is_empty() {
-        out.push(fit(p.shaded_label));
-    }
-    out
-}
-
-/// The bands with a legend entry: reference ranges with a label.
-fn reference_bands<'a>(p: &'a Panel<'_>) -> impl Iterator<Item = &'a Band> {
-    p.bands
-        .iter()
-        .filter(|b| b.color.is_none() && !b.label.is_empty())
-}
-
-/// The longest prefix shared by all of `names` (two or more) that ends in a separator (`:`,
-/// `_`, `.`, `|`, `/`) and leaves every name something to show; "" when there is none.
-pub fn common_prefix<'a>(names: &[&'a str]) -> &'a str {
-    let [first, rest @ ..] = names else {
-        return "";
-    };
-    if rest.is_empty() {
-        return "";
-    }
-    let mut end = 0;
-    for (i, c) in first.char_indices() {
-        let len = i + c.len_utf8();
-        let shared = rest
-            .iter()
-            .all(|n| n.len() > len && n.as_bytes()[..len] == first.as_bytes()[..len]);
-        if len >= first.len() || !shared {
-            break;
-        }
-        if matches!(c, ':' | '_' | '.' | '|' | '/') {
-            end = len;
-        }
-    }
-    &first[..end]
-}
-
-/// The legend, in its strip right of the plot: a line of each curve's colour and its entry.
-fn draw_legend<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    p: &Panel<'_>,
-    legend: &[String],
-    legend_w: u32,
-) -> Result<(), Error>
-where
-    DB::ErrorType: 'static,
-{
-    let (area_w, _) = area.dim_in_pixel();
-    let lx = (area_w - legend_w) as i32;
-    let style = TextStyle::from((FONT, LEGEND_FONT).into_font())
-        .color(&BLACK)
-        .pos(Pos::new(HPos::Left, VPos::Center));
-    let references: Vec<&Band> = reference_bands(p).collect();
-    let headed =
-        legend.len() > p.series.len() + references.len() + usize::from(!p.shaded.is_empty());
-    let mut y = 48;
-    let mut lines = legend.iter();
-    if headed && let Some(head) = lines.next() {
-        area.draw(&Text::new(head.as_str(), (lx, y), style.clone()))
-            .map_err(plot_err)?;
-        y += 20;
-    }
-    for (k, line) in lines.enumerate() {
-        if k < p.series.len() {
-            let (color, dashed) = series_style(k);
-            let stroke = color.stroke_width(2);
-            if dashed {
-                for (a, b) in [(0, 8), (13, 22)] {
-                    area.draw(&PathElement::new(vec![(lx + a, y), (lx + b, y)], stroke))
-                        .map_err(plot_err)?;
-                }
-            } else {
-                area.draw(&PathElement::new(vec![(lx, y), (lx + 22, y)], stroke))
-                    .map_err(plot_err)?;
-            }
-        } else {
-            let fill = if k < p.series.len() + references.len() {
-                REFERENCE.mix(0.35).filled()
-            } else {
-                SHADE.filled()
-            };
-            area.draw(&Rectangle::new([(lx, y - 6), (lx + 22, y + 6)], fill))
-                .map_err(plot_err)?;
-        }
-        area.draw(&Text::new(line.as_str(), (lx + 30, y), style.clone()))
-            .map_err(plot_err)?;
-        y += 20;
-    }
-    Ok(())
-}
-
 /// The shading of spans left out of the quoted figures.
-const SHADE: RGBColor = RGBColor(0xDD, 0xDD, 0xDD);
+pub(crate) const SHADE: RGBColor = RGBColor(0xDD, 0xDD, 0xDD);
 
 /// Font sizes (px) of the min / max labels and of the legend.
-const MARK_FONT: u32 = 13;
-const LEGEND_FONT: u32 = 14;
+pub(crate) const MARK_FONT: u32 = 13;
+pub(crate) const LEGEND_FONT: u32 = 14;
 
 /// Draws `t` as a grid of left-aligned text cells in `area`.
 fn draw_table<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, t: &Table) -> Result<(), Error>

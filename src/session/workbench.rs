@@ -426,6 +426,23 @@ impl Job {
         })
     }
 
+    /// Which of `joint`'s drive parameters `[gear, Km, η]` are the defaults: set neither for
+    /// the joint (`set motor.<joint>.…`) nor for every joint (`set motor.…`).
+    fn drive_defaults(&self, joint: &str) -> [bool; 3] {
+        let o = self
+            .params
+            .motor_joint
+            .get(joint)
+            .copied()
+            .unwrap_or_default();
+        let (m, d) = (&self.params.motor, Params::default().motor);
+        [
+            o.gear.is_none() && m.gear_ratio == d.gear_ratio,
+            o.km.is_none() && m.km_nm_per_a == d.km_nm_per_a,
+            o.efficiency.is_none() && m.efficiency == d.efficiency,
+        ]
+    }
+
     /// A chart's caption: the take, the body (mass, the skeleton's height, sex), joint model,
     /// smoothing, contact model and residual reduction as computed, or the robot's own model;
     /// `scale` the take's length scale (m per file unit), `masses` the body masses compared
@@ -625,7 +642,12 @@ impl Job {
             (false, true) => motor::motor_table_csv(&loads).into_bytes(),
             (false, false) => {
                 let caption = self.caption(r.scale, None);
-                motor::motor_chart(&joints, &specs, &loads, Some(&caption), image_format(out))?
+                let defaults: Vec<[bool; 3]> = joints
+                    .iter()
+                    .map(|j| self.drive_defaults(&j.joint))
+                    .collect();
+                let format = image_format(out);
+                motor::motor_chart(&joints, &specs, &loads, &defaults, Some(&caption), format)?
             }
         };
         ctl.check()?;
