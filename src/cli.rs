@@ -133,6 +133,11 @@ pub enum Cmd {
         /// include keeps them. The CSV marks them either way (column `edge`).
         #[arg(long, value_name = "exclude|include")]
         edges: Option<String>,
+        /// Also write the clinical gait view: hip, knee and ankle moments (N·m/kg) over the
+        /// gait cycle from the foot strikes, mean ± SD, left and right, stance shaded, with
+        /// the speed-matched Schwartz 2008 band (`.svg` or `.png`; docs/reports.md).
+        #[arg(long, value_name = "PATH")]
+        gait: Option<PathBuf>,
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -798,6 +803,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             opts,
             consistency,
             edges,
+            gait,
             output,
         } => {
             let include_edges = match edges.as_deref().map(str::trim) {
@@ -822,6 +828,13 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 eprintln!("note: {n}");
             }
             eprint!("{}", pipeline::anatomy::summary(&a));
+            if let Some(g) = &gait {
+                let caption = articula::report::gait::take_caption(&take, reduce);
+                for n in articula::report::gait::write_gait(&a, &take, Some(&caption), g)? {
+                    eprintln!("note: {n}");
+                }
+                wrote(g);
+            }
             if consistency.json
                 && let Some(c) = &a.consistency
             {

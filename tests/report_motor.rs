@@ -201,9 +201,10 @@ fn report_svg_has_four_panels_every_joint_and_the_table() {
     ] {
         assert!(texts.iter().any(|t| t == want), "no {want:?}");
     }
-    // each joint: a legend entry in each of the four panels plus its table row
+    // each joint: a legend entry in each of the four panels plus its table row and its
+    // drive's row
     for j in ["shoulder", "elbow"] {
-        assert_eq!(texts.iter().filter(|t| *t == j).count(), 5, "{j}");
+        assert_eq!(texts.iter().filter(|t| *t == j).count(), 6, "{j}");
     }
     for l in &loads {
         assert!(texts.iter().any(|t| t == class_name(l)));
@@ -286,4 +287,42 @@ fn the_bundled_catalogue_is_the_data_file_and_bad_catalogues_are_errors() {
         let e = parse_catalogue(bad, p).unwrap_err().to_string();
         assert!(e.starts_with("c.toml"), "{e}");
     }
+}
+
+/// Issue 15: the report shows the drive parameters each joint was sized with, marked
+/// `(default)` where not set, and prints a load below the column's resolution (a joint that
+/// does not move) as 0, not as 1e-17.
+#[test]
+fn the_report_shows_the_drives_and_their_defaults_and_no_noise() {
+    use articula::report::chart::ImageFormat;
+    use articula::report::motor::motor_chart;
+    let mut joints = arm();
+    joints[1].tau = vec![1.234e-17; joints[1].t.len()];
+    joints[1].qd = vec![0.0; joints[1].t.len()];
+    let specs = [spec(0.05, 100.0, None), spec(0.26, 50.0, Some(0.9))];
+    let loads = size_motors(&joints, &specs).unwrap();
+    let defaults = [[true, true, true], [false, false, false]];
+    let svg = motor_chart(&joints, &specs, &loads, &defaults, None, ImageFormat::Svg).unwrap();
+    let svg = String::from_utf8(svg).unwrap();
+    let doc = roxmltree::Document::parse(&svg).expect("well-formed");
+    let texts: Vec<String> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .map(|n| n.text().unwrap_or("").trim().to_string())
+        .collect();
+    for want in [
+        "drive",
+        "gear N",
+        "Km (N·m/A)",
+        "efficiency η",
+        "100 (default)",
+        "0.05 (default)",
+        "1 (default)",
+        "50",
+        "0.26",
+        "0.9",
+    ] {
+        assert!(texts.iter().any(|t| t == want), "no {want:?} in {texts:?}");
+    }
+    assert!(!texts.iter().any(|t| t.contains("e-17")), "{texts:?}");
 }

@@ -17,7 +17,13 @@
 //! constant curve, a single point) are widened so the chart still has an extent.
 
 use crate::error::Error;
+use crate::report::caption::{CAPTION_FONT, CAPTION_LINE, encode_png, wrap_caption};
+pub use crate::report::caption::{caption, elide_middle};
+use crate::report::labels;
+pub use crate::report::legend::common_prefix;
+use crate::report::legend::{draw_legend, legend_entries};
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
@@ -63,7 +69,24 @@ pub struct Panel<'a> {
     pub shaded: &'a [(f64, f64)],
     /// The legend entry of the shading (e.g. `"not quoted"`).
     pub shaded_label: &'a str,
+    /// Filled bands drawn under the curves (a mean ± SD, a normative range); none: `&[]`.
+    pub bands: &'a [Band],
 }
+
+/// A filled band between `lo[i]` and `hi[i]` at `x[i]` (same length, finite), drawn under the
+/// curves: translucent in the colour of series `color`, or grey (a reference range) for `None`,
+/// which also gets a legend entry `label` when it is not empty.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Band {
+    pub label: String,
+    pub x: Vec<f64>,
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+    pub color: Option<usize>,
+}
+
+/// The fill of a reference band.
+pub(crate) const REFERENCE: RGBColor = RGBColor(0x70, 0x70, 0x70);
 
 /// A table drawn as text under the panels: one `<text>` per cell, columns left-aligned.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -79,21 +102,32 @@ pub const PANEL_HEIGHT: u32 = 420;
 /// Height of one table line (px).
 const TABLE_LINE: u32 = 22;
 
-/// Colour-blind-friendly categorical palette (Tableau 10), cycled over the series.
-const PALETTE: [RGBColor; 10] = [
-    RGBColor(0x4E, 0x79, 0xA7),
-    RGBColor(0xF2, 0x8E, 0x2B),
-    RGBColor(0xE1, 0x57, 0x59),
-    RGBColor(0x76, 0xB7, 0xB2),
-    RGBColor(0x59, 0xA1, 0x4F),
-    RGBColor(0xED, 0xC9, 0x48),
-    RGBColor(0xB0, 0x7A, 0xA1),
-    RGBColor(0xFF, 0x9D, 0xA7),
-    RGBColor(0x9C, 0x75, 0x5F),
-    RGBColor(0xBA, 0xB0, 0xAC),
+/// Colour-blind-aware categorical palette, cycled over the series: Okabe & Ito's (2008, "Color
+/// Universal Design") seven colours without its yellow (too light on white) plus black, then
+/// four of Paul Tol's "muted" scheme (2021, "Colour schemes", SRON/EPS/TN/09-002) that stay
+/// apart from them; twelve curves never share a colour. A thirteenth and later series take the
+/// colours again, drawn dashed ([`series_style`]).
+pub const PALETTE: [RGBColor; 12] = [
+    RGBColor(0x00, 0x72, 0xB2), // blue
+    RGBColor(0xE6, 0x9F, 0x00), // orange
+    RGBColor(0x00, 0x9E, 0x73), // bluish green
+    RGBColor(0xD5, 0x5E, 0x00), // vermillion
+    RGBColor(0xCC, 0x79, 0xA7), // reddish purple
+    RGBColor(0x56, 0xB4, 0xE9), // sky blue
+    RGBColor(0x00, 0x00, 0x00), // black
+    RGBColor(0x88, 0x22, 0x55), // wine
+    RGBColor(0x99, 0x99, 0x33), // olive
+    RGBColor(0x33, 0x22, 0x88), // indigo
+    RGBColor(0x44, 0xAA, 0x99), // teal
+    RGBColor(0xAA, 0x44, 0x99), // purple
 ];
 
-const FONT: &str = "sans-serif";
+/// The colour of series `k` and whether it is drawn dashed (past the palette's length).
+pub fn series_style(k: usize) -> (RGBColor, bool) {
+    (PALETTE[k % PALETTE.len()], k >= PALETTE.len())
+}
+
+pub(crate) const FONT: &str = "sans-serif";
 const MONO: &str = "monospace";
 
 /// Registers the embedded fonts with plotters once per process.
@@ -140,6 +174,7 @@ pub fn time_series_svg(
             mark_min_max,
             shaded: &[],
             shaded_label: "",
+            bands: &[],
         }],
         None,
     )
@@ -147,6 +182,47 @@ pub fn time_series_svg(
 
 /// Panels stacked top to bottom, all [`WIDTH`] wide, optionally followed by a text table.
 pub fn stacked_svg(panels: &[Panel<'_>], table: Option<&Table>) -> Result<String, Error> {
+    let bytes = stacked_chart(panels, table, None, ImageFormat::Svg)?;
+    String::from_utf8(bytes).map_err(|e| Error::Invalid(format!("chart: SVG is not UTF-8: {e}")))
+}
+
+/// The image formats a chart is written in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImageFormat {
+    /// Scalable vector graphics (text as `<text>`, the embedded font's family names).
+    Svg,
+    /// A PNG bitmap of the same layout, one pixel per SVG unit, text drawn with the embedded font.
+    Png,
+}
+
+/// Each image format and the file extension that selects it.
+const FORMATS: [(&str, ImageFormat); 2] = [("svg", ImageFormat::Svg), ("png", ImageFormat::Png)];
+
+impl ImageFormat {
+    /// The format a path's extension names (`.svg`, `.png`, any case); `None` for others.
+    pub fn of_path(path: &Path) -> Option<Self> {
+        let ext = path.extension()?.to_str()?;
+        FORMATS
+            .iter()
+            .find(|(e, _)| e.eq_ignore_ascii_case(ext))
+            .map(|&(_, f)| f)
+    }
+
+    /// The format named `svg` or `png`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        FORMATS.iter().find(|(e, _)| *e == name).map(|&(_, f)| f)
+    }
+}
+
+/// Panels stacked top to bottom, all [`WIDTH`] wide, optionally followed by a text table and by
+/// a caption (the context of the figure: take, body, model, settings, version; wrapped at
+/// `·`), as the bytes of an SVG or PNG file.
+pub fn stacked_chart(
+    panels: &[Panel<'_>],
+    table: Option<&Table>,
+    caption: Option<&str>,
+    format: ImageFormat,
+) -> Result<Vec<u8>, Error> {
     if panels.is_empty() {
         return Err(Error::Invalid("chart: no panel to draw".into()));
     }
@@ -154,25 +230,87 @@ pub fn stacked_svg(panels: &[Panel<'_>], table: Option<&Table>) -> Result<String
         validate(p)?;
     }
     register_fonts()?;
+    let caption_lines = caption.map(wrap_caption).unwrap_or_default();
     let table_h = table.map_or(0, |t| {
         (t.rows.len() as u32 + 1) * TABLE_LINE + 2 * TABLE_LINE
     });
-    let height = panels.len() as u32 * PANEL_HEIGHT + table_h;
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (WIDTH, height)).into_drawing_area();
-        root.fill(&WHITE).map_err(plot_err)?;
-        let (charts, below) = root.split_vertically(panels.len() as u32 * PANEL_HEIGHT);
-        let areas = charts.split_evenly((panels.len(), 1));
-        for (p, area) in panels.iter().zip(&areas) {
-            draw_panel(area, p)?;
+    let caption_h = if caption_lines.is_empty() {
+        0
+    } else {
+        caption_lines.len() as u32 * CAPTION_LINE + CAPTION_LINE / 2
+    };
+    let height = panels.len() as u32 * PANEL_HEIGHT + table_h + caption_h;
+    let layout = Layout {
+        panels,
+        table,
+        caption: &caption_lines,
+        table_h,
+    };
+    match format {
+        ImageFormat::Svg => {
+            let mut svg = String::new();
+            {
+                let root = SVGBackend::with_string(&mut svg, (WIDTH, height)).into_drawing_area();
+                draw_layout(&root, &layout)?;
+            }
+            Ok(svg.into_bytes())
         }
-        if let Some(t) = table {
-            draw_table(&below, t)?;
+        ImageFormat::Png => {
+            let mut rgb = vec![0u8; (WIDTH * height * 3) as usize];
+            {
+                let root =
+                    BitMapBackend::with_buffer(&mut rgb, (WIDTH, height)).into_drawing_area();
+                draw_layout(&root, &layout)?;
+            }
+            encode_png(&rgb, WIDTH, height)
         }
-        root.present().map_err(plot_err)?;
     }
-    Ok(svg)
+}
+
+/// What [`stacked_chart`] draws, top to bottom.
+struct Layout<'a> {
+    panels: &'a [Panel<'a>],
+    table: Option<&'a Table>,
+    caption: &'a [String],
+    table_h: u32,
+}
+
+/// Draws the panels, the table and the caption on any plotters backend.
+fn draw_layout<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    l: &Layout<'_>,
+) -> Result<(), Error>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE).map_err(plot_err)?;
+    let (charts, below) = root.split_vertically(l.panels.len() as u32 * PANEL_HEIGHT);
+    let areas = charts.split_evenly((l.panels.len(), 1));
+    for (p, area) in l.panels.iter().zip(&areas) {
+        draw_panel(area, p)?;
+    }
+    let (table_area, caption_area) = below.split_vertically(l.table_h);
+    if let Some(t) = l.table {
+        draw_table(&table_area, t)?;
+    }
+    for (k, line) in l.caption.iter().enumerate() {
+        let style = TextStyle::from((FONT, CAPTION_FONT).into_font())
+            .color(&RGBColor(0x44, 0x44, 0x44))
+            .pos(Pos::new(HPos::Left, VPos::Top));
+        caption_area
+            .draw(&Text::new(
+                line.as_str(),
+                (12, 4 + (k as u32 * CAPTION_LINE) as i32),
+                style,
+            ))
+            .map_err(plot_err)?;
+    }
+    root.present().map_err(plot_err)
+}
+
+/// Writes a chart (SVG or PNG bytes of [`stacked_chart`]) to `path` atomically.
+pub fn write_chart(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    crate::io::write_atomic(path, bytes)
 }
 
 /// Writes an SVG document to `path` atomically.
@@ -297,6 +435,16 @@ fn validate(p: &Panel<'_>) -> Result<(), Error> {
             p.title
         )));
     }
+    for b in p.bands {
+        let n = b.x.len();
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        if b.lo.len() != n || b.hi.len() != n || !finite(&b.x) || !finite(&b.lo) || !finite(&b.hi) {
+            return Err(Error::Invalid(format!(
+                "chart {:?}: band {:?} needs as many finite lower and upper values as abscissae",
+                p.title, b.label
+            )));
+        }
+    }
     for s in p.series {
         if s.x.len() != s.y.len() {
             return Err(Error::Invalid(format!(
@@ -344,7 +492,7 @@ fn padded(lo: f64, hi: f64, frac: f64) -> Result<(f64, f64), Error> {
     }
 }
 
-fn plot_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> Error {
+pub(crate) fn plot_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> Error {
     Error::Invalid(format!("drawing the chart failed: {e}"))
 }
 
@@ -375,6 +523,9 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel<'_>) 
 where
     DB::ErrorType: 'static,
 {
+    // below the panel's resolution a value is noise: it prints as 0, and a curve whose whole
+    // range lies below it is idle (no min / max labels)
+    let res = labels::resolution(p.series.iter().map(|s| s.y.as_slice()));
     // extent: all curves, widened so the markers' labels fit inside
     let fold = |f: fn(&Series) -> &Vec<f64>, init: f64, g: fn(f64, f64) -> f64| {
         p.series
@@ -387,26 +538,26 @@ where
         fold(|s| &s.x, f64::NEG_INFINITY, f64::max),
         0.02,
     )?;
-    // room above and below the curves for the stacked min / max labels (one line a curve)
+    let band_lo = p.bands.iter().flat_map(|b| b.lo.iter().copied());
+    let band_hi = p.bands.iter().flat_map(|b| b.hi.iter().copied());
+    let (ylo, yhi) = (
+        band_lo.fold(fold(|s| &s.y, f64::INFINITY, f64::min), f64::min),
+        band_hi.fold(fold(|s| &s.y, f64::NEG_INFINITY, f64::max), f64::max),
+    );
+    // noise alone spans no axis: a flat panel is drawn around its (denoised) value
+    let (ylo, yhi) = if labels::idle(ylo, yhi, res) {
+        let v = labels::denoise(0.5 * (ylo + yhi), res);
+        (v, v)
+    } else {
+        (ylo, yhi)
+    };
+    // room above and below the curves for the min / max labels (one line a curve, up to four)
     let label_pad = 0.08 + 0.05 * p.series.len().min(4) as f64;
-    let (y0, y1) = padded(
-        fold(|s| &s.y, f64::INFINITY, f64::min),
-        fold(|s| &s.y, f64::NEG_INFINITY, f64::max),
-        if p.mark_min_max { label_pad } else { 0.05 },
-    )?;
+    let (y0, y1) = padded(ylo, yhi, if p.mark_min_max { label_pad } else { 0.05 })?;
 
-    // the legend has a strip of its own right of the plot, so it never covers a curve or a label
-    let legend_chars = p
-        .series
-        .iter()
-        .map(|s| s.label.chars().count())
-        .chain((!p.shaded.is_empty()).then(|| p.shaded_label.chars().count()))
-        .max()
-        .unwrap_or(0);
-    // at most a quarter of the width: longer labels are shortened with an ellipsis
+    let legend = legend_entries(p);
     let glyph = LEGEND_FONT as f64 * 0.6;
-    let max_chars = ((area.dim_in_pixel().0 as f64 / 4.0 - 40.0) / glyph).max(4.0) as usize;
-    let legend_chars = legend_chars.min(max_chars);
+    let legend_chars = legend.iter().map(|l| l.chars().count()).max().unwrap_or(0);
     let legend_w = 40 + (glyph * legend_chars as f64).ceil() as u32;
 
     // axes, grid and axis titles
@@ -438,135 +589,123 @@ where
             .map_err(plot_err)?;
     }
 
+    // bands: reference ranges grey, a curve's spread in its colour, both translucent
+    for b in p.bands {
+        let fill = b
+            .color
+            .map_or(REFERENCE.mix(0.35), |k| series_style(k).0.mix(0.18));
+        let outline: Vec<(f64, f64)> =
+            b.x.iter()
+                .zip(&b.hi)
+                .map(|(x, y)| (*x, *y))
+                .chain(b.x.iter().zip(&b.lo).rev().map(|(x, y)| (*x, *y)))
+                .collect();
+        chart
+            .draw_series(std::iter::once(Polygon::new(outline, fill.filled())))
+            .map_err(plot_err)?;
+    }
+
     // curves, long ones reduced to what the pixels can show
     let columns = chart.plotting_area().dim_in_pixel().0 as usize;
+    let mut drawn: Vec<Vec<(f64, f64)>> = Vec::with_capacity(p.series.len());
     for (k, s) in p.series.iter().enumerate() {
-        let color = PALETTE[k % PALETTE.len()];
+        let (color, dashed) = series_style(k);
         let keep = decimate_m4(&s.x, &s.y, x0, x1, columns);
-        chart
-            .draw_series(LineSeries::new(
-                keep.iter().map(|&i| (s.x[i], s.y[i])),
-                color.stroke_width(2),
-            ))
-            .map_err(plot_err)?;
+        let points = keep.iter().map(|&i| (s.x[i], s.y[i]));
+        if dashed {
+            chart
+                .draw_series(DashedLineSeries::new(points, 8, 5, color.stroke_width(2)))
+                .map_err(plot_err)?;
+        } else {
+            chart
+                .draw_series(LineSeries::new(points, color.stroke_width(2)))
+                .map_err(plot_err)?;
+        }
+        drawn.push(
+            keep.iter()
+                .map(|&i| {
+                    let (u, v) = chart.backend_coord(&(s.x[i], s.y[i]));
+                    (u as f64, v as f64)
+                })
+                .collect(),
+        );
     }
-
-    // min / max markers: a dot on the sample and its value and abscissa beside it, each label
-    // at the nearest place inside the plot, away from its curve first (up for a maximum, down
-    // for a minimum), where it overlaps no label placed before it
     if p.mark_min_max {
-        let (xr, yr) = chart.plotting_area().get_pixel_range();
-        let (px, py) = (xr.start as f64, yr.start as f64);
-        let (pw, ph) = ((xr.end - xr.start) as f64, (yr.end - yr.start) as f64);
-        let mut placed: Vec<[f64; 4]> = vec![];
-        for (k, s) in p.series.iter().enumerate() {
-            let color = PALETTE[k % PALETTE.len()];
-            let Some((imin, imax)) = arg_min_max(&s.y, |i| !in_spans(p.shaded, s.x[i])) else {
-                continue;
-            };
-            for (what, i, up) in [("max", imax, true), ("min", imin, false)] {
-                let text = format!("{what} {} @ {}", fmt_value(s.y[i]), fmt_value(s.x[i]));
-                let (dot_x, dot_y) = chart.backend_coord(&(s.x[i], s.y[i]));
-                let (dot_x, dot_y) = (dot_x as f64, dot_y as f64);
-                let style = TextStyle::from((FONT, MARK_FONT).into_font())
-                    .color(&color)
-                    .pos(Pos::new(HPos::Left, VPos::Top));
-                // a box that holds the text in any face a viewer substitutes: 0.6 em a glyph at
-                // the nominal size (the SVG draws it smaller, the substitutes are wider)
-                let w = MARK_FONT as f64 * 0.6 * text.chars().count() as f64;
-                let h = MARK_FONT as f64 + 2.0;
-                // beside the dot, extending into the plot (leftwards in its right quarter)
-                let left = if dot_x > px + 0.75 * pw {
-                    dot_x - 6.0 - w
-                } else {
-                    dot_x + 6.0
-                };
-                // candidates: away from the curve first (up for a maximum, down for a
-                // minimum), then towards it, every one inside the plot; the first free one
-                let start = if up { dot_y - 6.0 - h } else { dot_y + 6.0 };
-                let away = if up { -h } else { h };
-                let inside = |t: f64| t >= py && t + h <= py + ph;
-                let free = |t: f64| {
-                    !placed
-                        .iter()
-                        .any(|q| overlaps(q, &[left, t, left + w, t + h]))
-                };
-                let n = (ph / h) as i32 + 1;
-                let top = (0..n)
-                    .map(|k| start + away * k as f64)
-                    .chain((1..n).map(|k| start - away * k as f64))
-                    .find(|&t| inside(t) && free(t))
-                    .unwrap_or_else(|| start.clamp(py, (py + ph - h).max(py)));
-                placed.push([left, top, left + w, top + h]);
-                let (dx, dy) = ((left - dot_x).round() as i32, (top - dot_y).round() as i32);
-                chart
-                    .draw_series(std::iter::once(
-                        EmptyElement::at((s.x[i], s.y[i]))
-                            + Circle::new((0, 0), 4, color.filled())
-                            // a light backing, so that curves crossing the label do not hide it
-                            + Rectangle::new(
-                                [(dx - 1, dy - 1), (dx + w.ceil() as i32 + 1, dy + h as i32)],
-                                WHITE.mix(0.75).filled(),
-                            )
-                            + Text::new(text, (dx, dy), style),
-                    ))
-                    .map_err(plot_err)?;
-            }
+        mark_min_max(&chart, p, drawn, res)?;
+    }
+    draw_legend(area, p, &legend, legend_w)
+}
+
+/// The min / max markers of every curve that is not idle: a dot on the sample and its value
+/// and abscissa beside it, wherever [`labels::Placer`] finds room clear of every curve, dot and
+/// label (a label with no room is left out).
+fn mark_min_max<DB: DrawingBackend>(
+    chart: &ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    p: &Panel<'_>,
+    drawn: Vec<Vec<(f64, f64)>>,
+    res: f64,
+) -> Result<(), Error>
+where
+    DB::ErrorType: 'static,
+{
+    let mut marks = vec![];
+    for (k, s) in p.series.iter().enumerate() {
+        let Some((imin, imax)) = arg_min_max(&s.y, |i| !in_spans(p.shaded, s.x[i])) else {
+            continue;
+        };
+        if labels::idle(s.y[imin], s.y[imax], res) {
+            continue;
+        }
+        for (what, i, up) in [("max", imax, true), ("min", imin, false)] {
+            let text = format!(
+                "{what} {} @ {}",
+                fmt_value(labels::denoise(s.y[i], res)),
+                fmt_value(s.x[i])
+            );
+            let (u, v) = chart.backend_coord(&(s.x[i], s.y[i]));
+            marks.push((k, i, up, text, (u as f64, v as f64)));
         }
     }
-
-    // the legend, in its strip: a line of the curve's colour and its label
-    let (area_w, _) = area.dim_in_pixel();
-    let lx = (area_w - legend_w) as i32;
-    for (k, s) in p.series.iter().enumerate() {
-        let color = PALETTE[k % PALETTE.len()];
-        let y = 48 + 20 * k as i32;
-        area.draw(&PathElement::new(
-            vec![(lx, y), (lx + 22, y)],
-            color.stroke_width(2),
-        ))
-        .map_err(plot_err)?;
-        let style = TextStyle::from((FONT, LEGEND_FONT).into_font())
-            .color(&BLACK)
-            .pos(Pos::new(HPos::Left, VPos::Center));
-        let label: String = if s.label.chars().count() > legend_chars {
-            let mut t: String = s.label.chars().take(legend_chars - 1).collect();
-            t.push('…');
-            t
-        } else {
-            s.label.clone()
-        };
-        area.draw(&Text::new(label, (lx + 30, y), style))
+    let (xr, yr) = chart.plotting_area().get_pixel_range();
+    let plot = [xr.start, yr.start, xr.end, yr.end].map(f64::from);
+    let dots: Vec<(f64, f64)> = marks.iter().map(|m| m.4).collect();
+    let mut placer = labels::Placer::new(plot, drawn, &dots);
+    for (k, i, up, text, dot) in marks {
+        let s = &p.series[k];
+        let (color, _) = series_style(k);
+        chart
+            .plotting_area()
+            .draw(&Circle::new(
+                (s.x[i], s.y[i]),
+                labels::DOT as i32,
+                color.filled(),
+            ))
             .map_err(plot_err)?;
-    }
-    if !p.shaded.is_empty() {
-        let y = 48 + 20 * p.series.len() as i32;
-        area.draw(&Rectangle::new(
-            [(lx, y - 6), (lx + 22, y + 6)],
-            SHADE.filled(),
-        ))
-        .map_err(plot_err)?;
-        let style = TextStyle::from((FONT, LEGEND_FONT).into_font())
-            .color(&BLACK)
-            .pos(Pos::new(HPos::Left, VPos::Center));
-        let label: String = p.shaded_label.chars().take(legend_chars).collect();
-        area.draw(&Text::new(label, (lx + 30, y), style))
+        // a box that holds the text in any face a viewer substitutes: 0.6 em a glyph at the
+        // nominal size (the SVG draws it smaller, the substitutes are wider)
+        let w = MARK_FONT as f64 * 0.6 * text.chars().count() as f64;
+        let h = MARK_FONT as f64 + 2.0;
+        let Some(b) = placer.place(dot, w, h, up) else {
+            continue;
+        };
+        let style = TextStyle::from((FONT, MARK_FONT).into_font())
+            .color(&color)
+            .pos(Pos::new(HPos::Left, VPos::Top));
+        let (dx, dy) = ((b[0] - dot.0).round() as i32, (b[1] - dot.1).round() as i32);
+        chart
+            .plotting_area()
+            .draw(&(EmptyElement::at((s.x[i], s.y[i])) + Text::new(text, (dx, dy), style)))
             .map_err(plot_err)?;
     }
     Ok(())
 }
 
 /// The shading of spans left out of the quoted figures.
-const SHADE: RGBColor = RGBColor(0xDD, 0xDD, 0xDD);
-
-/// True when the boxes `[left, top, right, bottom]` (pixels) overlap.
-fn overlaps(a: &[f64; 4], b: &[f64; 4]) -> bool {
-    a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]
-}
+pub(crate) const SHADE: RGBColor = RGBColor(0xDD, 0xDD, 0xDD);
 
 /// Font sizes (px) of the min / max labels and of the legend.
-const MARK_FONT: u32 = 13;
-const LEGEND_FONT: u32 = 14;
+pub(crate) const MARK_FONT: u32 = 13;
+pub(crate) const LEGEND_FONT: u32 = 14;
 
 /// Draws `t` as a grid of left-aligned text cells in `area`.
 fn draw_table<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, t: &Table) -> Result<(), Error>

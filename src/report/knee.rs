@@ -12,7 +12,7 @@
 //!   t_first`; a single sample gives `|τ_0|`.
 
 use crate::error::Error;
-use crate::report::chart::{Panel, Series, Table, fmt_value, stacked_svg};
+use crate::report::chart::{ImageFormat, Panel, Series, Table, fmt_value, stacked_chart};
 
 /// One joint's torque over time for one body mass.
 #[derive(Debug, Clone, PartialEq)]
@@ -239,11 +239,25 @@ fn panel_title(joint: &str) -> String {
 /// of each marked.
 pub fn knee_svg(joint: &str, runs: &[MassRun]) -> Result<String, Error> {
     load_table(runs)?;
-    knee_svg_impl(joint, runs, None)
+    utf8(knee_chart_impl(joint, runs, None, None, ImageFormat::Svg)?)
 }
 
 /// [`knee_svg`] with the table of [`load_table`] drawn as text under the chart.
 pub fn knee_svg_with_table(joint: &str, runs: &[MassRun]) -> Result<String, Error> {
+    utf8(knee_chart(joint, runs, None, ImageFormat::Svg)?)
+}
+
+fn utf8(bytes: Vec<u8>) -> Result<String, Error> {
+    String::from_utf8(bytes).map_err(|e| Error::Invalid(format!("chart: SVG is not UTF-8: {e}")))
+}
+
+/// [`knee_svg_with_table`] as SVG or PNG bytes, with `caption` (the figure's context) under it.
+pub fn knee_chart(
+    joint: &str,
+    runs: &[MassRun],
+    caption: Option<&str>,
+    format: ImageFormat,
+) -> Result<Vec<u8>, Error> {
     let rows = load_table(runs)?;
     let table = Table {
         header: ["mass (kg)", "peak |τ| (N·m)", "RMS τ (N·m)", "peak at (s)"]
@@ -261,10 +275,16 @@ pub fn knee_svg_with_table(joint: &str, runs: &[MassRun]) -> Result<String, Erro
             })
             .collect(),
     };
-    knee_svg_impl(joint, runs, Some(&table))
+    knee_chart_impl(joint, runs, Some(&table), caption, format)
 }
 
-fn knee_svg_impl(joint: &str, runs: &[MassRun], table: Option<&Table>) -> Result<String, Error> {
+fn knee_chart_impl(
+    joint: &str,
+    runs: &[MassRun],
+    table: Option<&Table>,
+    caption: Option<&str>,
+    format: ImageFormat,
+) -> Result<Vec<u8>, Error> {
     if runs.is_empty() {
         return Err(Error::Invalid("knee load: no body mass to compare".into()));
     }
@@ -283,7 +303,7 @@ fn knee_svg_impl(joint: &str, runs: &[MassRun], table: Option<&Table>) -> Result
             _ => shaded.push((ti - half, ti + half)),
         }
     }
-    stacked_svg(
+    stacked_chart(
         &[Panel {
             title: &title,
             x_label: "time (s)",
@@ -292,7 +312,10 @@ fn knee_svg_impl(joint: &str, runs: &[MassRun], table: Option<&Table>) -> Result
             mark_min_max: true,
             shaded: &shaded,
             shaded_label: "not quoted (edge/feet)",
+            bands: &[],
         }],
         table,
+        caption,
+        format,
     )
 }

@@ -15,10 +15,14 @@
 //! - [`opensim`]: OpenSim's `.sto` / `.mot` tables, `.trc` markers and ExternalLoads XML;
 //! - [`superquadric`]: Barr's superquadric surface points and wireframes for drawing links.
 
+pub mod caption;
 pub mod chart;
 pub mod columns;
 pub mod csv;
+pub mod gait;
 pub mod knee;
+pub mod labels;
+pub mod legend;
 pub mod motor;
 pub mod opensim;
 pub mod sidecar;

@@ -24,7 +24,7 @@
 //! `data/motor_classes.toml` ([`default_catalogue`]), another is read by [`read_catalogue`].
 
 use crate::error::Error;
-use crate::report::chart::{Panel, Series, Table, fmt_value, stacked_svg};
+use crate::report::chart::{ImageFormat, Panel, Series, Table, fmt_value, stacked_chart};
 use crate::report::knee::{check_series, peak_abs, rms};
 
 /// Motor constant and transmission of one joint's drive.
@@ -351,6 +351,22 @@ pub fn motor_svg(
     specs: &[MotorSpec],
     loads: &[JointLoad],
 ) -> Result<String, Error> {
+    let bytes = motor_chart(joints, specs, loads, &[], None, ImageFormat::Svg)?;
+    String::from_utf8(bytes).map_err(|e| Error::Invalid(format!("chart: SVG is not UTF-8: {e}")))
+}
+
+/// [`motor_svg`] as SVG or PNG bytes, with the drive parameters each joint was sized with
+/// under the sizing table (gear `N`, `Km`, efficiency `η`; a value is followed by `(default)`
+/// where `defaults[k]` says joint `k`'s `[gear, Km, η]` was not set) and `caption` (the
+/// figure's context) under it all.
+pub fn motor_chart(
+    joints: &[JointMotion],
+    specs: &[MotorSpec],
+    loads: &[JointLoad],
+    defaults: &[[bool; 3]],
+    caption: Option<&str>,
+    format: ImageFormat,
+) -> Result<Vec<u8>, Error> {
     if joints.is_empty() {
         return Err(Error::Invalid("motor report: no joint to plot".into()));
     }
@@ -393,6 +409,13 @@ pub fn motor_svg(
         mark_min_max: true,
         shaded: &[],
         shaded_label: "",
+        bands: &[],
+    };
+    // a column's values below its resolution (report::labels) are noise: printed as 0
+    let quote = |v: f64, f: &dyn Fn(&JointLoad) -> f64| {
+        let column: Vec<f64> = loads.iter().map(f).collect();
+        let res = crate::report::labels::resolution([column.as_slice()]);
+        fmt_value(crate::report::labels::denoise(v, res))
     };
     let table = Table {
         header: [
@@ -411,17 +434,19 @@ pub fn motor_svg(
             .map(|l| {
                 vec![
                     l.joint.clone(),
-                    fmt_value(l.peak_torque_nm),
-                    fmt_value(l.rms_torque_nm),
-                    fmt_value(l.peak_speed_rad_s),
-                    fmt_value(l.peak_power_w),
-                    fmt_value(l.peak_current_a),
+                    quote(l.peak_torque_nm, &|l| l.peak_torque_nm),
+                    quote(l.rms_torque_nm, &|l| l.rms_torque_nm),
+                    quote(l.peak_speed_rad_s, &|l| l.peak_speed_rad_s),
+                    quote(l.peak_power_w, &|l| l.peak_power_w),
+                    quote(l.peak_current_a, &|l| l.peak_current_a),
                     class_name(l).to_string(),
                 ]
             })
             .collect(),
     };
-    stacked_svg(
+    let mut table = table;
+    table.rows.extend(drive_rows(joints, specs, defaults));
+    stacked_chart(
         &[
             panel("Joint torque", "torque (N·m)", &torque),
             panel("Joint speed", "speed (rad/s)", &speed),
@@ -429,7 +454,41 @@ pub fn motor_svg(
             panel("Motor current I = τ/(Km·N·η)", "current (A)", &current),
         ],
         Some(&table),
+        caption,
+        format,
     )
+}
+
+/// The drive parameters under the sizing table: a blank line, a heading line, and per joint
+/// its gear ratio, torque constant and efficiency, each marked `(default)` when so.
+fn drive_rows(
+    joints: &[JointMotion],
+    specs: &[MotorSpec],
+    defaults: &[[bool; 3]],
+) -> Vec<Vec<String>> {
+    let mut rows = vec![
+        vec![],
+        ["drive", "gear N", "Km (N·m/A)", "efficiency η"]
+            .map(String::from)
+            .to_vec(),
+    ];
+    for (k, (m, s)) in joints.iter().zip(specs).enumerate() {
+        let d = defaults.get(k).copied().unwrap_or([false; 3]);
+        let cell = |v: f64, default: bool| {
+            let v = ryu::Buffer::new()
+                .format(v)
+                .trim_end_matches(".0")
+                .to_string();
+            if default { format!("{v} (default)") } else { v }
+        };
+        rows.push(vec![
+            m.joint.clone(),
+            cell(s.gear_ratio, d[0]),
+            cell(s.km_nm_per_a, d[1]),
+            cell(s.efficiency.unwrap_or(1.0), d[2]),
+        ]);
+    }
+    rows
 }
 
 /// The plotted curves as CSV, named by `report::columns`: `time` (s), then per joint

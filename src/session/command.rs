@@ -13,6 +13,8 @@ pub enum ExportKind {
     Csv,
     /// Angle and torque curves of the selected coordinate (report chart).
     Svg,
+    /// The same chart as a PNG bitmap (`report::chart`, same layout).
+    Png,
     /// The active take's motion as the user sees it (blended, smoothed) as a BVH take.
     Bvh,
     /// The motion of the last `run sim` as a BVH take.
@@ -46,6 +48,7 @@ pub const EXPORT_WORDS: &[(&str, ExportKind)] = &[
     ("trc", ExportKind::Trc),
     ("grf", ExportKind::Grf),
     ("gltf", ExportKind::Gltf),
+    ("png", ExportKind::Png),
 ];
 
 impl ExportKind {
@@ -198,7 +201,7 @@ pub enum Command {
     Play,
     /// `pause`.
     Pause,
-    /// `export csv|svg|bvh|urdf|mjcf PATH`.
+    /// `export csv|svg|png|bvh|urdf|mjcf PATH`.
     Export { kind: ExportKind, path: PathBuf },
     /// `compare weights 60,80,100 [joint J] PATH`.
     CompareWeights {
@@ -209,6 +212,8 @@ pub enum Command {
     /// `report motor [curves] PATH`: the sizing (SVG chart and table, or the CSV table), or
     /// with `curves` the plotted curves as CSV.
     ReportMotor { path: PathBuf, curves: bool },
+    /// `report gait PATH`: the clinical gait view (report::gait) of the active human take.
+    ReportGait { path: PathBuf },
     /// `expect …`.
     Expect(Expectation),
     /// `screen PATH`: write the current screen as text.
@@ -522,7 +527,7 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
         }
         "export" => {
             let usage =
-                "export csv|svg|bvh|urdf|mjcf|states|trc|grf|gltf PATH, or export bvh sim PATH";
+                "export csv|svg|bvh|urdf|mjcf|states|trc|grf|gltf|png PATH, or export bvh sim PATH";
             arity(&[2, 3], usage)?;
             if args.len() == 3 && (args[0] != "bvh" || args[1] != "sim") {
                 return Err(syntax(lineno, format!("usage: {usage}")));
@@ -571,8 +576,14 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
             }
         }
         "report" => {
-            let usage = "usage: report motor [curves] PATH";
+            let usage = "usage: report motor [curves] PATH, or report gait PATH";
             arity(&[2, 3], usage)?;
+            if args[0] == "gait" {
+                arity(&[2], usage)?;
+                return Ok(Some(Command::ReportGait {
+                    path: PathBuf::from(&args[1]),
+                }));
+            }
             if args[0] != "motor" || (args.len() == 3 && args[1] != "curves") {
                 return Err(syntax(lineno, usage));
             }

@@ -6,7 +6,7 @@ use super::engine::{Analysis, Builtin, Control, Engine, Params, Take, TakeData};
 use super::units::{self, Bare, Kind, Measure};
 use crate::model::{JointKind, Model};
 use crate::pipeline::{PerJoint, TakeOptions};
-use crate::report::chart::{Panel, Series, stacked_svg};
+use crate::report::chart::{ImageFormat, Panel, Series, stacked_chart};
 use crate::report::knee::{self, MassRun};
 use crate::report::motor::{self, JointMotion};
 use std::fmt::Write as _;
@@ -66,6 +66,8 @@ enum Task {
     },
     /// `report motor [curves] PATH`.
     ReportMotor { out: PathBuf, curves: bool },
+    /// `report gait PATH`.
+    ReportGait { out: PathBuf },
     /// A cheap command that needs fresh inverse-dynamics results (an `expect`): the results
     /// are computed by the job, the command is applied by [`Workbench::finish`].
     Then(Box<Command>),
@@ -335,6 +337,7 @@ impl Job {
             Task::Export { kind, out } => self.export(ctl, analysis, *kind, out),
             Task::Compare { masses, coord, out } => self.compare(ctl, masses, coord, out),
             Task::ReportMotor { out, curves } => self.report_motor(ctl, analysis, out, *curves),
+            Task::ReportGait { out } => self.report_gait(ctl, out),
             Task::Then(cmd) => {
                 self.results(ctl, analysis, 1.0)?;
                 Ok(Output::Then(cmd.clone()))
@@ -365,14 +368,20 @@ impl Job {
                 };
                 crate::pipeline::summary::write_sidecar(out, &p)?;
             }
-            ExportKind::Svg => {
+            ExportKind::Svg | ExportKind::Png => {
                 let r = self.results(ctl, analysis, 0.8)?;
                 let coord = self
                     .selection(analysis)
-                    .ok_or_else(|| err("export svg: select a joint first"))?;
-                let svg = selection_svg(&r, &coord)?;
+                    .ok_or_else(|| err("export svg|png: select a joint first"))?;
+                let format = if kind == ExportKind::Png {
+                    ImageFormat::Png
+                } else {
+                    ImageFormat::Svg
+                };
+                let bytes =
+                    selection_chart(&r, &coord, Some(&self.caption(r.scale, None)), format)?;
                 ctl.check()?;
-                crate::report::chart::write_svg(out, &svg)?;
+                crate::report::chart::write_chart(out, &bytes)?;
             }
             ExportKind::Bvh => {
                 // what the user sees: the take (as loaded or blended) smoothed as set
@@ -417,6 +426,69 @@ impl Job {
         })
     }
 
+    /// Which of `joint`'s drive parameters `[gear, Km, η]` are the defaults: set neither for
+    /// the joint (`set motor.<joint>.…`) nor for every joint (`set motor.…`).
+    fn drive_defaults(&self, joint: &str) -> [bool; 3] {
+        let o = self
+            .params
+            .motor_joint
+            .get(joint)
+            .copied()
+            .unwrap_or_default();
+        let (m, d) = (&self.params.motor, Params::default().motor);
+        [
+            o.gear.is_none() && m.gear_ratio == d.gear_ratio,
+            o.km.is_none() && m.km_nm_per_a == d.km_nm_per_a,
+            o.efficiency.is_none() && m.efficiency == d.efficiency,
+        ]
+    }
+
+    /// A chart's caption: the take, the body (mass, the skeleton's height, sex), joint model,
+    /// smoothing, contact model and residual reduction as computed, or the robot's own model;
+    /// `scale` the take's length scale (m per file unit), `masses` the body masses compared
+    /// (none: the one set).
+    fn caption(&self, scale: f64, masses: Option<&[f64]>) -> String {
+        let t = &self.params.take;
+        let mut parts: Vec<(&str, String)> = vec![];
+        if let Some(take) = self.take.as_ref() {
+            let file = Path::new(&take.source).file_name();
+            let name = file.map_or_else(|| take.source.clone(), |f| f.to_string_lossy().into());
+            parts.push(("take", name));
+            if let Some(bvh) = take.bvh() {
+                let up = t.up.unwrap_or_else(|| crate::io::bvh::detect_up(bvh));
+                let height = t
+                    .stature_m
+                    .unwrap_or_else(|| crate::io::bvh::stature(bvh, up) * scale);
+                let mass = masses.map_or_else(
+                    || t.body.mass_kg.to_string(),
+                    |m| m.iter().map(f64::to_string).collect::<Vec<_>>().join(", "),
+                );
+                parts.push(("body", format!("{mass} kg, {height:.2} m, {}", t.body.sex)));
+                parts.push(("joints", t.joints.to_string()));
+                let smooth = t.smooth.as_ref().map_or_else(
+                    || {
+                        format!(
+                            "default ({})",
+                            crate::pipeline::default_smoothing(bvh.frame_time).0
+                        )
+                    },
+                    |s| s.to_string(),
+                );
+                parts.push(("smoothing", smooth));
+                parts.push(("contact", t.contact.to_string()));
+                let consistent = match self.params.consistent {
+                    None => "auto",
+                    Some(true) => "on",
+                    Some(false) => "off",
+                };
+                parts.push(("residual reduction", consistent.into()));
+            } else {
+                parts.push(("model", "the robot's own masses and inertias".into()));
+            }
+        }
+        crate::report::chart::caption(&parts)
+    }
+
     /// The results' model as MJCF: every motor's gear the drive's `N·η` (so the control is the
     /// motor shaft's torque), a floor under a BVH take's frames (none under a robot).
     fn mjcf(&self, r: &Analysis) -> Result<String, SessionError> {
@@ -459,11 +531,13 @@ impl Job {
         let take = self.take()?;
         let n = masses.len().max(1) as f64;
         let mut runs = Vec::with_capacity(masses.len());
+        let mut scale = 1.0;
         for (i, &mass_kg) in masses.iter().enumerate() {
             ctl.set_span(i as f64 / n, (i + 1) as f64 / n);
             let mut params = self.params.clone();
             params.take.body.mass_kg = mass_kg;
             let r = self.engine.inverse_dynamics(take, &params, ctl)?;
+            scale = r.scale;
             let tau = torque_series(&r, coord)
                 .ok_or_else(|| err(format!("no coordinate '{coord}' in the model")))?;
             runs.push(MassRun {
@@ -473,13 +547,14 @@ impl Job {
                 t: r.time,
             });
         }
-        let text = if is_csv(out) {
-            knee::curves_csv(&runs)?
+        let bytes = if is_csv(out) {
+            knee::curves_csv(&runs)?.into_bytes()
         } else {
-            knee::knee_svg_with_table(coord, &runs)?
+            let caption = self.caption(scale, Some(masses));
+            knee::knee_chart(coord, &runs, Some(&caption), image_format(out))?
         };
         ctl.check()?;
-        crate::io::write_atomic(out, text.as_bytes())?;
+        crate::io::write_atomic(out, &bytes)?;
         let message = format!(
             "compared {coord} torque at {} kg: wrote {}",
             masses
@@ -559,16 +634,24 @@ impl Job {
             return Err(err("report motor: the motor catalogue is empty"));
         }
         let loads = motor::size_motors(&joints, &specs, &self.motor_classes)?;
-        let text = match (curves, is_csv(out)) {
-            (true, true) => motor::motor_curves_csv(&joints, &specs)?,
+        let bytes = match (curves, is_csv(out)) {
+            (true, true) => motor::motor_curves_csv(&joints, &specs)?.into_bytes(),
             (true, false) => {
                 return Err(err("report motor curves: the curves are written as .csv"));
             }
-            (false, true) => motor::motor_table_csv(&loads),
-            (false, false) => motor::motor_svg(&joints, &specs, &loads)?,
+            (false, true) => motor::motor_table_csv(&loads).into_bytes(),
+            (false, false) => {
+                let caption = self.caption(r.scale, None);
+                let defaults: Vec<[bool; 3]> = joints
+                    .iter()
+                    .map(|j| self.drive_defaults(&j.joint))
+                    .collect();
+                let format = image_format(out);
+                motor::motor_chart(&joints, &specs, &loads, &defaults, Some(&caption), format)?
+            }
         };
         ctl.check()?;
-        crate::io::write_atomic(out, text.as_bytes())?;
+        crate::io::write_atomic(out, &bytes)?;
         let classes: Vec<String> = loads
             .iter()
             .map(|l| format!("{} {}", l.joint, motor::class_name(l)))
@@ -576,6 +659,43 @@ impl Job {
         Ok(Output::Wrote {
             path: out.to_path_buf(),
             message: format!("motors: {}; wrote {}", classes.join(", "), out.display()),
+        })
+    }
+}
+
+impl Job {
+    /// The clinical gait view (report::gait) of the active take, as `articula anatomy` computes
+    /// its moments: the session's take options, with ground contact the take made consistent
+    /// unless `consistent off`.
+    fn report_gait(&self, ctl: &Control, out: &Path) -> Result<Output, SessionError> {
+        use crate::report::gait;
+        let take = self.take()?;
+        let bvh = take.bvh().ok_or_else(|| {
+            err("report gait: the gait view needs a human take (BVH), not a robot")
+        })?;
+        let mut t = crate::pipeline::take_from_bvh_with(
+            Path::new(&take.source),
+            bvh.clone(),
+            &self.params.take,
+            &mut ctl.stage(0.0, 0.3),
+        )?;
+        crate::pipeline::resolve_contact(&mut t);
+        ctl.check()?;
+        let reduce = self.params.consistent.unwrap_or(true)
+            && t.options.contact == crate::pipeline::Contact::Feet;
+        let mut a = crate::pipeline::consistency::anatomy_consistent(&t, reduce)?;
+        a.include_edges = self.params.include_edges;
+        ctl.check()?;
+        let caption = self.caption(t.scale_to_m, None);
+        let notes = gait::write_gait(&a, &t, Some(&caption), out)?;
+        let mut message = format!("gait report: wrote {}", out.display());
+        for n in notes {
+            message.push_str("; ");
+            message.push_str(&n);
+        }
+        Ok(Output::Wrote {
+            path: out.to_path_buf(),
+            message,
         })
     }
 }
@@ -927,6 +1047,12 @@ impl Workbench {
                     curves: *curves,
                 },
                 format!("report motor {}", path.display()),
+            ),
+            Command::ReportGait { path } => (
+                Task::ReportGait {
+                    out: self.out_path(path),
+                },
+                format!("report gait {}", path.display()),
             ),
             Command::Expect(e)
                 if needs_results(e) && self.take().is_some() && self.fresh_results().is_none() =>
@@ -1838,6 +1964,11 @@ impl Workbench {
     }
 }
 
+/// The image format of a chart path: PNG for `.png`, SVG for anything else.
+fn image_format(p: &Path) -> ImageFormat {
+    ImageFormat::of_path(p).unwrap_or(ImageFormat::Svg)
+}
+
 /// True for a `.csv` path (anything else is written as SVG).
 fn is_csv(p: &Path) -> bool {
     p.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv"))
@@ -1846,6 +1977,17 @@ fn is_csv(p: &Path) -> bool {
 /// The paper's figure 4 for one coordinate: its angle (deg) or position (m) and its torque
 /// over time, minimum and maximum marked.
 pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> {
+    let bytes = selection_chart(r, coord, None, ImageFormat::Svg)?;
+    String::from_utf8(bytes).map_err(|e| err(format!("chart: SVG is not UTF-8: {e}")))
+}
+
+/// [`selection_svg`] as SVG or PNG bytes, with `caption` (the figure's context) under it.
+pub fn selection_chart(
+    r: &Analysis,
+    coord: &str,
+    caption: Option<&str>,
+    format: ImageFormat,
+) -> Result<Vec<u8>, SessionError> {
     let (Some(q), Some(tau)) = (angle_series(r, coord), torque_series(r, coord)) else {
         return Err(err(format!("no coordinate '{coord}' in the model")));
     };
@@ -1883,6 +2025,7 @@ pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> 
             mark_min_max: true,
             shaded: &[],
             shaded_label: "",
+            bands: &[],
         },
         Panel {
             title: &title_t,
@@ -1892,9 +2035,10 @@ pub fn selection_svg(r: &Analysis, coord: &str) -> Result<String, SessionError> 
             mark_min_max: true,
             shaded: &shaded,
             shaded_label: "not quoted (edge/feet)",
+            bands: &[],
         },
     ];
-    Ok(stacked_svg(&panels, None)?)
+    Ok(stacked_chart(&panels, None, caption, format)?)
 }
 
 /// A statistic over a series (0 for an empty one).
