@@ -183,7 +183,7 @@ pub fn draw_curves(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         _ => true,
     };
     let name = sel.as_deref().unwrap_or("no selection");
-    let mirror = (wb.overlay_mirror)
+    let mirror = (wb.overlay == crate::session::workbench::Overlay::Mirror)
         .then(|| r.zip(sel.as_deref()))
         .flatten()
         .and_then(|(r, s)| Some((r, mirror_coord(r, s)?)));

@@ -407,12 +407,7 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
                 None => key,
             },
         };
-        let unit = match *param {
-            "body.mass" | "link.<selected>.mass" => " kg",
-            "blend.window" | "dt" => " s",
-            "motor.<selected>.km" => " N·m/A",
-            _ => "",
-        };
+        let unit = param.panel.map_or("", |p| p.unit);
         let v = format!("{value}{unit}");
         // the value whole, the label elided in the middle when both do not fit
         let label = elide_middle(&label, w.saturating_sub(v.chars().count() + 1).max(1));
