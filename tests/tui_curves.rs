@@ -253,6 +253,6 @@ fn m_draws_the_mirror_joints_curves_beside_the_selected_ones_without_recomputing
         ui.error
             .as_deref()
             .unwrap_or("")
-            .contains("expected mirror or none")
+            .contains("expected mirror, angle, feet, weights, sim or none")
     );
 }

@@ -64,8 +64,10 @@
 //! then says the take's residuals against Hicks et al.'s thresholds), `edges exclude|include`
 //! (whether the frames within the smoothing's reach of the take's ends count in the
 //! accelerations' and torques' min, max, peak, mean and RMS, as `anatomy --edges`; frames whose
-//! residuals stay beyond the thresholds never count), `overlay mirror|none` (the curves also
-//! draw the selected coordinate's mirror, `knee_r` beside `knee_l`: a view setting, nothing is
+//! residuals stay beyond the thresholds never count), `overlay mirror|angle|feet|weights|sim|none`
+//! (what the curves add: the selected coordinate's mirror, `knee_r` beside `knee_l`; the moment
+//! against the angle; both feet's vertical ground forces; the torques of the last `compare
+//! weights` per body mass; the last `run sim`'s tracking error: a view setting, nothing is
 //! recomputed), `link.<joint>.mass KG`,
 //! `lock J1,J2,…` (or `none`),
 //! `keep_first_frame true|false` (keep a rest pose stored as frame 0, `--keep-first-frame`; it

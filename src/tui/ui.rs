@@ -59,6 +59,8 @@ pub struct Running {
     pub replaceable: bool,
     /// Where the worker sends its result.
     rx: Receiver<JobResult>,
+    /// When the job started (the recompute time in the status line).
+    started: std::time::Instant,
 }
 
 impl Drop for Running {
@@ -112,6 +114,10 @@ pub struct Ui {
     recompute: bool,
     /// The last error, shown in the status line until the next command.
     pub error: Option<String>,
+    /// The wall time of the last recompute on the worker (ms) and the number of messages
+    /// once it was stored: the status line shows it beside that message. Never set in sync
+    /// mode, so replays stay deterministic.
+    pub recompute_ms: Option<(u128, usize)>,
     pub quit: bool,
     /// Screen size for `screen` in headless mode.
     pub size: (u16, u16),
@@ -145,6 +151,7 @@ impl Ui {
             queue: VecDeque::new(),
             recompute: false,
             error: None,
+            recompute_ms: None,
             quit: false,
             size: (80, 24),
             drawn: Cell::new((0, 0)),
@@ -272,6 +279,7 @@ impl Ui {
             control,
             replaceable,
             rx,
+            started: std::time::Instant::now(),
         });
         Ok(())
     }
@@ -299,7 +307,12 @@ impl Ui {
                 return true;
             }
         };
+        let (ms, recompute) = (r.started.elapsed().as_millis(), r.replaceable);
+        let stored = !done.is_cancelled();
         self.finish(wb, done);
+        if recompute && stored && self.error.is_none() {
+            self.recompute_ms = Some((ms, wb.messages.len()));
+        }
         true
     }
 

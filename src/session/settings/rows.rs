@@ -408,8 +408,10 @@ pub static SETTINGS: &[Setting] = &[
     },
     Setting {
         name: "overlay",
-        value: "mirror|none",
-        help: "a second curve in the curves pane (a view setting: nothing is recomputed)",
+        value: "mirror|angle|feet|weights|sim|none",
+        help: "what the curves add: the mirror joint, the moment against the angle, both feet's \
+               vertical ground forces, the last compare weights, the last run sim's tracking \
+               error (a view setting: nothing is recomputed)",
         values: Overlay::WORDS,
         recompute: R::Nothing,
         apply: |wb, a| {

@@ -3,7 +3,7 @@
 
 use super::super::SessionError;
 use super::super::command::{Command, ExportKind, RunKind};
-use super::super::engine::{Analysis, Control, Engine, Params, Take};
+use super::super::engine::{Analysis, Control, Engine, Params, STAGE_COUNT, Take};
 use super::{
     coords_of_joint, err, is_csv, joint_of, joint_of_selection, loaded_message, resolve_in,
     results_csv, selection_for, selection_svg, torque_series,
@@ -73,6 +73,9 @@ pub struct Job {
     pub(super) params: Params,
     /// Inverse-dynamics results valid under `params`, if the workbench had them.
     pub(super) fresh: Option<Arc<Analysis>>,
+    /// The latest inverse-dynamics results of the take, even stale: what an edit keeps of
+    /// them is reused ([`Engine::inverse_dynamics_after`]).
+    pub(super) previous: Option<Arc<Analysis>>,
     /// The simulation valid under `params`, if any (`export bvh sim`).
     pub(super) sim: Option<Arc<Analysis>>,
     pub(super) selection: Option<String>,
@@ -114,6 +117,12 @@ pub(super) enum Output {
         takes: Vec<Take>,
         message: String,
     },
+    /// `compare weights`: its file written, and its curves for the workbench.
+    Compared {
+        comparison: super::Comparison,
+        path: PathBuf,
+        message: String,
+    },
     /// A file written (atomically: a cancelled job writes nothing).
     Wrote { path: PathBuf, message: String },
     /// Apply this command now that the results are fresh.
@@ -132,6 +141,8 @@ pub struct JobResult {
     /// expect); kept as `run id` keeps its results.
     pub(super) analysis: Option<Arc<Analysis>>,
     pub(super) output: Result<Output, SessionError>,
+    /// How many times each pipeline stage ran (`Stage as usize`).
+    pub(super) stage_runs: [u32; STAGE_COUNT],
 }
 
 impl JobResult {
@@ -172,6 +183,7 @@ impl Job {
             params: self.params.clone(),
             analysis,
             output,
+            stage_runs: ctl.stage_runs(),
         }
     }
 
@@ -194,10 +206,23 @@ impl Job {
         }
         let take = self.take()?;
         ctl.set_span(0.0, upto);
-        let r = Arc::new(self.engine.inverse_dynamics(take, &self.params, ctl)?);
+        let r = Arc::new(self.inverse_dynamics(take, &self.params, ctl)?);
         ctl.set_span(upto, 1.0);
         *analysis = Some(r.clone());
         Ok(r)
+    }
+
+    /// Inverse dynamics of `take` under `params`, after the workbench's latest results.
+    fn inverse_dynamics(
+        &self,
+        take: &Take,
+        params: &Params,
+        ctl: &Control,
+    ) -> Result<Analysis, SessionError> {
+        let previous = self.previous.as_deref();
+        Ok(self
+            .engine
+            .inverse_dynamics_after(take, params, previous, ctl)?)
     }
 
     /// The selection once `analysis` (computed by this job) is stored ([`selection_for`]).
@@ -219,7 +244,7 @@ impl Job {
             Task::Run(kind) => {
                 let take = self.take()?;
                 let r = match kind {
-                    RunKind::Id => self.engine.inverse_dynamics(take, &self.params, ctl)?,
+                    RunKind::Id => self.inverse_dynamics(take, &self.params, ctl)?,
                     RunKind::Sim => self.engine.simulate(take, &self.params, ctl)?,
                 };
                 Ok(Output::Run(*kind, Arc::new(r)))
@@ -481,13 +506,16 @@ impl Job {
         let take = self.take()?;
         let n = masses.len().max(1) as f64;
         let mut runs = Vec::with_capacity(masses.len());
+        let mut kind = super::super::units::Kind::Torque;
         for (i, &mass_kg) in masses.iter().enumerate() {
             ctl.set_span(i as f64 / n, (i + 1) as f64 / n);
             let mut params = self.params.clone();
             params.take.body.mass_kg = mass_kg;
-            let r = self.engine.inverse_dynamics(take, &params, ctl)?;
+            let r = self.inverse_dynamics(take, &params, ctl)?;
             let tau = torque_series(&r, coord)
                 .ok_or_else(|| err(format!("no coordinate '{coord}' in the model")))?;
+            let angular = r.model.v_index(coord).is_none_or(|k| r.model.is_angular(k));
+            kind = super::super::command::Quantity::Torque.kind(angular);
             runs.push(MassRun {
                 mass_kg,
                 tau,
@@ -503,7 +531,7 @@ impl Job {
         ctl.check()?;
         crate::io::write_atomic(out, text.as_bytes())?;
         let message = format!(
-            "compared {coord} torque at {} kg: wrote {}",
+            "compared {coord} torque at {} kg: wrote {} (set overlay weights draws them)",
             masses
                 .iter()
                 .map(|m| m.to_string())
@@ -511,7 +539,13 @@ impl Job {
                 .join(", "),
             out.display()
         );
-        Ok(Output::Wrote {
+        let comparison = super::Comparison {
+            coord: coord.to_string(),
+            kind,
+            runs: runs.into_iter().map(|r| (r.mass_kg, r.tau)).collect(),
+        };
+        Ok(Output::Compared {
+            comparison,
             path: out.to_path_buf(),
             message,
         })

@@ -3,7 +3,10 @@
 mod expect;
 mod job;
 mod prepare;
+mod select;
 mod series;
+
+use select::{selection_for, selection_on_load};
 
 use job::Output;
 pub use job::{Job, JobResult};
@@ -12,13 +15,13 @@ use series::{
 };
 pub use series::{
     angle_series, best_coordinate, coords_of_joint, is_anatomical, mirror_coord, mirror_names,
-    results_csv, selection_svg, statistic, torque_series,
+    reference_series, results_csv, selection_svg, simulated_coord, statistic, torque_series,
 };
 
 use super::SessionError;
 use super::command::{Command, Expectation, Quantity, RunKind, TakeRef};
-use super::engine::{Analysis, Builtin, Control, Engine, Params, Take, TakeData};
-use super::units::{Bare, Measure};
+use super::engine::{Analysis, Builtin, Control, Engine, Params, STAGE_COUNT, Take, TakeData};
+use super::units::{self, Bare, Measure};
 use crate::model::{JointKind, Model};
 use crate::report::motor;
 use std::path::{Path, PathBuf};
@@ -34,13 +37,39 @@ pub enum Overlay {
     /// The selected coordinate's mirror (`knee_r:flexion` beside `knee_l:flexion`,
     /// `RightLeg.Xrotation` beside `LeftLeg.Xrotation`).
     Mirror,
+    /// The moment against the angle (the joint's work loop) under the angle.
+    Angle,
+    /// Both feet's vertical ground forces under the torque (with ground contact).
+    Feet,
+    /// The torques of the last `compare weights`, one curve per body mass.
+    Weights,
+    /// The last `run sim`: the simulated angle with the reference, and the tracking error.
+    Sim,
 }
 
 impl Overlay {
     /// Every overlay, in the order of [`WORDS`](Self::WORDS).
-    pub const ALL: &[Overlay] = &[Overlay::Mirror, Overlay::None];
+    pub const ALL: &[Overlay] = &[
+        Overlay::Mirror,
+        Overlay::Angle,
+        Overlay::Feet,
+        Overlay::Weights,
+        Overlay::Sim,
+        Overlay::None,
+    ];
     /// The words of `set overlay`.
-    pub const WORDS: &[&str] = &["mirror", "none"];
+    pub const WORDS: &[&str] = &["mirror", "angle", "feet", "weights", "sim", "none"];
+}
+
+/// The torques of the last `compare weights`, for the curves (`set overlay weights`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Comparison {
+    /// The coordinate compared.
+    pub coord: String,
+    /// The torque's kind (a torque, or a prismatic joint's force).
+    pub kind: units::Kind,
+    /// Each body mass (kg) and the coordinate's torque per frame (SI).
+    pub runs: Vec<(f64, Vec<f64>)>,
 }
 
 /// What applying a command did.
@@ -85,46 +114,6 @@ fn loaded_message(take: &Take) -> String {
             r.model.nv,
             r.model.total_mass()
         ),
-    }
-}
-
-/// The selection once results `r` are stored: `sel` if `r` has that coordinate; otherwise the
-/// coordinate with the largest range of motion of the old selection's joint, or the first
-/// rotation.
-fn selection_for(r: &Analysis, sel: Option<&str>) -> Option<String> {
-    if let Some(s) = sel
-        && (r.model.v_index(s).is_some() || is_anatomical(r, s))
-    {
-        return Some(s.to_string());
-    }
-    // a human take: its left knee's flexion, as a gait lab shows it first
-    if sel.is_none()
-        && let Some(c) = anatomical_axis(r, "knee_l")
-    {
-        return Some(c);
-    }
-    let joint = sel.and_then(|s| joint_of_name(&r.model, s));
-    joint.and_then(|j| best_coordinate(r, &j)).or_else(|| {
-        (0..r.model.nv)
-            .find(|&k| r.model.is_angular(k))
-            .map(|k| r.model.v_names[k].clone())
-    })
-}
-
-/// The selection when `take` becomes active: `sel` if the take has it (a robot's coordinate,
-/// or a coordinate of one of a BVH take's joints: `<joint>.<channel>`, `<joint>:<comp>`);
-/// otherwise a robot's first rotation, or none for a take (its results choose).
-fn selection_on_load(take: &Take, sel: Option<&str>) -> Option<String> {
-    match &take.data {
-        TakeData::Robot(r) => sel
-            .filter(|s| r.model.v_index(s).is_some())
-            .map(str::to_string)
-            .or_else(|| {
-                (0..r.model.nv)
-                    .find(|&k| r.model.is_angular(k))
-                    .map(|k| r.model.v_names[k].clone())
-            }),
-        TakeData::Bvh(b) => sel.filter(|s| names_a_joint(b, s)).map(str::to_string),
     }
 }
 
@@ -190,6 +179,11 @@ pub struct Workbench {
     pub motor_classes: Vec<motor::MotorClass>,
     /// What the curves draw beside the selection's (`set overlay`).
     pub overlay: Overlay,
+    /// The last `compare weights` of the active take.
+    pub comparison: Option<Comparison>,
+    /// How many times each pipeline stage ran in this workbench's jobs (`Stage as usize`):
+    /// what an edit recomputed, counted (issue 17 item 4).
+    pub stage_runs: [u64; STAGE_COUNT],
 }
 
 impl std::fmt::Debug for Workbench {
@@ -236,6 +230,8 @@ impl Workbench {
             messages: vec![],
             motor_classes: motor::default_catalogue().unwrap_or_default(),
             overlay: Overlay::None,
+            comparison: None,
+            stage_runs: [0; STAGE_COUNT],
         }
     }
 
@@ -253,8 +249,13 @@ impl Workbench {
     pub fn fresh_results(&self) -> Option<&Arc<Analysis>> {
         self.results
             .as_ref()
-            .filter(|(_, p)| p.same_results(&self.params))
+            .filter(|(_, p)| p.same_inverse_dynamics(&self.params))
             .map(|(r, _)| r)
+    }
+
+    /// How many times pipeline stage `s` ran in this workbench's jobs.
+    pub fn stage_runs(&self, s: crate::pipeline::stages::Stage) -> u64 {
+        self.stage_runs[s as usize]
     }
 
     /// The latest results, even if parameters changed since (for drawing while recomputing).
@@ -293,6 +294,9 @@ impl Workbench {
     /// Stores what a [`Job`] computed and says so. A failed or cancelled job changes nothing
     /// and returns its error. Results for another take than the active one are dropped.
     pub fn finish(&mut self, done: JobResult) -> Result<Outcome, SessionError> {
+        for (n, k) in self.stage_runs.iter_mut().zip(done.stage_runs) {
+            *n += u64::from(k);
+        }
         let output = done.output?;
         // results computed on the way are kept as those of `run id`
         let stored = match done.analysis {
@@ -324,6 +328,7 @@ impl Workbench {
                 };
                 self.active = Some(i);
                 self.results = None;
+                self.comparison = None;
                 self.selection = selection_on_load(&self.takes[i], self.selection.as_deref());
                 if blended {
                     self.frame = self.frame.min(self.frames().saturating_sub(1));
@@ -365,6 +370,7 @@ impl Workbench {
                         take: None,
                         params: self.params.clone(),
                         analysis: None,
+                        stage_runs: [0; STAGE_COUNT],
                         output: Ok(Output::Take {
                             take: Box::new(take),
                             blended: false,
@@ -376,6 +382,18 @@ impl Workbench {
                     self.active = Some(first);
                 }
                 Ok(self.say(message))
+            }
+            Output::Compared {
+                comparison,
+                path,
+                message,
+            } => {
+                if done.take.is_some() && self.take().map(|t| &t.name) == done.take.as_ref() {
+                    self.comparison = Some(comparison);
+                }
+                let mut o = self.say(message);
+                o.written.push(path);
+                Ok(o)
             }
             Output::Wrote { path, message } => {
                 let mut o = self.say(message);
@@ -424,7 +442,12 @@ impl Workbench {
         } else if !r.note.is_empty() {
             msg = format!("{msg}, {}", r.note);
         }
-        self.selection = selection_for(&r, self.selection.as_deref());
+        // a simulation has no anatomical axes: the selection stays one of the results'
+        let basis = match (kind, self.latest_results()) {
+            (RunKind::Sim, Some(id)) => id.clone(),
+            _ => r.clone(),
+        };
+        self.selection = selection_for(&basis, self.selection.as_deref());
         match kind {
             RunKind::Id => self.results = Some((r, params)),
             RunKind::Sim => self.sim = Some((r, params)),
@@ -547,6 +570,7 @@ impl Workbench {
             self.active = Some(i);
             self.results = None;
             self.sim = None;
+            self.comparison = None;
             self.frame = 0;
             self.selection = selection_on_load(&self.takes[i], self.selection.as_deref());
         }
@@ -651,122 +675,5 @@ impl Workbench {
         self.frame = 0;
         self.results = None;
         self.sim = None;
-    }
-
-    /// The coordinates of a joint (a BVH joint, or a robot joint) in the latest results.
-    /// The anatomical axes of the joint of `sel` when `sel` is one (`knee_l:flexion` →
-    /// `knee_l:flexion`, `knee_l:adduction`, `knee_l:rotation`), for ←/→ in the TUI.
-    pub fn anatomical_axes(&self, sel: &str) -> Option<Vec<String>> {
-        let r = self.latest_results()?;
-        if !is_anatomical(r, sel) {
-            return None;
-        }
-        let joint = sel.split(':').next()?;
-        Some(
-            ["flexion", "adduction", "rotation"]
-                .iter()
-                .map(|a| format!("{joint}:{a}"))
-                .filter(|c| is_anatomical(r, c))
-                .collect(),
-        )
-    }
-
-    /// The joint of the selection, as the joint tree names it: the BVH joint at an
-    /// anatomical joint's centre (`knee_l:flexion` → `LeftLeg`), the joint of a coordinate
-    /// (`LeftLeg.Xrotation`, `LeftLeg:wx`, a robot's `j2`).
-    pub fn selected_joint(&self) -> Option<String> {
-        let sel = self.selection.as_deref()?;
-        if let Some(r) = self.latest_results()
-            && is_anatomical(r, sel)
-        {
-            return joint_of_selection(r, sel);
-        }
-        let r = self.latest_results();
-        r.and_then(|r| joint_of_name(&r.model, sel)).or_else(|| {
-            // before results: the name up to the coordinate's separator
-            let tree = self.take()?.joint_tree();
-            tree.into_iter()
-                .map(|(n, _)| n)
-                .filter(|n| {
-                    sel == n
-                        || sel
-                            .strip_prefix(n.as_str())
-                            .is_some_and(|r| r.starts_with(['.', ':']))
-                })
-                .max_by_key(|n| n.len())
-        })
-    }
-
-    pub fn joint_coords(&self, joint: &str) -> Vec<String> {
-        match self.latest_results() {
-            Some(r) => coords_of_joint(&r.model, joint),
-            None => vec![],
-        }
-    }
-
-    /// True when the latest results were computed for the model the current parameters
-    /// build (same joint model, locks, subtree and joint translations): their coordinates are
-    /// those of the next results.
-    fn results_model_current(&self) -> bool {
-        self.results.as_ref().is_some_and(|(_, p)| {
-            let (a, b) = (&p.take, &self.params.take);
-            a.joints == b.joints
-                && a.lock == b.lock
-                && a.subtree == b.subtree
-                && a.joint_translations == b.joint_translations
-        })
-    }
-
-    /// A coordinate name from a coordinate or a joint name. A joint gives its coordinate with
-    /// the largest range of motion over the take (the knee's and elbow's flexion axis):
-    /// from the latest results, or before any result from the BVH rotation channels (the
-    /// channel's axis names the ball model's rotation-vector component, `J:wx` for
-    /// `Xrotation`).
-    fn resolve_coord(&self, name: &str) -> Result<String, SessionError> {
-        let take = self
-            .take()
-            .ok_or_else(|| err("no take loaded (load PATH first)"))?;
-        // results of another model (computed before `set joints`, `lock`, `subtree`, …) name
-        // coordinates the next results will not have: then choose from the take's channels
-        let current = self
-            .latest_results()
-            .filter(|_| self.results_model_current());
-        if let Some(r) = current
-            && r.model.v_index(name).is_some()
-        {
-            return Ok(name.to_string());
-        }
-        if let Some(c) = self.latest_results().and_then(|r| anatomical_axis(r, name)) {
-            return Ok(c);
-        }
-        if let Some(rb) = take.robot() {
-            // a robot joint is its coordinate (or the first of a multi-DoF joint)
-            return coords_of_joint(&rb.model, name)
-                .into_iter()
-                .next()
-                .ok_or_else(|| {
-                    err(format!(
-                        "no joint called '{name}' in {} (it has {})",
-                        take.name,
-                        rb.model.v_names.join(", ")
-                    ))
-                });
-        }
-        let bvh = take.bvh().ok_or_else(|| err("no take loaded"))?;
-        let Some(r) = current else {
-            return channel_by_range(bvh, name, self.params.take.joints);
-        };
-        if let Some(c) = best_coordinate(r, name) {
-            return Ok(c);
-        }
-        // a BVH name the model does not have (locked, or the results are of another model)
-        let c = channel_by_range(bvh, name, self.params.take.joints)?;
-        match r.model.v_index(&c) {
-            Some(_) => Ok(c),
-            None if self.fresh_results().is_some() => Err(err(format!(
-                "{name} has no coordinate in the model (locked or outside the subtree?)"
-            ))),
-            None => Ok(c),
-        }
     }
 }

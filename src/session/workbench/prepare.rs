@@ -81,6 +81,7 @@ impl Workbench {
             take: self.take().cloned(),
             params: self.params.clone(),
             fresh: self.fresh_results().cloned(),
+            previous: self.latest_results().cloned(),
             sim: self
                 .sim
                 .as_ref()

@@ -3,7 +3,7 @@
 
 use super::super::SessionError;
 use super::super::command::Statistic;
-use super::super::engine::Analysis;
+use super::super::engine::{Analysis, Table};
 use super::err;
 use crate::model::{JointKind, Model};
 use crate::report::chart::{Panel, Series, stacked_svg};
@@ -128,20 +128,44 @@ pub fn coords_of_joint(model: &Model, joint: &str) -> Vec<String> {
 /// derivative is the angular velocity `J:wx` for rotations about a fixed axis; for the
 /// translation of a free joint (`J:vx`) its position `J:x` in the parent frame.
 pub fn angle_series(r: &Analysis, coord: &str) -> Option<Vec<f64>> {
-    if let Some(j) = r.q.col_index(coord) {
-        return Some(r.q.column(j));
-    }
-    if let Some(j) = r.anatomy.col_index(&format!("{coord}:angle")) {
+    if let Some(j) = r.anatomy.col_index(&format!("{coord}:angle"))
+        && r.q.col_index(coord).is_none()
+    {
         return Some(r.anatomy.column(j));
     }
-    let m = &r.model;
+    q_series(&r.model, &r.q, coord)
+}
+
+/// [`angle_series`] of a simulation's reference (the configurations it tracked).
+pub fn reference_series(sim: &Analysis, coord: &str) -> Option<Vec<f64>> {
+    (sim.reference.rows() > 0)
+        .then(|| q_series(&sim.model, &sim.reference, coord))
+        .flatten()
+}
+
+/// The coordinate of simulation `sim` that selection `sel` shows: `sel` itself, or for an
+/// anatomical axis (of results `r`) its joint's coordinate of largest range of motion.
+pub fn simulated_coord(r: &Analysis, sim: &Analysis, sel: &str) -> Option<String> {
+    if sim.model.v_index(sel).is_some() {
+        return Some(sel.to_string());
+    }
+    let joint = joint_of_selection(r, sel)?;
+    best_coordinate(sim, &joint)
+}
+
+/// The angle (rad) or position (m) of `coord` in configurations `q` of `m` (see
+/// [`angle_series`]).
+fn q_series(m: &Model, q: &Table, coord: &str) -> Option<Vec<f64>> {
+    if let Some(j) = q.col_index(coord) {
+        return Some(q.column(j));
+    }
     let k = m.v_index(coord)?;
     let b = m.body_of_v(k);
     let (iq, off) = (m.idx_q[b], k - m.idx_v[b]);
     let quat_at = match m.joints[b] {
         JointKind::Spherical => iq,
         JointKind::Free if off < 3 => {
-            return Some((0..r.q.rows()).map(|f| r.q.row(f)[iq + off]).collect());
+            return Some((0..q.rows()).map(|f| q.row(f)[iq + off]).collect());
         }
         JointKind::Free => iq + 3,
         _ => return None,
@@ -152,9 +176,9 @@ pub fn angle_series(r: &Analysis, coord: &str) -> Option<Vec<f64>> {
         off
     };
     Some(
-        (0..r.q.rows())
+        (0..q.rows())
             .map(|f| {
-                let q = crate::spatial::quat_from_xyzw(&r.q.row(f)[quat_at..quat_at + 4]);
+                let q = crate::spatial::quat_from_xyzw(&q.row(f)[quat_at..quat_at + 4]);
                 q.scaled_axis()[c]
             })
             .collect(),
