@@ -1051,7 +1051,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             if json {
                 return run_json(&session, &out);
             }
-            let report = articula::session::run_session(&session, &out)?;
+            let report = articula::tui::run_session(&session, &out)?;
             for m in &report.messages {
                 println!("{m}");
             }
@@ -1152,7 +1152,7 @@ fn print_json(value: &impl serde::Serialize, output: &Path) -> Result<()> {
 /// `articula run --json`: the replay as JSON on standard output, also when it stops on an
 /// error (then the error is returned after it, for the exit status and message).
 fn run_json(session: &Path, out: &Path) -> Result<ExitCode> {
-    let (report, result) = articula::session::run_session_recorded(session, out);
+    let (report, result) = articula::tui::run_session_recorded(session, out);
     let j = report.json(session, result.as_ref().err());
     println!("{}", serde_json::to_string_pretty(&j)?);
     result?;

@@ -127,9 +127,8 @@ fn the_normative_band_is_the_nearest_speed_class() {
 #[test]
 fn report_gait_session_writes_svg_and_png() {
     let out = tempfile::tempdir().unwrap();
-    let r =
-        articula::session::run_session(&common::repo("sessions/gait_report.session"), out.path())
-            .unwrap();
+    let r = articula::tui::run_session(&common::repo("sessions/gait_report.session"), out.path())
+        .unwrap();
     assert_eq!(r.written.len(), 2);
     let svg = std::fs::read_to_string(out.path().join("gait.svg")).unwrap();
     for want in [

@@ -334,7 +334,7 @@ fn every_report_of_the_shipped_sessions_is_clean() {
     let mut checked = 0;
     for s in &sessions {
         let out = tempfile::tempdir().unwrap();
-        let r = articula::session::run_session(s, out.path())
+        let r = articula::tui::run_session(s, out.path())
             .unwrap_or_else(|e| panic!("{}: {e}", s.display()));
         for p in r
             .written
@@ -365,7 +365,7 @@ fn png_beside_svg_same_layout_and_the_caption_says_the_context() {
         ),
     )
     .unwrap();
-    articula::session::run_session(&session, dir.path()).unwrap();
+    articula::tui::run_session(&session, dir.path()).unwrap();
     let svg = std::fs::read_to_string(dir.path().join("a.svg")).unwrap();
     assert_clean(&svg, "a.svg");
     let d = parse(&svg);

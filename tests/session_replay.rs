@@ -2,7 +2,7 @@
 //! folder, a passing `expect` passes, a failing one fails the replay with its line number, and
 //! two replays write byte-identical files.
 
-use articula::session::run_session;
+use articula::tui::run_session;
 use std::path::Path;
 
 fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {

@@ -9,7 +9,7 @@ mod common;
 
 use articula::pipeline::{TakeOptions, load_take};
 use articula::report::csv::read_columns;
-use articula::session::run_session;
+use articula::tui::run_session;
 
 const SESSION: &str = "\
 load demo:walk as walk

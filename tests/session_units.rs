@@ -7,8 +7,9 @@
 
 mod common;
 
+use articula::session::Workbench;
 use articula::session::units::{self, Kind, UNITS};
-use articula::session::{Workbench, run_session};
+use articula::tui::run_session;
 use std::path::Path;
 
 use common::workbench::{apply, fails, ok, wb_in};

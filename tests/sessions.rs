@@ -3,7 +3,7 @@
 
 mod common;
 
-use articula::session::run_session;
+use articula::tui::run_session;
 use std::path::PathBuf;
 
 fn sessions() -> Vec<PathBuf> {

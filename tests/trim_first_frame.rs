@@ -196,10 +196,10 @@ fn a_session_keeps_the_rest_frame_on_request() {
          expect frames 61\nset keep_first_frame false\nload rest.bvh as c\nexpect frames 60\n",
     )
     .unwrap();
-    articula::session::run_session(&session, dir.path()).unwrap();
+    articula::tui::run_session(&session, dir.path()).unwrap();
     // and a wrong value is an error naming the key
     std::fs::write(&session, "set keep_first_frame yes\n").unwrap();
-    let e = articula::session::run_session(&session, dir.path()).unwrap_err();
+    let e = articula::tui::run_session(&session, dir.path()).unwrap_err();
     assert!(e.to_string().contains("keep_first_frame"), "{e}");
 }
 

@@ -224,7 +224,7 @@ fn m_draws_the_mirror_joints_curves_beside_the_selected_ones_without_recomputing
     );
     assert!(columns_in(&buffer(&ui, &wb, w, h), a + 1, b, Color::Green).is_empty());
     press(&mut ui, &mut wb, "m");
-    assert!(wb.overlay_mirror);
+    assert_eq!(wb.overlay, articula::session::workbench::Overlay::Mirror);
     assert_eq!(
         wb.latest_results().unwrap() as *const _,
         before,
@@ -243,7 +243,7 @@ fn m_draws_the_mirror_joints_curves_beside_the_selected_ones_without_recomputing
     assert!(green.len() > 100, "{green:?}");
     // the same from a session command, and off again; the compact form says it in its label
     press(&mut ui, &mut wb, ":set overlay none<Enter>");
-    assert!(!wb.overlay_mirror);
+    assert_eq!(wb.overlay, articula::session::workbench::Overlay::None);
     let (mut ui, mut wb) = demo(80, 24);
     press(&mut ui, &mut wb, ":set overlay mirror<Enter>");
     let text = screen(&ui, &wb, 80, 24);
@@ -253,6 +253,6 @@ fn m_draws_the_mirror_joints_curves_beside_the_selected_ones_without_recomputing
         ui.error
             .as_deref()
             .unwrap_or("")
-            .contains("expected mirror or none")
+            .contains("expected mirror, angle, feet, weights, sim or none")
     );
 }

@@ -102,7 +102,7 @@ fn a_session_switches_takes_headless() {
     )
     .unwrap();
     let out = dir.path().join("out");
-    let r = articula::session::run_session(&session, &out).unwrap();
+    let r = articula::tui::run_session(&session, &out).unwrap();
     assert_eq!(r.commands, 7);
     let s = std::fs::read_to_string(out.join("s.txt")).unwrap();
     assert!(s.contains("walk-2 [2/2, t: next]"), "{s}");

@@ -477,6 +477,8 @@ pub struct Take {
     pub twists: Vec<crate::motion::twist::Twist>,
     /// q, v, a after unwrapping, smoothing and differentiation.
     pub states: States,
+    /// What stages 5–7 found (passages near gimbal lock, capture glitches), also in `notes`.
+    pub passages: Vec<String>,
     /// What the loader changed on its own, for `info` (e.g. a folded helper root).
     pub notes: Vec<String>,
     /// The skeleton's human landmarks (`model::skeleton`), or why it is not a human's.
@@ -550,8 +552,26 @@ pub fn take_from_bvh_with(
 /// those of [`take_states_marked`]).
 pub fn take_from_bvh_marked(
     path: &Path,
+    bvh: Bvh,
+    opts: &TakeOptions,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+    done: &mut dyn FnMut(Stage),
+) -> Result<Take, Error> {
+    take_from_bvh_reusing(path, bvh, opts, None, keep_going, done)
+}
+
+/// [`take_from_bvh_marked`] that takes the states (stages 5–7: q, unwrap, smoothing, v, a)
+/// from `previous`, a take of the same file, when they are the ones it would compute: the
+/// same motion after the model stage's folds and welds, the same coordinates and joint kinds,
+/// the same smoothing. The states read no mass, so an edit of the body mass, the sex, the
+/// segment table or a link's mass keeps them: only the model (stages 2–4) is built again, and
+/// `done` is called for [`Stage::Model`] alone. The result is the same, bit for bit, as
+/// without `previous`.
+pub fn take_from_bvh_reusing(
+    path: &Path,
     mut bvh: Bvh,
     opts: &TakeOptions,
+    previous: Option<&Take>,
     keep_going: &mut dyn FnMut(f64) -> bool,
     done: &mut dyn FnMut(Stage),
 ) -> Result<Take, Error> {
@@ -808,15 +828,28 @@ pub fn take_from_bvh_marked(
         }
     };
     done(Stage::Model);
-    let (states, passages) = take_states_marked(
-        &bvh,
-        &model,
-        &map,
-        &smooth,
-        &mut |f| keep_going(0.1 + 0.9 * f),
-        done,
-    )?;
-    notes.extend(passages);
+    let same_states = |p: &&Take| {
+        p.smooth == smooth
+            && p.model.q_names == model.q_names
+            && p.model.v_names == model.v_names
+            && p.model.joints == model.joints
+            && p.model.parent == model.parent
+            && p.model.idx_q == model.idx_q
+            && p.map == map
+            && p.bvh == bvh
+    };
+    let (states, passages) = match previous.filter(same_states) {
+        Some(p) => (p.states.clone(), p.passages.clone()),
+        None => take_states_marked(
+            &bvh,
+            &model,
+            &map,
+            &smooth,
+            &mut |f| keep_going(0.1 + 0.9 * f),
+            done,
+        )?,
+    };
+    notes.extend(passages.iter().cloned());
     let take = Take {
         path: path.to_path_buf(),
         bvh,
@@ -834,6 +867,7 @@ pub fn take_from_bvh_marked(
         welded,
         twists,
         states,
+        passages,
         notes,
         human,
     };

@@ -256,58 +256,6 @@ pub const COMMAND_WORDS: &[&str] = &[
     "quit",
 ];
 
-/// Every `set` key (`link.<name>.mass` and `motor.<joint>.…` stand for any joint).
-pub const SET_KEYS: &[&str] = &[
-    "body.mass",
-    "body.sex",
-    "body.segments",
-    "unit",
-    "stature",
-    "up",
-    "positions",
-    "subtree",
-    "joints",
-    "smooth",
-    "contact",
-    "consistent",
-    "edges",
-    "overlay",
-    "keep_first_frame",
-    "joint_translations",
-    "kp",
-    "kv",
-    "kp.<joint>",
-    "kv.<joint>",
-    "integrator",
-    "dt",
-    "link.<name>.mass",
-    "lock",
-    "blend.window",
-    "motor.km",
-    "motor.gear",
-    "motor.efficiency",
-    "motor.<joint>.km",
-    "motor.<joint>.gear",
-    "motor.<joint>.efficiency",
-    "motor.catalogue",
-];
-
-/// True for a `set` key of the language (a listed key, `link.<joint>.mass` or
-/// `motor.<joint>.km|gear|efficiency`).
-pub fn is_set_key(key: &str) -> bool {
-    let per_joint = |prefix: &str, fields: &[&str]| {
-        key.strip_prefix(prefix)
-            .and_then(|k| k.rsplit_once('.'))
-            .is_some_and(|(j, f)| !j.is_empty() && fields.contains(&f))
-    };
-    (SET_KEYS.contains(&key) && !key.contains('<'))
-        || per_joint("link.", &["mass"])
-        || per_joint("motor.", &["km", "gear", "efficiency"])
-        || ["kp.", "kv."]
-            .iter()
-            .any(|p| key.strip_prefix(p).is_some_and(|j| !j.is_empty()))
-}
-
 /// A joint value of a pose: a number, or a multiple of π (`pi`, `-pi/2`, `3pi/4`, `0.5*pi`).
 pub fn parse_angle(w: &str) -> Option<f64> {
     let x = match w.split_once("pi") {
@@ -453,16 +401,19 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
             }
         }
         "set" => {
+            // the settings' table: a known key without a value gets its own help
+            let row = args.first().and_then(|k| super::settings::find(k));
             if args.len() < 2 {
-                return Err(syntax(lineno, "usage: set KEY VALUE"));
+                let help = row.map_or(String::new(), |(r, _)| format!(" ({})", r.usage()));
+                return Err(syntax(lineno, format!("usage: set KEY VALUE{help}")));
             }
             let key = args[0].clone();
-            if !is_set_key(&key) {
+            if row.is_none() {
                 return Err(syntax(
                     lineno,
                     format!(
                         "unknown setting '{key}' (expected one of {})",
-                        SET_KEYS.join(", ")
+                        super::settings::names().collect::<Vec<_>>().join(", ")
                     ),
                 ));
             }

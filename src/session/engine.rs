@@ -11,6 +11,7 @@ use crate::io::bvh::{Bvh, detect_up};
 use crate::model::Model;
 use crate::motion::blend::{Align, BlendOptions, TimeMap, WarpWindow};
 use crate::pipeline::PerJoint;
+use crate::pipeline::stages::Stage;
 use crate::pipeline::{self, TakeOptions};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -30,7 +31,13 @@ pub struct Control {
     progress: AtomicU32,
     /// The current span: its start (high 32 bits) and end (low 32 bits) in parts per million.
     span: AtomicU64,
+    /// How many times each pipeline stage ran (indexed by `Stage as usize`): what a
+    /// recompute reran (issue 17 item 4), counted, not timed.
+    stage_runs: [AtomicU32; STAGE_COUNT],
 }
+
+/// The number of [`Stage`]s.
+pub const STAGE_COUNT: usize = pipeline::stages::STAGES.len();
 
 impl Default for Control {
     fn default() -> Self {
@@ -38,6 +45,7 @@ impl Default for Control {
             cancel: AtomicBool::new(false),
             progress: AtomicU32::new(0),
             span: AtomicU64::new(PPM as u64),
+            stage_runs: Default::default(),
         }
     }
 }
@@ -93,6 +101,14 @@ impl Control {
         } else {
             Ok(())
         }
+    }
+    /// Counts one run of stage `s` (the pipeline's `done(Stage)` callback).
+    pub fn done(&self, s: Stage) {
+        self.stage_runs[s as usize].fetch_add(1, Ordering::Relaxed);
+    }
+    /// How many times each stage ran so far, indexed by `Stage as usize`.
+    pub fn stage_runs(&self) -> [u32; STAGE_COUNT] {
+        std::array::from_fn(|i| self.stage_runs[i].load(Ordering::Relaxed))
     }
     /// A progress callback for the library's loops (`keep_going(f) -> bool`): reports `f`
     /// mapped onto `from‥to` of the current span, and returns false once cancelled.
@@ -179,12 +195,24 @@ impl Default for Params {
 }
 
 impl Params {
-    /// True when results computed under `other` are valid under `self` (the motor drives and
-    /// the blend window do not change inverse dynamics or a simulation).
-    pub fn same_results(&self, other: &Params) -> bool {
-        self.take == other.take
+    /// True when inverse-dynamics results computed under `other` are valid under `self`: the
+    /// take's options, residual reduction and the quoted frames are the same (the gains,
+    /// integrator and step are the simulation's; the motor drives and the blend window change
+    /// neither; `keep_first_frame` acts when a take is read, on the takes loaded after it).
+    pub fn same_inverse_dynamics(&self, other: &Params) -> bool {
+        let read_only = |t: &TakeOptions| TakeOptions {
+            keep_first_frame: false,
+            ..t.clone()
+        };
+        read_only(&self.take) == read_only(&other.take)
             && self.consistent == other.consistent
             && self.include_edges == other.include_edges
+    }
+
+    /// True when a simulation computed under `other` is valid under `self` (the motor drives
+    /// and the blend window do not change it).
+    pub fn same_results(&self, other: &Params) -> bool {
+        self.same_inverse_dynamics(other)
             && self.kp == other.kp
             && self.kv == other.kv
             && self.integrator == other.integrator
@@ -429,6 +457,16 @@ pub struct Analysis {
     /// A human take's anatomical joints and the BVH joint at each one's centre (`knee_l` →
     /// `LeftLeg`), from the landmarks the take's human was found by; empty otherwise.
     pub anatomy_joints: Vec<(String, String)>,
+    /// With ground contact: each foot's vertical ground force per frame (N, up positive),
+    /// columns named by foot (`left`, `right`); empty otherwise.
+    pub feet: Table,
+    /// A simulation's reference: the configurations it tracked (`nq` columns, as `q`); empty
+    /// for inverse dynamics.
+    pub reference: Table,
+    /// The pipeline's take these results were computed from (a BVH take's model and smoothed
+    /// states, before contact), so that an edit that keeps its states reuses them
+    /// ([`pipeline::take_from_bvh_reusing`]); `None` for a robot or a simulation.
+    pub source: Option<Arc<pipeline::Take>>,
 }
 
 /// Why a frame's accelerations and torques are left out of the figures quoted from them.
@@ -487,6 +525,20 @@ pub trait Engine: Send + Sync {
         params: &Params,
         ctl: &Control,
     ) -> Result<Analysis, Error>;
+    /// [`inverse_dynamics`](Self::inverse_dynamics) after `previous`, earlier results of the
+    /// same take: what the edit since does not change is reused (the built-in engine keeps
+    /// the smoothed states of an edit of masses, contact or quoted frames). The results are
+    /// those of `inverse_dynamics`, bit for bit. By default, computes everything.
+    fn inverse_dynamics_after(
+        &self,
+        take: &Take,
+        params: &Params,
+        previous: Option<&Analysis>,
+        ctl: &Control,
+    ) -> Result<Analysis, Error> {
+        let _ = previous;
+        self.inverse_dynamics(take, params, ctl)
+    }
     /// A computed-torque simulation tracking `take`; the results in the same shape.
     fn simulate(&self, take: &Take, params: &Params, ctl: &Control) -> Result<Analysis, Error>;
     /// Take `b` blended into take `a` over `window` (s).
@@ -646,25 +698,41 @@ impl Engine for Builtin {
         params: &Params,
         ctl: &Control,
     ) -> Result<Analysis, Error> {
+        self.inverse_dynamics_after(take, params, None, ctl)
+    }
+
+    fn inverse_dynamics_after(
+        &self,
+        take: &Take,
+        params: &Params,
+        previous: Option<&Analysis>,
+        ctl: &Control,
+    ) -> Result<Analysis, Error> {
         ctl.check()?;
         let mut note = String::new();
         let mut anatomy = Table::zeros(vec![], 0);
         let mut left_out = vec![];
         let mut anatomy_joints = vec![];
         let mut brief = String::new();
+        let mut source = None;
+        let mut feet = Table::zeros(vec![], 0);
         let (model, states, scale, grf) = match &take.data {
             TakeData::Bvh(bvh) => {
                 // the pipeline's stages: axes and unit, model, q, unwrap, smooth, differentiate
                 // (progress: the smoothing per coordinate, then the ground reactions or RNEA
                 // per frame)
-                let mut t = pipeline::take_from_bvh_with(
+                // stages 2–7; the states of `previous` when the edit keeps them
+                let mut t = pipeline::take_from_bvh_reusing(
                     Path::new(&take.source),
                     (**bvh).clone(),
                     &params.take,
+                    previous.and_then(|p| p.source.as_deref()),
                     &mut ctl.stage(0.0, 0.2),
+                    &mut |s| ctl.done(s),
                 )?;
                 ctl.set_progress(0.2);
                 ctl.check()?;
+                source = Some(Arc::new(t.clone()));
                 pipeline::resolve_contact(&mut t);
                 let scale = t.scale_to_m;
                 // the frames within the smoothing's reach of the ends, unless `edges include`
@@ -690,6 +758,8 @@ impl Engine for Builtin {
                         }
                     }
                     brief = contact_brief(&g.quality(), c.last().meets());
+                    ctl.done(Stage::Contact);
+                    feet = vertical_forces(&g);
                     let said = format!("{}; {}", g.quality(), c.headline());
                     note = if note.is_empty() {
                         said
@@ -725,6 +795,7 @@ impl Engine for Builtin {
                 if t.tau.len() < states.len() {
                     return Err(cancelled());
                 }
+                ctl.done(Stage::InverseDynamics);
                 t.tau
             }
         };
@@ -753,6 +824,9 @@ impl Engine for Builtin {
             anatomy,
             left_out,
             anatomy_joints,
+            feet,
+            source,
+            reference: Table::zeros(vec![], 0),
         })
     }
 
@@ -787,6 +861,8 @@ impl Engine for Builtin {
         let r = pipeline::simulate_states(&model, &states, &settings, &mut ctl.stage(0.05, 1.0))?
             .result;
         ctl.set_progress(1.0);
+        // the configurations it tracked
+        let reference = table(&model.q_names, &states.q);
         // accelerations are not recorded: differentiate the simulated velocities
         let dt = r.time.get(1).map_or(params.dt, |t1| t1 - r.time[0]);
         let mut a = Table::zeros(model.v_names.clone(), r.time.len());
@@ -818,6 +894,9 @@ impl Engine for Builtin {
             anatomy: Table::zeros(vec![], 0),
             left_out: vec![],
             anatomy_joints: vec![],
+            feet: Table::zeros(vec![], 0),
+            source: None,
+            reference,
         })
     }
 
@@ -876,6 +955,16 @@ impl Engine for Builtin {
         ctl.check()?;
         pipeline::export_smoothed_bvh(&t, path)
     }
+}
+
+/// Each foot's vertical ground force (N, up positive) per frame, columns named by foot.
+fn vertical_forces(g: &crate::dynamics::grf::GroundReactions) -> Table {
+    let rows: Vec<Vec<f64>> = g
+        .grf
+        .iter()
+        .map(|f| f.iter().map(|v| v[g.up]).collect())
+        .collect();
+    table(&g.feet, &rows)
 }
 
 /// The pipeline's take of a BVH take under `params` (what the exports write from); a robot

@@ -1,5 +1,6 @@
 //! The session language: a [`Workbench`] state changed only by [`Command`]s, session files
-//! (lists of commands) and their headless replay ([`run_session`]).
+//! (lists of commands) and their replay ([`run_session_with`], over a [`Frontend`]; the TUI's
+//! headless replay is `tui::run_session`).
 //!
 //! The terminal UI turns keys into the same commands, and its `:` command line takes the same
 //! syntax, so anything done by hand can be written down and replayed.
@@ -64,8 +65,10 @@
 //! then says the take's residuals against Hicks et al.'s thresholds), `edges exclude|include`
 //! (whether the frames within the smoothing's reach of the take's ends count in the
 //! accelerations' and torques' min, max, peak, mean and RMS, as `anatomy --edges`; frames whose
-//! residuals stay beyond the thresholds never count), `overlay mirror|none` (the curves also
-//! draw the selected coordinate's mirror, `knee_r` beside `knee_l`: a view setting, nothing is
+//! residuals stay beyond the thresholds never count), `overlay mirror|angle|feet|weights|sim|none`
+//! (what the curves add: the selected coordinate's mirror, `knee_r` beside `knee_l`; the moment
+//! against the angle; both feet's vertical ground forces; the torques of the last `compare
+//! weights` per body mass; the last `run sim`'s tracking error: a view setting, nothing is
 //! recomputed), `link.<joint>.mass KG`,
 //! `lock J1,J2,…` (or `none`),
 //! `keep_first_frame true|false` (keep a rest pose stored as frame 0, `--keep-first-frame`; it
@@ -76,6 +79,9 @@
 //! joint's coordinates or one coordinate: diagonal gains, as `--kp LeftLeg=900`),
 //! `integrator euler|semi-implicit|rk4|dopri5`, `dt S`; `blend.window S`.
 //! A robot's masses are those of its DH table or URDF.
+//! Every key is one row of [`settings::SETTINGS`]; `set KEY` without a value is an error
+//! that quotes the key's row (`usage: set KEY VALUE (set smooth none|gaussian:W|…: the
+//! smoothing of the joint angles …)`).
 //!
 //! Motor drives for `report motor` (the gear relations of report::motor: `τ_m = τ/(N·η)`,
 //! `ω_m = N·q̇`, `I = τ/(Km·N·η)`): `motor.km` (Km, N·m/A), `motor.gear` (N, motor turns per
@@ -103,7 +109,7 @@
 //!
 //! # Replay
 //!
-//! [`run_session`] parses the whole file first (a syntax error anywhere stops before anything
+//! [`run_session_with`] parses the whole file first (a syntax error anywhere stops before anything
 //! runs), then applies the commands in order and stops at the first failure; every error
 //! carries the session file and line. Replays are deterministic: no wall clock, no threads,
 //! shortest round-trip number formatting, so the same session writes byte-identical files.
@@ -120,6 +126,7 @@
 
 pub mod command;
 pub mod engine;
+pub mod settings;
 pub mod trajectory;
 pub mod units;
 pub mod workbench;
@@ -271,23 +278,21 @@ pub trait Frontend {
     fn screen(&mut self, wb: &Workbench) -> String;
 }
 
-/// Replays the session file at `path` headless; relative outputs go under `out_dir` (created
-/// if needed). `key` and `screen` drive the terminal UI on an off-screen 100×30 buffer.
-pub fn run_session(path: &Path, out_dir: &Path) -> Result<Report, SessionError> {
-    let mut ui = crate::tui::Ui::headless(100, 30);
-    run_session_with(path, out_dir, &mut ui)
-}
-
-/// [`run_session`] that keeps what the replay did up to an error: the report (with the failed
-/// `expect` recorded, `pass` false) and the error, if any (`articula run --json`).
-pub fn run_session_recorded(path: &Path, out_dir: &Path) -> (Report, Result<(), SessionError>) {
-    let mut ui = crate::tui::Ui::headless(100, 30);
+/// Replays the session at `path` with front end `frontend`, keeping what the replay did up to
+/// an error: the report (with the failed `expect` recorded, `pass` false) and the error, if any
+/// (`articula run --json`). The TUI's headless replay is `tui::run_session_recorded`.
+pub fn run_session_recorded_with(
+    path: &Path,
+    out_dir: &Path,
+    frontend: &mut dyn Frontend,
+) -> (Report, Result<(), SessionError>) {
     let mut report = Report::default();
-    let result = replay(path, out_dir, &mut ui, &mut report);
+    let result = replay(path, out_dir, frontend, &mut report);
     (report, result)
 }
 
-/// [`run_session`] with a given front end.
+/// Replays the session file at `path` with front end `frontend` (the TUI's headless replay
+/// is `tui::run_session`); relative outputs go under `out_dir` (created if needed).
 pub fn run_session_with(
     path: &Path,
     out_dir: &Path,

@@ -14,8 +14,11 @@
 use super::ui::Ui;
 use crate::session::Workbench;
 use crate::session::command::Quantity;
+use crate::session::engine::Analysis;
 use crate::session::units::{self, Kind};
-use crate::session::workbench::{angle_series, mirror_coord, torque_series};
+use crate::session::workbench::{
+    Overlay, angle_series, mirror_coord, reference_series, simulated_coord, torque_series,
+};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
@@ -157,59 +160,203 @@ fn bars(
 }
 
 /// One curve to draw: its name, quantity word, series (SI), kind and colour.
-struct Curve<'a> {
-    name: &'a str,
+struct Curve {
+    name: String,
     what: &'static str,
     x: Option<Vec<f64>>,
     kind: Kind,
     color: Color,
-    /// The mirror coordinate's name and series, with `set overlay mirror`.
-    mirror: Option<(String, Vec<f64>)>,
+    /// A force: its axis holds zero, and the frames not quoted are shaded and not in its
+    /// min/max.
+    forces: bool,
+    /// Further curves on the same scale (the mirror joint's, the other foot's, the other body
+    /// masses'): name, series (SI), colour.
+    others: Vec<(String, Vec<f64>, Color)>,
+    /// Drawn against this series (an angle, SI, of kind `Kind::Angle`) instead of time.
+    against: Option<Vec<f64>>,
+    /// Why there is nothing to draw (`run sim first`), when `x` is `None`.
+    missing: Option<String>,
+}
+
+impl Curve {
+    fn new(name: &str, what: &'static str, x: Option<Vec<f64>>, kind: Kind, color: Color) -> Self {
+        Self {
+            name: name.to_string(),
+            what,
+            x,
+            kind,
+            color,
+            forces: matches!(what, "torque" | "force" | "moment"),
+            others: vec![],
+            against: None,
+            missing: None,
+        }
+    }
+    fn missing(name: &str, what: &'static str, kind: Kind, why: String) -> Self {
+        Self {
+            missing: Some(why),
+            ..Self::new(name, what, None, kind, Color::Reset)
+        }
+    }
 }
 
 /// The colour of the mirror joint's curve.
 const MIRROR: Color = Color::Green;
 
-/// Draws the selected coordinate's two curves in `area` (sparklines or charts by its height).
-pub fn draw_curves(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
+/// The colours of the body masses of `compare weights`, in order (cycled past eleven).
+const PALETTE: [Color; 11] = [
+    Color::Magenta,
+    Color::Cyan,
+    Color::Green,
+    Color::Yellow,
+    Color::Red,
+    Color::Blue,
+    Color::LightMagenta,
+    Color::LightCyan,
+    Color::LightGreen,
+    Color::LightYellow,
+    Color::LightRed,
+];
+
+/// The two curves the pane draws for the selection and `set overlay`.
+fn curves_of(wb: &Workbench) -> [Curve; 2] {
     let sel = wb.selection.clone();
-    let r = wb.latest_results();
+    let r = wb.latest_results().map(|a| &**a);
+    let name = sel.as_deref().unwrap_or("no selection");
     // the angle of the selected coordinate (a rotation-vector component for ball joints) and
     // its torque
-    let angle = r.zip(sel.as_deref()).and_then(|(r, s)| angle_series(r, s));
-    let torque = r.zip(sel.as_deref()).and_then(|(r, s)| torque_series(r, s));
+    let series = |f: fn(&Analysis, &str) -> Option<Vec<f64>>| {
+        r.zip(sel.as_deref()).and_then(|(r, s)| f(r, s))
+    };
     let is_angle = match (r, sel.as_deref()) {
         (Some(r), Some(s)) => r.model.v_index(s).is_none_or(|k| r.model.is_angular(k)),
         _ => true,
     };
-    let name = sel.as_deref().unwrap_or("no selection");
-    let mirror = (wb.overlay_mirror)
-        .then(|| r.zip(sel.as_deref()))
-        .flatten()
-        .and_then(|(r, s)| Some((r, mirror_coord(r, s)?)));
-    let mirror_of = |series: fn(&crate::session::engine::Analysis, &str) -> Option<Vec<f64>>| {
-        mirror
-            .as_ref()
-            .and_then(|(r, m)| Some((m.clone(), series(r, m)?)))
+    let angle = || {
+        let what = if is_angle { "angle" } else { "position" };
+        let kind = Quantity::Angle.kind(is_angle);
+        Curve::new(name, what, series(angle_series), kind, Color::Cyan)
     };
-    let curves = [
-        Curve {
-            name,
-            what: if is_angle { "angle" } else { "position" },
-            x: angle,
-            kind: Quantity::Angle.kind(is_angle),
-            color: Color::Cyan,
-            mirror: mirror_of(angle_series),
-        },
-        Curve {
-            name,
-            what: if is_angle { "torque" } else { "force" },
-            x: torque,
-            kind: Quantity::Torque.kind(is_angle),
-            color: Color::Magenta,
-            mirror: mirror_of(torque_series),
-        },
-    ];
+    let torque = || {
+        let what = if is_angle { "torque" } else { "force" };
+        let kind = Quantity::Torque.kind(is_angle);
+        Curve::new(name, what, series(torque_series), kind, Color::Magenta)
+    };
+    match wb.overlay {
+        Overlay::None => [angle(), torque()],
+        Overlay::Mirror => {
+            let mirror = r
+                .zip(sel.as_deref())
+                .and_then(|(r, s)| Some((r, mirror_coord(r, s)?)));
+            let mut c = [angle(), torque()];
+            for (c, f) in c
+                .iter_mut()
+                .zip([angle_series, torque_series] as [fn(&Analysis, &str) -> Option<Vec<f64>>; 2])
+            {
+                if let Some((r, m)) = &mirror
+                    && let Some(y) = f(r, m)
+                {
+                    c.others.push((m.clone(), y, MIRROR));
+                }
+            }
+            c
+        }
+        // the moment against the angle: the joint's work loop
+        Overlay::Angle => {
+            let mut loop_ = torque();
+            loop_.against = series(angle_series);
+            [angle(), loop_]
+        }
+        Overlay::Feet => [torque(), feet(r)],
+        Overlay::Weights => [angle(), weights(wb)],
+        Overlay::Sim => sim_curves(wb, r, sel.as_deref()),
+    }
+}
+
+/// Both feet's vertical ground forces (with ground contact).
+fn feet(r: Option<&Analysis>) -> Curve {
+    let what = "vertical ground force";
+    let Some(f) = r.filter(|r| !r.feet.names.is_empty()).map(|r| &r.feet) else {
+        let why = "no ground forces: set contact feet".to_string();
+        return Curve::missing("feet", what, Kind::Force, why);
+    };
+    let foot = |j: usize| (format!("{} foot", f.names[j]), f.column(j));
+    let (name, x) = foot(0);
+    let mut c = Curve::new(&name, what, Some(x), Kind::Force, Color::Cyan);
+    c.forces = true;
+    c.others = (1..f.names.len())
+        .map(|j| {
+            let (n, y) = foot(j);
+            (n, y, Color::Magenta)
+        })
+        .collect();
+    c
+}
+
+/// The torque of the last `compare weights` per body mass.
+fn weights(wb: &Workbench) -> Curve {
+    let Some(cmp) = &wb.comparison else {
+        let why = "no comparison: compare weights 60,80,100 PATH first".to_string();
+        return Curve::missing("weights", "torque", Kind::Torque, why);
+    };
+    let mut runs = cmp.runs.iter().zip(PALETTE.iter().cycle());
+    let Some(((m0, x0), &c0)) = runs.next() else {
+        return Curve::missing("weights", "torque", Kind::Torque, "no masses".into());
+    };
+    let name = format!("{} at {m0} kg", cmp.coord);
+    let mut c = Curve::new(&name, "torque", Some(x0.clone()), cmp.kind, c0);
+    c.others = runs
+        .map(|((m, x), &col)| (format!("{m} kg"), x.clone(), col))
+        .collect();
+    c
+}
+
+/// The simulation's angle over the take's and its tracking error (`q_sim − q_ref`) of the
+/// selected coordinate (an anatomical axis: its joint's coordinate of largest motion).
+fn sim_curves(wb: &Workbench, r: Option<&Analysis>, sel: Option<&str>) -> [Curve; 2] {
+    let Some((sim, _)) = &wb.sim else {
+        let why = || "no simulation: run sim".to_string();
+        return [
+            Curve::missing("sim", "angle", Kind::Angle, why()),
+            Curve::missing("sim", "tracking error", Kind::Angle, why()),
+        ];
+    };
+    let coord = sel.and_then(|s| simulated_coord(r.unwrap_or(sim), sim, s));
+    let Some(c) = coord else {
+        let why = || {
+            format!(
+                "{}: no coordinate of the simulation",
+                sel.unwrap_or("no selection")
+            )
+        };
+        return [
+            Curve::missing("sim", "angle", Kind::Angle, why()),
+            Curve::missing("sim", "tracking error", Kind::Angle, why()),
+        ];
+    };
+    let angular = sim
+        .model
+        .v_index(&c)
+        .is_none_or(|k| sim.model.is_angular(k));
+    let kind = Quantity::Angle.kind(angular);
+    let (q, q_ref) = (angle_series(sim, &c), reference_series(sim, &c));
+    let mut a = Curve::new(&c, "simulated", q.clone(), kind, Color::Cyan);
+    if let Some(y) = &q_ref {
+        a.others.push(("reference".into(), y.clone(), Color::Green));
+    }
+    let e = q
+        .zip(q_ref)
+        .map(|(q, y)| q.iter().zip(&y).map(|(a, b)| a - b).collect());
+    let mut err = Curve::new(&c, "tracking error", e, kind, Color::Red);
+    err.forces = false;
+    [a, err]
+}
+
+/// Draws the selected coordinate's two curves in `area` (sparklines or charts by its height),
+/// or what `set overlay` puts there.
+pub fn draw_curves(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
+    let r = wb.latest_results();
+    let curves = curves_of(wb);
     let charts = area.height >= 2 * 6;
     let halves: [Rect; 2] = if charts {
         // the lower chart also holds the time axis (2 rows)
@@ -220,12 +367,13 @@ pub fn draw_curves(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     };
     for (i, (c, rect)) in curves.into_iter().zip(halves).enumerate() {
         let Some(x) = &c.x else {
-            let p = Paragraph::new(format!("{} {}: no results", c.name, c.what));
+            let why = c.missing.clone().unwrap_or_else(|| "no results".into());
+            let p = Paragraph::new(format!("{} {}: {why}", c.name, c.what));
             f.render_widget(p, rect);
             continue;
         };
         // a torque's frames left out (edge, beyond the feet) are shaded and not in its min/max
-        let forces = c.what == "torque" || c.what == "force";
+        let forces = c.forces;
         let quoted = |k: usize| !forces || r.is_none_or(|r| r.quoted(k));
         let [l, s] = Layout::vertical([Constraint::Length(1), Constraint::Min(1)]).areas(rect);
         f.render_widget(
@@ -233,7 +381,9 @@ pub fn draw_curves(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
             l,
         );
         let shaded = ui.fg(Color::DarkGray).add_modifier(Modifier::DIM);
-        if charts {
+        if let Some(angle) = &c.against {
+            draw_against(ui, wb, f, s, &c, x, angle);
+        } else if charts {
             // the time axis once, under the lower chart
             draw_chart(ui, wb, f, s, &c, x, quoted, i == 1);
         } else {
@@ -252,7 +402,11 @@ fn label(c: &Curve, x: &[f64], k: usize, quoted: impl Fn(usize) -> bool + Copy) 
     // the label in the coordinate's own unit, rounded by its kind
     let unit = units::shown_unit(c.kind);
     let n = |v| units::format_number(c.kind, v);
-    let (name, what) = (c.name, c.what);
+    let what = match c.against {
+        Some(_) => format!("{} against angle", c.what),
+        None => c.what.to_string(),
+    };
+    let name = c.name.as_str();
     let label = match running_stats(x, k, quoted) {
         Some((Some((min, max)), now)) => format!(
             "{name} {what} [{unit}]  min {}  max {}  now {}",
@@ -263,13 +417,13 @@ fn label(c: &Curve, x: &[f64], k: usize, quoted: impl Fn(usize) -> bool + Copy) 
         Some((None, now)) => format!("{name} {what} [{unit}]  now {}", n(now)),
         None => format!("{name} {what}"),
     };
-    let label = match &c.mirror {
-        Some((m, y)) => match y.get(k.min(y.len().saturating_sub(1))) {
-            Some(&v) => format!("{label}  │ {m} now {}", n(v)),
-            None => label,
-        },
-        None => label,
-    };
+    // the other curves' values now (the mirror joint, the other foot, the other masses)
+    let mut label = label;
+    for (m, y, _) in &c.others {
+        if let Some(&v) = y.get(k.min(y.len().saturating_sub(1))) {
+            label = format!("{label}  │ {m} now {}", n(v));
+        }
+    }
     if left_out > 0 {
         format!("{label}  ({left_out} shaded frames not quoted)")
     } else {
@@ -311,15 +465,21 @@ fn draw_chart(
         (lo, hi) if lo <= hi => (lo, hi),
         _ => range(&|_| true),
     };
-    // the mirror's curve on the same scale (its quoted frames are the take's)
-    let mirror: Vec<(f64, f64)> = (c.mirror.iter())
-        .flat_map(|(_, y)| y.iter().enumerate().map(|(k, &v)| (t(k), shown(v))))
+    // the other curves on the same scale (their quoted frames are the take's)
+    let others: Vec<Vec<(f64, f64)>> = (c.others.iter())
+        .map(|(_, y, _)| {
+            y.iter()
+                .enumerate()
+                .map(|(k, &v)| (t(k), shown(v)))
+                .collect()
+        })
         .collect();
-    let (lo, hi) = (mirror.iter().enumerate())
+    let (lo, hi) = (others.iter())
+        .flat_map(|o| o.iter().enumerate())
         .filter(|&(k, _)| quoted(k))
         .fold((lo, hi), |(lo, hi), (_, p)| (lo.min(p.1), hi.max(p.1)));
     // a force's sign is what a reader looks for: its axis always holds zero
-    let forces = c.what == "torque" || c.what == "force";
+    let forces = c.forces;
     let (lo, hi) = if forces {
         (lo.min(0.0), hi.max(0.0))
     } else {
@@ -387,15 +547,15 @@ fn draw_chart(
                 .data(piece),
         );
     }
-    // the mirror under the selected curve, which is drawn over it
-    if !mirror.is_empty() {
+    // the other curves under the selected one, which is drawn over them
+    for (o, (_, _, color)) in others.iter().zip(&c.others).rev() {
         sets.insert(
             usize::from(y0 < 0.0 && y1 > 0.0),
             Dataset::default()
                 .marker(Marker::Braille)
                 .graph_type(GraphType::Line)
-                .style(Style::default().fg(MIRROR))
-                .data(&mirror),
+                .style(Style::default().fg(*color))
+                .data(o),
         );
     }
     sets.push(
@@ -456,6 +616,86 @@ fn draw_chart(
             }
         }
     }
+}
+
+/// A braille chart of `y` (a moment, SI) against `angle` (SI): the joint's work loop, the
+/// current frame marked, zero lines where the ranges span zero, the ends of both axes
+/// labelled with their units.
+fn draw_against(
+    ui: &Ui,
+    wb: &Workbench,
+    f: &mut Frame,
+    area: Rect,
+    c: &Curve,
+    y: &[f64],
+    angle: &[f64],
+) {
+    let pts: Vec<(f64, f64)> = angle
+        .iter()
+        .zip(y)
+        .map(|(&a, &m)| (units::shown(Kind::Angle, a).0, units::shown(c.kind, m).0))
+        .collect();
+    let span = |i: usize| {
+        let (lo, hi) = pts
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                let v = if i == 0 { p.0 } else { p.1 };
+                (lo.min(v), hi.max(v))
+            });
+        let ticks = nice_ticks(lo, hi, 6);
+        (ticks[0], ticks[ticks.len() - 1])
+    };
+    let ((x0, x1), (y0, y1)) = (span(0), span(1));
+    let now = pts.get(wb.frame.min(pts.len().saturating_sub(1))).copied();
+    let now: Vec<(f64, f64)> = now.into_iter().collect();
+    let (zx, zy) = ([(x0, 0.0), (x1, 0.0)], [(0.0, y0), (0.0, y1)]);
+    let mut sets = vec![];
+    if y0 < 0.0 && y1 > 0.0 {
+        sets.push(zero_line(ui, &zx));
+    }
+    if x0 < 0.0 && x1 > 0.0 {
+        sets.push(zero_line(ui, &zy));
+    }
+    sets.push(
+        Dataset::default()
+            .marker(Marker::Braille)
+            .graph_type(GraphType::Line)
+            .style(ui.fg(c.color))
+            .data(&pts),
+    );
+    sets.push(
+        Dataset::default()
+            .marker(Marker::Block)
+            .graph_type(GraphType::Scatter)
+            .style(ui.fg(Color::Yellow).add_modifier(Modifier::BOLD))
+            .data(&now),
+    );
+    let fmt = |v: f64, lo: f64, hi: f64| tick_label(v, (hi - lo).max(1e-9));
+    let (ua, um) = (units::shown_unit(Kind::Angle), units::shown_unit(c.kind));
+    let (mut x_axis, mut y_axis) = (
+        Axis::default().bounds([x0, x1]),
+        Axis::default().bounds([y0, y1]).style(ui.fg(Color::Gray)),
+    );
+    // the ends of both axes labelled when there is room; the compact form is the loop alone
+    // (its label says what it is)
+    if area.height >= 6 {
+        x_axis = x_axis.labels([fmt(x0, x0, x1), format!("angle [{ua}] {}", fmt(x1, x0, x1))]);
+        y_axis = y_axis.labels([fmt(y0, y0, y1), format!("{} {um}", fmt(y1, y0, y1))]);
+    }
+    let chart = Chart::new(sets)
+        .x_axis(x_axis)
+        .y_axis(y_axis)
+        .legend_position(None::<LegendPosition>);
+    f.render_widget(chart, area);
+}
+
+/// A dotted grey zero line through `pts`.
+fn zero_line<'a>(ui: &Ui, pts: &'a [(f64, f64)]) -> Dataset<'a> {
+    Dataset::default()
+        .marker(Marker::Dot)
+        .graph_type(GraphType::Line)
+        .style(ui.fg(Color::Gray))
+        .data(pts)
 }
 
 /// The colour of a torque's frames that are not quoted.

@@ -407,12 +407,7 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
                 None => key,
             },
         };
-        let unit = match *param {
-            "body.mass" | "link.<selected>.mass" => " kg",
-            "blend.window" | "dt" => " s",
-            "motor.<selected>.km" => " N·m/A",
-            _ => "",
-        };
+        let unit = param.panel.map_or("", |p| p.unit);
         let v = format!("{value}{unit}");
         // the value whole, the label elided in the middle when both do not fit
         let label = elide_middle(&label, w.saturating_sub(v.chars().count() + 1).max(1));
@@ -558,6 +553,15 @@ fn draw_status(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     } else {
         let msg = wb.last_message();
         let first = msg.lines().next().unwrap_or("");
+        // the time of the recompute that said it, as the message's last clause
+        let timed;
+        let first = match ui.recompute_ms {
+            Some((ms, n)) if n == wb.messages.len() => {
+                timed = format!("{first}; recomputed in {ms} ms");
+                timed.as_str()
+            }
+            _ => first,
+        };
         let hint = format!("   [{}]  ? help  : command  q quit", ui.focus.name());
         let (text, hint) = fit_status(first, &hint, area.width as usize);
         Line::from(vec![
@@ -599,7 +603,8 @@ parameters    ↑/↓ choose, ←/→ or -/+ change (results recompute), Enter e
 timeline      ←/→ one frame, ↑/↓ ten frames, click to jump
 anywhere      Space play/pause, [ ] one frame, { } ten frames, g/G first/last frame,
               t/T the next/previous loaded take (:take N|NAME), m the mirror joint's
-              curves beside the selected one's (:set overlay mirror|none)
+              curves beside the selected one's (:set overlay mirror|none; also
+              angle, feet, weights, sim: docs/workbench.md)
 Esc           cancel the running job (⟳ in the status line) and what waits for it; clear an error
 Commands are the session language: load, set, run, select, frame, export, expect, ...";
 

@@ -41,6 +41,27 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Once};
 use std::time::{Duration, Instant};
 
+/// Replays the session file at `path` headless, `key` and `screen` driving the UI on an
+/// off-screen 100×30 buffer; relative outputs go under `out_dir` (created if needed).
+pub fn run_session(
+    path: &std::path::Path,
+    out_dir: &std::path::Path,
+) -> Result<crate::session::Report, crate::session::SessionError> {
+    crate::session::run_session_with(path, out_dir, &mut Ui::headless(100, 30))
+}
+
+/// [`run_session`] that keeps what the replay did up to an error: the report (with the failed
+/// `expect` recorded) and the error, if any (`articula run --json`).
+pub fn run_session_recorded(
+    path: &std::path::Path,
+    out_dir: &std::path::Path,
+) -> (
+    crate::session::Report,
+    Result<(), crate::session::SessionError>,
+) {
+    crate::session::run_session_recorded_with(path, out_dir, &mut Ui::headless(100, 30))
+}
+
 /// True while the terminal is in raw mode on the alternate screen.
 static ACTIVE: AtomicBool = AtomicBool::new(false);
 static HOOK: Once = Once::new();

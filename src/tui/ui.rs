@@ -1,9 +1,11 @@
 //! The interface state ([`Ui`]) and input handling: keys and mouse → [`Command`]s applied to
 //! the [`Workbench`]. Drawing is in [`super::draw`], a pure function of `(Ui, Workbench)`.
 
+use crate::session::command::COMMAND_WORDS;
 use crate::session::command::Expectation;
-use crate::session::command::{COMMAND_WORDS, SET_KEYS};
-use crate::session::engine::{Control, SmoothSpec};
+use crate::session::engine::Control;
+use crate::session::settings::{self, Setting, Subject};
+use crate::session::workbench::Overlay;
 use crate::session::{
     Command, Frontend, Job, JobResult, Outcome, RunKind, SessionError, TakeRef, Workbench,
     apply_frontend, apply_with, parse_line,
@@ -40,36 +42,10 @@ impl Focus {
     }
 }
 
-/// An editable parameter of the parameter panel: its `set` key.
-pub const PARAMS: &[&str] = &[
-    "body.mass",
-    "smooth",
-    "blend.window",
-    "link.<selected>.mass",
-    "kp",
-    "kv",
-    "integrator",
-    "dt",
-];
-
-/// The parameter panel of a robot arm: the drive of the selected joint, then the simulation.
-pub const ROBOT_PARAMS: &[&str] = &[
-    "motor.<selected>.gear",
-    "motor.<selected>.km",
-    "motor.<selected>.efficiency",
-    "kp",
-    "kv",
-    "integrator",
-    "dt",
-];
-
-/// The rows of the parameter panel for the active take.
-pub fn params_of(wb: &Workbench) -> &'static [&'static str] {
-    if wb.take().is_some_and(|t| t.robot().is_some()) {
-        ROBOT_PARAMS
-    } else {
-        PARAMS
-    }
+/// The rows of the parameter panel for the active take (the settings' table's panel rows:
+/// a robot's drives and simulation, or a human take's body, smoothing and simulation).
+pub fn params_of(wb: &Workbench) -> Vec<&'static Setting> {
+    settings::panel(wb.take().is_some_and(|t| t.robot().is_some()))
 }
 
 /// A computation running on the worker thread, as the UI sees it.
@@ -83,6 +59,8 @@ pub struct Running {
     pub replaceable: bool,
     /// Where the worker sends its result.
     rx: Receiver<JobResult>,
+    /// When the job started (the recompute time in the status line).
+    started: std::time::Instant,
 }
 
 impl Drop for Running {
@@ -136,6 +114,10 @@ pub struct Ui {
     recompute: bool,
     /// The last error, shown in the status line until the next command.
     pub error: Option<String>,
+    /// The wall time of the last recompute on the worker (ms) and the number of messages
+    /// once it was stored: the status line shows it beside that message. Never set in sync
+    /// mode, so replays stay deterministic.
+    pub recompute_ms: Option<(u128, usize)>,
     pub quit: bool,
     /// Screen size for `screen` in headless mode.
     pub size: (u16, u16),
@@ -169,6 +151,7 @@ impl Ui {
             queue: VecDeque::new(),
             recompute: false,
             error: None,
+            recompute_ms: None,
             quit: false,
             size: (80, 24),
             drawn: Cell::new((0, 0)),
@@ -296,6 +279,7 @@ impl Ui {
             control,
             replaceable,
             rx,
+            started: std::time::Instant::now(),
         });
         Ok(())
     }
@@ -323,7 +307,12 @@ impl Ui {
                 return true;
             }
         };
+        let (ms, recompute) = (r.started.elapsed().as_millis(), r.replaceable);
+        let stored = !done.is_cancelled();
         self.finish(wb, done);
+        if recompute && stored && self.error.is_none() {
+            self.recompute_ms = Some((ms, wb.messages.len()));
+        }
         true
     }
 
@@ -488,7 +477,11 @@ impl Ui {
             KeyCode::Char('t') => self.exec(wb, &Command::Take(TakeRef::Next)),
             // the mirror joint's curve beside the selected one's: `set overlay mirror|none`
             KeyCode::Char('m') => {
-                let value = if wb.overlay_mirror { "none" } else { "mirror" };
+                let value = if wb.overlay == Overlay::Mirror {
+                    "none"
+                } else {
+                    "mirror"
+                };
                 let cmd = Command::Set {
                     key: "overlay".into(),
                     value: value.into(),
@@ -599,61 +592,16 @@ impl Ui {
 
     /// The `set` key and current value of parameter row `i`.
     pub fn param_row(&self, wb: &Workbench, i: usize) -> Option<(String, String)> {
-        let p = &wb.params;
-        let key = *params_of(wb).get(i)?;
-        if let Some(field) = key.strip_prefix("motor.<selected>.") {
-            // the drive of the selected coordinate
-            let sel = wb.selection.as_deref()?;
-            let m = p.motor_of(sel);
-            let value = match field {
-                "gear" => m.gear_ratio,
-                "km" => m.km_nm_per_a,
-                _ => m.eta(),
-            };
-            return Some((format!("motor.{sel}.{field}"), format!("{value}")));
-        }
-        Some(match key {
-            "body.mass" => (key.into(), format!("{}", p.take.body.mass_kg)),
-            "smooth" => (
-                key.into(),
-                p.take.smooth.map_or("auto".into(), |s| s.to_string()),
-            ),
-            "blend.window" => (key.into(), format!("{}", p.blend_window)),
-            "kp" => (key.into(), format!("{}", p.kp.all)),
-            "kv" => (key.into(), format!("{}", p.kv.all)),
-            "integrator" => (key.into(), p.integrator.clone()),
-            "dt" => (key.into(), format!("{}", p.dt)),
-            _ => {
-                let cur = Self::tree_cursor(wb)?;
-                let tree = Self::tree(wb);
-                let joint = tree[cur].0.as_str();
-                let value = match p.take.body.link_mass.get(joint) {
-                    Some(m) => format!("{m}"),
-                    None => match wb.latest_results() {
-                        Some(r) => {
-                            // the mass sits on the last body of the joint's chain
-                            let m: f64 = r
-                                .model
-                                .body_names
-                                .iter()
-                                .zip(&r.model.inertia)
-                                .zip(&r.model.joint_names)
-                                .filter(|((n, _), jn)| {
-                                    *jn == joint
-                                        || n.rsplit_once('.').map_or(n.as_str(), |(j, _)| j)
-                                            == joint
-                                })
-                                .map(|(x, _)| x)
-                                .map(|(_, i)| i.mass)
-                                .sum();
-                            format!("{}", (m * 1000.0).round() / 1000.0)
-                        }
-                        None => "auto".into(),
-                    },
-                };
-                (format!("link.{joint}.mass"), value)
-            }
-        })
+        let row = *params_of(wb).get(i)?;
+        let panel = row.panel?;
+        // a pattern key's joint: the tree cursor's, or the selected coordinate
+        let subject = match panel.subject {
+            Subject::None => String::new(),
+            Subject::Joint => Self::tree(wb)[Self::tree_cursor(wb)?].0.clone(),
+            Subject::Selection => wb.selection.clone()?,
+        };
+        let value = (panel.show)(wb, &subject)?;
+        Some((row.key_for(&subject), value))
     }
 
     /// Steps the parameter under the cursor up (`dir = 1`) or down (`-1`) and applies it.
@@ -661,57 +609,12 @@ impl Ui {
         let Some((key, value)) = self.param_row(wb, self.param_cursor) else {
             return;
         };
-        let num = value.parse::<f64>().ok();
-        let new = match (key.as_str(), num) {
-            ("body.mass", Some(m)) => format!("{}", (m + 5.0 * dir).max(5.0)),
-            // `auto` steps from the default it stands for
-            ("smooth", _) => match wb.params.take.smooth.unwrap_or(SmoothSpec::Butterworth {
-                cutoff_hz: crate::pipeline::DEFAULT_CUTOFF_HZ,
-                order: 2,
-            }) {
-                SmoothSpec::None if dir > 0.0 => "gaussian:0.005".into(),
-                SmoothSpec::None => return,
-                SmoothSpec::Gaussian { sigma_s } => {
-                    let w = ((sigma_s + 0.005 * dir) * 1000.0).round() / 1000.0;
-                    if w <= 0.0 {
-                        "none".into()
-                    } else {
-                        format!("gaussian:{w}")
-                    }
-                }
-                // a wider kernel is a lower cutoff; the order is kept
-                SmoothSpec::Butterworth { cutoff_hz, order } => SmoothSpec::Butterworth {
-                    cutoff_hz: (cutoff_hz - dir).max(1.0),
-                    order,
-                }
-                .to_string(),
-            },
-            ("blend.window", Some(w)) => {
-                format!("{}", ((w + 0.1 * dir).max(0.1) * 10.0).round() / 10.0)
-            }
-            ("kp", Some(k)) => format!("{}", (k + 50.0 * dir).max(0.0)),
-            ("kv", Some(k)) => format!("{}", (k + 5.0 * dir).max(0.0)),
-            ("dt", Some(d)) => format!("{}", if dir > 0.0 { d * 2.0 } else { d / 2.0 }),
-            ("integrator", _) => {
-                const ALL: [&str; 4] = ["euler", "semi-implicit", "rk4", "dopri5"];
-                let i = ALL.iter().position(|x| *x == value).unwrap_or(2);
-                ALL[(i + if dir > 0.0 { 1 } else { 3 }) % 4].to_string()
-            }
-            // a drive: gear ratio and Km by 5 % steps, efficiency by 0.05 in (0, 1]
-            (k, Some(x)) if k.ends_with(".gear") || k.ends_with(".km") => {
-                let f = if dir > 0.0 { 1.05 } else { 1.0 / 1.05 };
-                format!("{}", (x * f * 1e4).round() / 1e4)
-            }
-            (k, Some(x)) if k.ends_with(".efficiency") => {
-                format!(
-                    "{}",
-                    ((x + 0.05 * dir).clamp(0.05, 1.0) * 100.0).round() / 100.0
-                )
-            }
-            (_, Some(m)) => format!("{}", ((m + 0.5 * dir).max(0.0) * 1000.0).round() / 1000.0),
-            _ => return,
+        let Some(panel) = params_of(wb)[self.param_cursor].panel else {
+            return;
         };
-        self.exec(wb, &Command::Set { key, value: new });
+        if let Some(new) = (panel.step)(wb, &value, dir) {
+            self.exec(wb, &Command::Set { key, value: new });
+        }
     }
 
     /// Keys while the `:` command line is open.
@@ -865,8 +768,7 @@ pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
         .unwrap_or_default();
     let pool: Vec<String> = match head {
         [] => COMMAND_WORDS.iter().map(|s| s.to_string()).collect(),
-        ["set"] => SET_KEYS
-            .iter()
+        ["set"] => settings::names()
             .filter(|k| !k.contains('<'))
             .map(|s| s.to_string())
             .chain(joints.iter().map(|j| format!("link.{j}.mass")))
@@ -877,18 +779,12 @@ pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
                     .flat_map(|c| ["km", "gear", "efficiency"].map(|f| format!("motor.{c}.{f}"))),
             )
             .collect(),
-        ["set", "joints"] => vec!["euler".into(), "ball".into()],
-        ["set", "contact"] => vec!["auto".into(), "feet".into(), "none".into()],
-        ["set", "consistent"] => vec!["auto".into(), "on".into(), "off".into()],
-        ["set", "edges"] => vec!["exclude".into(), "include".into()],
-        ["set", "overlay"] => vec!["mirror".into(), "none".into()],
-        ["set", "joint_translations"] => vec!["weld".into(), "keep".into()],
-        ["set", "integrator"] => ["euler", "semi-implicit", "rk4", "dopri5"]
-            .map(String::from)
-            .to_vec(),
-        ["set", "smooth"] => ["none", "gaussian:0.02", "butterworth:6hz"]
-            .map(String::from)
-            .to_vec(),
+        // a setting's values, from its row
+        ["set", key] if settings::find(key).is_some_and(|(r, _)| !r.values.is_empty()) => {
+            settings::find(key).map_or(vec![], |(r, _)| {
+                r.values.iter().map(|v| v.to_string()).collect()
+            })
+        }
         // joints first; coordinates once the word names a joint and a dot
         ["select"] | ["compare", "weights", _, "joint"] if last.contains('.') => coords.clone(),
         ["select"] | ["compare", "weights", _, "joint"] => joints.clone(),

@@ -1,0 +1,171 @@
+//! An edit recomputes only what it changes (issue 17 item 4), and what it recomputes equals a
+//! full recompute bit for bit:
+//! - a mass edit (body mass, a link's mass) builds the model again and reruns contact and
+//!   inverse dynamics, but not the coordinates, unwrapping, smoothing or derivatives: the
+//!   smoothed states read no mass;
+//! - a smoothing edit reruns the smoothing and all that follows;
+//! - a gain, integrator or step edit is the simulation's: inverse dynamics stays fresh.
+//!
+//! Stage runs are counted through the pipeline's `done(Stage)` hook (`Control::done`,
+//! `Workbench::stage_runs`), never timed.
+
+mod common;
+
+use articula::pipeline::stages::Stage;
+use articula::session::{Analysis, Workbench};
+use common::workbench::{ok, wb_in};
+use std::sync::Arc;
+
+/// Every number of the results as bits: q, v, a, torques, anatomical series, feet's forces.
+fn bits(r: &Analysis) -> Vec<u64> {
+    [
+        &r.q.data,
+        &r.v.data,
+        &r.a.data,
+        &r.tau.data,
+        &r.anatomy.data,
+        &r.feet.data,
+        &r.time,
+    ]
+    .into_iter()
+    .flatten()
+    .map(|x| x.to_bits())
+    .collect()
+}
+
+fn results(wb: &Workbench) -> Arc<Analysis> {
+    wb.fresh_results().expect("fresh results").clone()
+}
+
+/// A fresh workbench on the demo walk with `settings` applied before its only run.
+fn full_recompute(dir: &std::path::Path, settings: &[&str]) -> Arc<Analysis> {
+    let mut wb = wb_in(dir);
+    ok(&mut wb, "load demo:walk");
+    for s in settings {
+        ok(&mut wb, s);
+    }
+    ok(&mut wb, "run id");
+    assert_eq!(wb.stage_runs(Stage::Smooth), 1);
+    results(&wb)
+}
+
+#[test]
+fn a_mass_edit_reruns_inverse_dynamics_but_not_the_smoothing_and_equals_a_full_recompute() {
+    let dir = tempfile::tempdir().unwrap();
+    for contact in ["set contact none", "set contact feet"] {
+        let mut wb = wb_in(dir.path());
+        ok(&mut wb, "load demo:walk");
+        ok(&mut wb, contact);
+        ok(&mut wb, "run id");
+        let first = results(&wb);
+        let (smooth, model, id) = (
+            wb.stage_runs(Stage::Smooth),
+            wb.stage_runs(Stage::Model),
+            wb.stage_runs(Stage::InverseDynamics) + wb.stage_runs(Stage::Contact),
+        );
+        assert_eq!(smooth, 1, "{contact}");
+
+        ok(&mut wb, "set body.mass 91");
+        ok(&mut wb, "set link.LeftLeg.mass 4.5");
+        ok(&mut wb, "run id");
+        let edited = results(&wb);
+        assert_eq!(
+            wb.stage_runs(Stage::Smooth),
+            smooth,
+            "{contact}: smoothing reran"
+        );
+        assert_eq!(wb.stage_runs(Stage::Derivatives), smooth, "{contact}");
+        assert_eq!(wb.stage_runs(Stage::Model), model + 1, "{contact}");
+        assert_eq!(
+            wb.stage_runs(Stage::InverseDynamics) + wb.stage_runs(Stage::Contact),
+            id + 1,
+            "{contact}: inverse dynamics (or contact) did not rerun"
+        );
+        // the edit changed the torques, and they are those of a full recompute
+        assert_ne!(bits(&first), bits(&edited), "{contact}");
+        let full = full_recompute(
+            dir.path(),
+            &[contact, "set body.mass 91", "set link.LeftLeg.mass 4.5"],
+        );
+        assert!(bits(&edited) == bits(&full), "{contact}: not bit-identical");
+        assert_eq!(edited.note, full.note);
+        assert_eq!(edited.left_out, full.left_out);
+    }
+}
+
+#[test]
+fn a_smoothing_edit_reruns_the_smoothing_and_a_gain_edit_reruns_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut wb = wb_in(dir.path());
+    ok(&mut wb, "load demo:walk");
+    ok(&mut wb, "run id");
+    assert_eq!(wb.stage_runs(Stage::Smooth), 1);
+
+    // the simulation's settings leave inverse dynamics fresh: nothing to recompute
+    for s in [
+        "set kp 500",
+        "set kv 45",
+        "set integrator euler",
+        "set dt 2ms",
+    ] {
+        ok(&mut wb, s);
+        assert!(wb.fresh_results().is_some(), "{s} made the results stale");
+    }
+
+    ok(&mut wb, "set smooth gaussian:0.02");
+    assert!(wb.fresh_results().is_none());
+    ok(&mut wb, "run id");
+    assert_eq!(wb.stage_runs(Stage::Smooth), 2);
+    let edited = results(&wb);
+    let full = full_recompute(dir.path(), &["set smooth gaussian:0.02"]);
+    assert!(bits(&edited) == bits(&full));
+
+    // a model edit (the joint model) recomputes everything too
+    ok(&mut wb, "set joints ball");
+    ok(&mut wb, "run id");
+    assert_eq!(wb.stage_runs(Stage::Smooth), 3);
+}
+
+/// On the worker, the status line says how long the recompute after an edit took; a mass
+/// edit there reruns no smoothing either.
+#[test]
+fn the_status_line_shows_the_recompute_time_of_an_edit() {
+    use articula::session::parse_line;
+    use articula::tui::Ui;
+    let dir = tempfile::tempdir().unwrap();
+    let mut wb = wb_in(dir.path());
+    let mut ui = Ui::new();
+    ui.color = false;
+    let wait = |ui: &mut Ui, wb: &mut Workbench| {
+        let start = std::time::Instant::now();
+        while ui.running.is_some() {
+            ui.poll(wb);
+            assert!(start.elapsed().as_secs() < 120, "no result: a hang");
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+    };
+    ui.exec(&mut wb, &parse_line("load demo:walk", 1).unwrap().unwrap());
+    wait(&mut ui, &mut wb);
+    ui.exec(
+        &mut wb,
+        &parse_line("set body.mass 90", 1).unwrap().unwrap(),
+    );
+    assert!(ui.running.is_some(), "the edit started no recompute");
+    wait(&mut ui, &mut wb);
+    assert!(ui.error.is_none(), "{:?}", ui.error);
+    assert_eq!(wb.stage_runs(Stage::Smooth), 1);
+    assert!(ui.recompute_ms.is_some());
+    let screen = ui.render_text(&wb);
+    let status = screen.lines().last().unwrap_or("");
+    assert!(
+        status.contains("recomputed in ") && status.contains(" ms"),
+        "{status}"
+    );
+    // another message replaces it
+    ui.exec(
+        &mut wb,
+        &parse_line("select LeftUpLeg", 1).unwrap().unwrap(),
+    );
+    let screen = ui.render_text(&wb);
+    assert!(!screen.contains("recomputed in"), "{screen}");
+}
