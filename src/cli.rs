@@ -1041,7 +1041,7 @@ fn print_notes(take: Option<&pipeline::Take>) {
     }
 }
 
-/// Writes the sidecar `NAME.json` of the CSV just written at `output` (none for `-` or a
+/// Writes the sidecar `NAME.csv.json` of the CSV just written at `output` (none for `-` or a
 /// device) and says so; returns its path.
 fn sidecar(
     output: &Path,

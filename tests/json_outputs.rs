@@ -3,7 +3,7 @@
 //!
 //! Invariants: every column of every CSV the binary writes has a kind in
 //! `report::columns::KINDS` and a unit (one table-driven test over the commands); the sidecar
-//! `NAME.json` parses, lists exactly the header's columns, and gives each the unit the table
+//! `NAME.csv.json` parses, lists exactly the header's columns, and gives each the unit the table
 //! gives it; each `--json` parses and has its documented keys.
 
 mod common;
@@ -35,8 +35,15 @@ fn run(args: &[&str], take: &Path, out: &Path) -> Vec<u8> {
     o.stdout
 }
 
+/// `NAME.csv.json` beside `NAME.csv` (docs/formats.md).
+fn sidecar_path(csv: &Path) -> std::path::PathBuf {
+    let mut name = csv.as_os_str().to_owned();
+    name.push(".json");
+    name.into()
+}
+
 fn sidecar_of(csv: &Path) -> Sidecar {
-    let text = std::fs::read_to_string(csv.with_extension("json"))
+    let text = std::fs::read_to_string(sidecar_path(csv))
         .unwrap_or_else(|e| panic!("{}: no sidecar: {e}", csv.display()));
     serde_json::from_str(&text).unwrap()
 }
@@ -156,7 +163,7 @@ fn standard_output_gets_no_sidecar_and_old_bare_torque_names_are_still_read() {
     let out = run(&["id", "{take}", "--contact", "none", "-o", "-"], &take, d);
     let text = String::from_utf8(out).unwrap();
     assert!(text.starts_with("time,tau:"), "{}", &text[..60]);
-    assert!(!d.join("-.json").exists() && !d.join(".json").exists());
+    assert!(!d.join("-.json").exists() && !d.join("-.csv.json").exists());
     // torques under the bare names `id` wrote before the scheme give the same accelerations
     let t = d.join("t.csv");
     std::fs::write(&t, &text).unwrap();
@@ -292,10 +299,7 @@ fn info_export_smooth_and_blend_json_parse_with_their_keys() {
         &states,
     ));
     assert_eq!(v["format"], "csv");
-    assert_eq!(
-        v["written"][1],
-        states.with_extension("json").display().to_string()
-    );
+    assert_eq!(v["written"][1], sidecar_path(&states).display().to_string());
     assert_eq!(
         v["frames"].as_u64().unwrap() as usize,
         read_columns(&states).unwrap().1[0].len()
