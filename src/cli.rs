@@ -411,7 +411,8 @@ pub struct ConsistencyArgs {
     /// Print a JSON summary on standard output (on standard error with `-o -`). `anatomy`: the
     /// consistency summary (keys thresholds, before, after, adjustments, meets, why,
     /// frames_beyond) instead of the table. `id`: keys frames, ground_reactions, coordinates
-    /// (peak |τ|, its time, RMS per coordinate), root_residual, contact_quality, consistency
+    /// (peak |τ|, its time, RMS per coordinate, and whether they lie on frames whose ground
+    /// force the feet cannot give), root_residual, contact_quality, consistency
     /// (the same summary, with contact), notes.
     #[arg(long)]
     pub json: bool,

@@ -262,6 +262,79 @@ fn id_json_has_figures_per_coordinate_and_the_root_residual() {
     assert_eq!(v["root_residual"].as_array().unwrap().len(), 0);
 }
 
+/// Issue 16: `id --json` says, per coordinate, whether its peak and RMS lie on frames whose
+/// needed ground force the feet cannot give (`cop_gap` beyond 2 cm): the peak frame flagged or
+/// not, the RMS² share of the flagged frames, the peak over the others; figures recomputed here
+/// from the estimate's own per-frame gap and the torques.
+#[test]
+fn id_json_says_per_coordinate_how_much_lies_on_frames_the_feet_cannot_carry() {
+    use articula::dynamics::grf::COP_GAP_TOLERANCE;
+    use articula::pipeline::{self, Contact, StateColumns, TakeOptions};
+    let dir = tempfile::tempdir().unwrap();
+    let take = common::repo("data/demo_walk.bvh");
+    let out = dir.path().join("id.csv");
+    let v: serde_json::Value = serde_json::from_slice(&run(
+        &["id", "{take}", "--contact", "feet", "--json", "-o", "{out}"],
+        &take,
+        &out,
+    ))
+    .unwrap();
+    // the same job in the library: its estimate's flagged frames
+    let opts = TakeOptions {
+        contact: Contact::Feet,
+        ..TakeOptions::default()
+    };
+    let src = pipeline::ModelSource::Take(take.clone());
+    let job = pipeline::load_source_with(&src, None, &opts, StateColumns::QVA).unwrap();
+    let (t, grf) = pipeline::job_torques(&job).unwrap();
+    let flagged: Vec<bool> = (grf.unwrap().cop_gap.iter())
+        .map(|&g| g > COP_GAP_TOLERANCE)
+        .collect();
+    let n_flagged = flagged.iter().filter(|&&f| f).count();
+    assert!(n_flagged > 0 && n_flagged < flagged.len(), "{n_flagged}");
+    assert_eq!(v["contact_quality"]["flagged_frames"], n_flagged);
+    let coords = v["coordinates"].as_array().unwrap();
+    assert_eq!(coords.len(), t.names.len());
+    let (mut on_peak, mut off_peak) = (0, 0);
+    for (j, e) in coords.iter().enumerate() {
+        let x: Vec<f64> = t.tau.iter().map(|r| r[j]).collect();
+        let c = &e["contact"];
+        let peak_k = (0..x.len())
+            .max_by(|&a, &b| x[a].abs().total_cmp(&x[b].abs()).then(b.cmp(&a)))
+            .unwrap();
+        assert_eq!(c["peak_frame_flagged"], flagged[peak_k], "{}", e["name"]);
+        let unflagged = (0..x.len())
+            .filter(|&k| !flagged[k])
+            .map(|k| x[k].abs())
+            .fold(0.0, f64::max);
+        let got = c["peak_abs_unflagged"].as_f64().unwrap();
+        assert!((got - unflagged).abs() <= 1e-12 * (1.0 + unflagged));
+        let total: f64 = x.iter().map(|a| a * a).sum();
+        let share = (0..x.len())
+            .filter(|&k| flagged[k])
+            .map(|k| x[k] * x[k])
+            .sum::<f64>()
+            / total;
+        let got = c["rms_share_flagged"].as_f64().unwrap();
+        assert!((got - share).abs() < 1e-9, "{}: {got} {share}", e["name"]);
+        if flagged[peak_k] {
+            on_peak += 1
+        } else {
+            off_peak += 1
+        }
+    }
+    // the walk has coordinates of both sorts
+    assert!(on_peak > 0 && off_peak > 0, "{on_peak} {off_peak}");
+    // without contact there is nothing to judge by
+    let v: serde_json::Value = serde_json::from_slice(&run(
+        &["id", "{take}", "--contact", "none", "--json", "-o", "{out}"],
+        &take,
+        &out,
+    ))
+    .unwrap();
+    assert!(v["coordinates"][0]["contact"].is_null());
+}
+
 #[test]
 fn info_export_smooth_and_blend_json_parse_with_their_keys() {
     let dir = tempfile::tempdir().unwrap();
