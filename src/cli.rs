@@ -217,6 +217,12 @@ pub enum Cmd {
         take: PathBuf,
         #[command(flatten)]
         opts: TakeArgs,
+        /// How the BVH is written: `portable` (every reader reads it alike: constant position
+        /// channels below the root folded into the OFFSETs, the root's OFFSET zero; see
+        /// docs/animation-tools.md) or `as-read` (every joint's channels and OFFSET as the
+        /// input had them).
+        #[arg(long, default_value = "portable")]
+        bvh_style: String,
         /// Print what was written as JSON (as `export --json`); on standard error with `-o -`.
         #[arg(long)]
         json: bool,
@@ -247,6 +253,12 @@ pub enum Cmd {
         /// default, as every other command does).
         #[arg(long)]
         keep_first_frame: bool,
+        /// How the BVH is written: `portable` (every reader reads it alike: constant position
+        /// channels below the root folded into the OFFSETs, the root's OFFSET zero; see
+        /// docs/animation-tools.md) or `as-read` (every joint's channels and OFFSET as the
+        /// input had them).
+        #[arg(long, default_value = "portable")]
+        bvh_style: String,
         /// Print what was written as JSON (as `export --json`); on standard error with `-o -`.
         #[arg(long)]
         json: bool,
@@ -919,11 +931,13 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         Cmd::Smooth {
             take,
             opts,
+            bvh_style,
             json,
             output,
         } => {
+            let style: articula::io::bvh::BvhStyle = bvh_style.parse()?;
             let take = pipeline::load_take(&take, &opts.options_for("smooth")?)?;
-            pipeline::export_smoothed_bvh(&take, &output)?;
+            pipeline::export_smoothed_bvh_as(&take, &output, style)?;
             wrote(&output);
             if json {
                 let written = std::slice::from_ref(&output);
@@ -940,10 +954,12 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             time_scale,
             up,
             keep_first_frame,
+            bvh_style,
             json,
             output,
         } => {
             let up = up.map(|u| u.parse()).transpose()?;
+            let style: articula::io::bvh::BvhStyle = bvh_style.parse()?;
             let notes = pipeline::blend_files(
                 &takes,
                 &window,
@@ -952,6 +968,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 time_scale,
                 up,
                 keep_first_frame,
+                style,
                 &output,
             )?;
             for n in &notes {

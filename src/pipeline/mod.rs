@@ -39,7 +39,7 @@ pub use contact::{
     estimate_take_ground_reactions_with, ground_reactions, ground_reactions_with, resolve_contact,
     take_feet,
 };
-pub use edit::{blend_files, export_smoothed_bvh};
+pub use edit::{blend_files, export_smoothed_bvh, export_smoothed_bvh_as};
 pub use mujoco::{export_mjcf, floor_level};
 pub use sim::{
     Bench, SimSettings, SimSummary, Tradeoff, TradeoffRow, bench, bench_batches,

@@ -269,6 +269,7 @@ pub const SET_KEYS: &[&str] = &[
     "overlay",
     "keep_first_frame",
     "joint_translations",
+    "bvh_style",
     "kp",
     "kv",
     "kp.<joint>",

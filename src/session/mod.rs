@@ -70,7 +70,8 @@
 //! `keep_first_frame true|false` (keep a rest pose stored as frame 0, `--keep-first-frame`; it
 //! acts when a take is read, so it applies to the takes loaded after it),
 //! `joint_translations weld|keep` (position channels on joints below the body's root held at
-//! their mean, or prismatic coordinates, `--joint-translations`); of the simulation:
+//! their mean, or prismatic coordinates, `--joint-translations`); `bvh_style portable|as-read`
+//! (how `export bvh` writes the take, `--bvh-style`); of the simulation:
 //! `kp X`, `kv X` (every coordinate's gain, 1/s² and 1/s), `kp.<joint> X`, `kv.<joint> X` (one
 //! joint's coordinates or one coordinate: diagonal gains, as `--kp LeftLeg=900`),
 //! `integrator euler|semi-implicit|rk4|dopri5`, `dt S`; `blend.window S`.

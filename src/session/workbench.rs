@@ -1443,6 +1443,7 @@ impl Workbench {
             }
             "keep_first_frame" => p.take.keep_first_frame = parsed::<bool>(key, value)?,
             "joint_translations" => p.take.joint_translations = parsed(key, value)?,
+            "bvh_style" => p.bvh_style = parsed(key, value)?,
             "kp" => p.kp.all = num(None, "a gain in 1/s²")?,
             "kv" => p.kv.all = num(None, "a gain in 1/s")?,
             "integrator" => {
