@@ -486,3 +486,71 @@ fn run_json_gives_every_expect_with_its_value_and_the_failing_one() {
     assert_eq!(v["expectations"][1]["pass"], false);
     assert!(v["error"].as_str().unwrap().contains("expect"), "{v}");
 }
+
+/// Issue 16: the session's tables follow the scheme and get their sidecars too: `compare
+/// weights` (`time`, `tau:<coord>:<mass>kg`) and `report motor curves` (`time`, then per joint
+/// `tau:`, `v:`, `power:`, `current:`), each with `NAME.csv.json` giving every column its unit.
+#[test]
+fn the_session_tables_follow_the_scheme_with_their_sidecars() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let take = walk(d, 0.5);
+    let m = model(&take);
+    // (the session command, the file, a column it must have with its unit)
+    let writers: &[(&str, &str, &str, &str)] = &[
+        (
+            "compare weights 60,80 joint LeftLeg.Xrotation",
+            "weights.csv",
+            "tau:LeftLeg.Xrotation:80kg",
+            "N*m",
+        ),
+        (
+            "report motor curves",
+            "motor.csv",
+            "current:LeftLeg.Xrotation",
+            "A",
+        ),
+    ];
+    let mut text = format!("load {}\nselect LeftLeg\n", take.display());
+    for (command, file, _, _) in writers {
+        text.push_str(&format!("{command} {}\n", d.join(file).display()));
+    }
+    let session = d.join("tables.session");
+    std::fs::write(&session, text).unwrap();
+    articula().arg("run").arg(&session).assert().success();
+    for (command, file, column, unit) in writers {
+        let out = d.join(file);
+        let (header, cols) = read_columns(&out).unwrap();
+        assert_eq!(header[0], "time", "{command}");
+        assert!(cols[0].len() > 10, "{command}");
+        let side = sidecar_of(&out);
+        assert_eq!(side.file, *file);
+        let names: Vec<&str> = side.columns.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(names, header, "{command}: the sidecar lists the header");
+        for (c, h) in side.columns.iter().zip(&header) {
+            let kind = columns::kind_of(h).unwrap_or_else(|| panic!("{command}: {h} has no kind"));
+            assert_eq!(c.quantity, kind.quantity, "{command}: {h}");
+            assert_eq!(
+                c.unit,
+                columns::unit_of(h, Some(&m)).unwrap(),
+                "{command}: {h}"
+            );
+        }
+        let c = side.columns.iter().find(|c| c.name == *column);
+        assert_eq!(
+            c.map(|c| c.unit.as_str()),
+            Some(*unit),
+            "{command}: {column} in {header:?}"
+        );
+    }
+    // the mass is a component of the name: 60 kg and 80 kg of the same coordinate
+    let (header, _) = read_columns(&d.join("weights.csv")).unwrap();
+    assert_eq!(
+        header,
+        [
+            "time",
+            "tau:LeftLeg.Xrotation:60kg",
+            "tau:LeftLeg.Xrotation:80kg"
+        ]
+    );
+}

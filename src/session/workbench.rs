@@ -459,6 +459,7 @@ impl Job {
         let take = self.take()?;
         let n = masses.len().max(1) as f64;
         let mut runs = Vec::with_capacity(masses.len());
+        let mut model = None; // the coordinates' model, for the sidecar's units
         for (i, &mass_kg) in masses.iter().enumerate() {
             ctl.set_span(i as f64 / n, (i + 1) as f64 / n);
             let mut params = self.params.clone();
@@ -466,6 +467,7 @@ impl Job {
             let r = self.engine.inverse_dynamics(take, &params, ctl)?;
             let tau = torque_series(&r, coord)
                 .ok_or_else(|| err(format!("no coordinate '{coord}' in the model")))?;
+            model = Some(r.model.clone());
             runs.push(MassRun {
                 mass_kg,
                 tau,
@@ -474,12 +476,15 @@ impl Job {
             });
         }
         let text = if is_csv(out) {
-            knee::curves_csv(&runs)?
+            knee::curves_csv(coord, &runs)?
         } else {
             knee::knee_svg_with_table(coord, &runs)?
         };
         ctl.check()?;
         crate::io::write_atomic(out, text.as_bytes())?;
+        if is_csv(out) {
+            table_sidecar(out, "compare weights", model.as_deref())?;
+        }
         let message = format!(
             "compared {coord} torque at {} kg: wrote {}",
             masses
@@ -569,6 +574,9 @@ impl Job {
         };
         ctl.check()?;
         crate::io::write_atomic(out, text.as_bytes())?;
+        if curves {
+            table_sidecar(out, "report motor curves", Some(m.as_ref()))?;
+        }
         let classes: Vec<String> = loads
             .iter()
             .map(|l| format!("{} {}", l.joint, motor::class_name(l)))
@@ -578,6 +586,24 @@ impl Job {
             message: format!("motors: {}; wrote {}", classes.join(", "), out.display()),
         })
     }
+}
+
+/// The sidecar `NAME.csv.json` of a table the session wrote in the column scheme (its units
+/// from `model`'s coordinates; docs/formats.md).
+fn table_sidecar(
+    out: &Path,
+    command: &'static str,
+    model: Option<&crate::model::Model>,
+) -> Result<(), SessionError> {
+    let p = crate::pipeline::summary::Provenance {
+        command,
+        arguments: &[],
+        take: None,
+        model,
+        notes: &[],
+    };
+    crate::pipeline::summary::write_sidecar(out, &p)?;
+    Ok(())
 }
 
 /// The message of a `load`.
