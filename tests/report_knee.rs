@@ -157,7 +157,7 @@ fn table_csv_round_trips() {
 #[test]
 fn curves_csv_has_time_and_one_column_per_mass() {
     let r = runs();
-    let text = curves_csv("knee_l", &r).unwrap();
+    let text = curves_csv("tau", "knee_l", &r).unwrap();
     let (h, cols) = parse_columns(&text, Path::new("c.csv")).unwrap();
     assert_eq!(
         h,
@@ -172,7 +172,7 @@ fn curves_csv_has_time_and_one_column_per_mass() {
     assert_eq!(cols[3], r[2].tau);
     let mut late = r.clone();
     late[1].t[5] += 1e-9;
-    assert!(curves_csv("knee_l", &late).is_err());
+    assert!(curves_csv("tau", "knee_l", &late).is_err());
 }
 
 #[test]

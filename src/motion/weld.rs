@@ -170,6 +170,9 @@ pub fn held_shape(bvh: &Bvh, mode: PositionMode) -> Option<(Bvh, Vec<ResolvedPos
     let modes = resolve_position_modes(bvh, mode);
     let mut held = bvh.clone();
     weld_at_mean(&mut held, &modes, 1.0, pelvis);
+    // exact translations: the same body whatever decimals the file printed (a file in another
+    // unit); a written file's rounding to its decimals moves them by half a unit of the last
+    held.decimals.clear();
     let shape = portable(&held, &modes);
     let shape_modes = resolve_position_modes(&shape, mode);
     Some((shape, shape_modes))

@@ -460,6 +460,7 @@ impl Job {
         let n = masses.len().max(1) as f64;
         let mut runs = Vec::with_capacity(masses.len());
         let mut model = None; // the coordinates' model, for the sidecar's units
+        let mut kind = "tau"; // a model coordinate's torque, or an anatomical axis's moment
         for (i, &mass_kg) in masses.iter().enumerate() {
             ctl.set_span(i as f64 / n, (i + 1) as f64 / n);
             let mut params = self.params.clone();
@@ -468,6 +469,9 @@ impl Job {
             let tau = torque_series(&r, coord)
                 .ok_or_else(|| err(format!("no coordinate '{coord}' in the model")))?;
             model = Some(r.model.clone());
+            if r.tau.col_index(coord).is_none() {
+                kind = "moment";
+            }
             runs.push(MassRun {
                 mass_kg,
                 tau,
@@ -476,7 +480,7 @@ impl Job {
             });
         }
         let text = if is_csv(out) {
-            knee::curves_csv(coord, &runs)?
+            knee::curves_csv(kind, coord, &runs)?
         } else {
             knee::knee_svg_with_table(coord, &runs)?
         };
