@@ -505,12 +505,6 @@ fn the_session_tables_follow_the_scheme_with_their_sidecars() {
             "N*m",
         ),
         (
-            "compare weights 60,80 joint knee_l:flexion",
-            "weights_knee.csv",
-            "moment:knee_l:flexion:60kg",
-            "N*m",
-        ),
-        (
             "report motor curves",
             "motor.csv",
             "current:LeftLeg.Xrotation",
