@@ -236,6 +236,12 @@ pub enum Cmd {
         take: PathBuf,
         #[command(flatten)]
         opts: TakeArgs,
+        /// How the BVH is written: `portable` (every reader reads it alike: constant position
+        /// channels below the root folded into the OFFSETs, the root's OFFSET zero; see
+        /// docs/animation-tools.md) or `as-read` (every joint's channels and OFFSET as the
+        /// input had them).
+        #[arg(long, default_value = "portable")]
+        bvh_style: String,
         /// Print what was written as JSON (as `export --json`); on standard error with `-o -`.
         #[arg(long)]
         json: bool,
@@ -266,6 +272,12 @@ pub enum Cmd {
         /// default, as every other command does).
         #[arg(long)]
         keep_first_frame: bool,
+        /// How the BVH is written: `portable` (every reader reads it alike: constant position
+        /// channels below the root folded into the OFFSETs, the root's OFFSET zero; see
+        /// docs/animation-tools.md) or `as-read` (every joint's channels and OFFSET as the
+        /// input had them).
+        #[arg(long, default_value = "portable")]
+        bvh_style: String,
         /// Print what was written as JSON (as `export --json`); on standard error with `-o -`.
         #[arg(long)]
         json: bool,
@@ -432,7 +444,8 @@ pub struct ConsistencyArgs {
     /// Print a JSON summary on standard output (on standard error with `-o -`). `anatomy`: the
     /// consistency summary (keys thresholds, before, after, adjustments, meets, why,
     /// frames_beyond) instead of the table. `id`: keys frames, ground_reactions, coordinates
-    /// (peak |τ|, its time, RMS per coordinate), root_residual, contact_quality, consistency
+    /// (peak |τ|, its time, RMS per coordinate, and whether they lie on frames whose ground
+    /// force the feet cannot give), root_residual, contact_quality, consistency
     /// (the same summary, with contact), notes.
     #[arg(long)]
     pub json: bool,
@@ -993,11 +1006,13 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         Cmd::Smooth {
             take,
             opts,
+            bvh_style,
             json,
             output,
         } => {
+            let style: articula::io::bvh::BvhStyle = bvh_style.parse()?;
             let take = pipeline::load_take(&take, &opts.options_for("smooth")?)?;
-            pipeline::export_smoothed_bvh(&take, &output)?;
+            pipeline::export_smoothed_bvh_as(&take, &output, style)?;
             wrote(&output);
             if json {
                 let written = std::slice::from_ref(&output);
@@ -1014,10 +1029,12 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             time_scale,
             up,
             keep_first_frame,
+            bvh_style,
             json,
             output,
         } => {
             let up = up.map(|u| u.parse()).transpose()?;
+            let style: articula::io::bvh::BvhStyle = bvh_style.parse()?;
             let notes = pipeline::blend_files(
                 &takes,
                 &window,
@@ -1026,6 +1043,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 time_scale,
                 up,
                 keep_first_frame,
+                style,
                 &output,
             )?;
             for n in &notes {
@@ -1116,7 +1134,7 @@ fn print_notes(take: Option<&pipeline::Take>) {
     }
 }
 
-/// Writes the sidecar `NAME.json` of the CSV just written at `output` (none for `-` or a
+/// Writes the sidecar `NAME.csv.json` of the CSV just written at `output` (none for `-` or a
 /// device) and says so; returns its path.
 fn sidecar(
     output: &Path,

@@ -264,3 +264,35 @@ fn the_take_command_may_follow_the_inputs_without_a_separator() {
         "{rows:?}"
     );
 }
+
+/// Issue 16: a batch's `info` (`<take>.json`) and `id` (`<take>.csv` and its sidecar
+/// `<take>.csv.json`) into one folder keep both: the sidecar's name is the CSV's whole name
+/// with `.json` added, so it never takes another output's.
+#[test]
+fn info_and_id_into_one_folder_keep_both_their_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    for command in [&["info"][..], &["id", "--contact", "none"][..]] {
+        articula()
+            .arg("batch")
+            .arg(demo())
+            .arg("-o")
+            .arg(&out)
+            .arg("--")
+            .args(command)
+            .assert()
+            .success();
+    }
+    let read = |name: &str| -> serde_json::Value {
+        let text = std::fs::read_to_string(out.join(name)).unwrap();
+        serde_json::from_str(&text).unwrap()
+    };
+    // info's own JSON, untouched by id's sidecar
+    assert_eq!(read("demo_walk.json")["frames"], 480);
+    let side = read("demo_walk.csv.json");
+    assert_eq!(side["command"], "id");
+    assert_eq!(side["file"], "demo_walk.csv");
+    assert_eq!(side["columns"][0]["name"], "time");
+    let (header, _) = read_columns(&out.join("demo_walk.csv")).unwrap();
+    assert_eq!(side["columns"].as_array().unwrap().len(), header.len());
+}

@@ -3,7 +3,7 @@
 //!
 //! Invariants: every column of every CSV the binary writes has a kind in
 //! `report::columns::KINDS` and a unit (one table-driven test over the commands); the sidecar
-//! `NAME.json` parses, lists exactly the header's columns, and gives each the unit the table
+//! `NAME.csv.json` parses, lists exactly the header's columns, and gives each the unit the table
 //! gives it; each `--json` parses and has its documented keys.
 
 mod common;
@@ -35,8 +35,15 @@ fn run(args: &[&str], take: &Path, out: &Path) -> Vec<u8> {
     o.stdout
 }
 
+/// `NAME.csv.json` beside `NAME.csv` (docs/formats.md).
+fn sidecar_path(csv: &Path) -> std::path::PathBuf {
+    let mut name = csv.as_os_str().to_owned();
+    name.push(".json");
+    name.into()
+}
+
 fn sidecar_of(csv: &Path) -> Sidecar {
-    let text = std::fs::read_to_string(csv.with_extension("json"))
+    let text = std::fs::read_to_string(sidecar_path(csv))
         .unwrap_or_else(|e| panic!("{}: no sidecar: {e}", csv.display()));
     serde_json::from_str(&text).unwrap()
 }
@@ -156,7 +163,7 @@ fn standard_output_gets_no_sidecar_and_old_bare_torque_names_are_still_read() {
     let out = run(&["id", "{take}", "--contact", "none", "-o", "-"], &take, d);
     let text = String::from_utf8(out).unwrap();
     assert!(text.starts_with("time,tau:"), "{}", &text[..60]);
-    assert!(!d.join("-.json").exists() && !d.join(".json").exists());
+    assert!(!d.join("-.json").exists() && !d.join("-.csv.json").exists());
     // torques under the bare names `id` wrote before the scheme give the same accelerations
     let t = d.join("t.csv");
     std::fs::write(&t, &text).unwrap();
@@ -255,6 +262,79 @@ fn id_json_has_figures_per_coordinate_and_the_root_residual() {
     assert_eq!(v["root_residual"].as_array().unwrap().len(), 0);
 }
 
+/// Issue 16: `id --json` says, per coordinate, whether its peak and RMS lie on frames whose
+/// needed ground force the feet cannot give (`cop_gap` beyond 2 cm): the peak frame flagged or
+/// not, the RMS² share of the flagged frames, the peak over the others; figures recomputed here
+/// from the estimate's own per-frame gap and the torques.
+#[test]
+fn id_json_says_per_coordinate_how_much_lies_on_frames_the_feet_cannot_carry() {
+    use articula::dynamics::grf::COP_GAP_TOLERANCE;
+    use articula::pipeline::{self, Contact, StateColumns, TakeOptions};
+    let dir = tempfile::tempdir().unwrap();
+    let take = common::repo("data/demo_walk.bvh");
+    let out = dir.path().join("id.csv");
+    let v: serde_json::Value = serde_json::from_slice(&run(
+        &["id", "{take}", "--contact", "feet", "--json", "-o", "{out}"],
+        &take,
+        &out,
+    ))
+    .unwrap();
+    // the same job in the library: its estimate's flagged frames
+    let opts = TakeOptions {
+        contact: Contact::Feet,
+        ..TakeOptions::default()
+    };
+    let src = pipeline::ModelSource::Take(take.clone());
+    let job = pipeline::load_source_with(&src, None, &opts, StateColumns::QVA).unwrap();
+    let (t, grf) = pipeline::job_torques(&job).unwrap();
+    let flagged: Vec<bool> = (grf.unwrap().cop_gap.iter())
+        .map(|&g| g > COP_GAP_TOLERANCE)
+        .collect();
+    let n_flagged = flagged.iter().filter(|&&f| f).count();
+    assert!(n_flagged > 0 && n_flagged < flagged.len(), "{n_flagged}");
+    assert_eq!(v["contact_quality"]["flagged_frames"], n_flagged);
+    let coords = v["coordinates"].as_array().unwrap();
+    assert_eq!(coords.len(), t.names.len());
+    let (mut on_peak, mut off_peak) = (0, 0);
+    for (j, e) in coords.iter().enumerate() {
+        let x: Vec<f64> = t.tau.iter().map(|r| r[j]).collect();
+        let c = &e["contact"];
+        let peak_k = (0..x.len())
+            .max_by(|&a, &b| x[a].abs().total_cmp(&x[b].abs()).then(b.cmp(&a)))
+            .unwrap();
+        assert_eq!(c["peak_frame_flagged"], flagged[peak_k], "{}", e["name"]);
+        let unflagged = (0..x.len())
+            .filter(|&k| !flagged[k])
+            .map(|k| x[k].abs())
+            .fold(0.0, f64::max);
+        let got = c["peak_abs_unflagged"].as_f64().unwrap();
+        assert!((got - unflagged).abs() <= 1e-12 * (1.0 + unflagged));
+        let total: f64 = x.iter().map(|a| a * a).sum();
+        let share = (0..x.len())
+            .filter(|&k| flagged[k])
+            .map(|k| x[k] * x[k])
+            .sum::<f64>()
+            / total;
+        let got = c["rms_share_flagged"].as_f64().unwrap();
+        assert!((got - share).abs() < 1e-9, "{}: {got} {share}", e["name"]);
+        if flagged[peak_k] {
+            on_peak += 1
+        } else {
+            off_peak += 1
+        }
+    }
+    // the walk has coordinates of both sorts
+    assert!(on_peak > 0 && off_peak > 0, "{on_peak} {off_peak}");
+    // without contact there is nothing to judge by
+    let v: serde_json::Value = serde_json::from_slice(&run(
+        &["id", "{take}", "--contact", "none", "--json", "-o", "{out}"],
+        &take,
+        &out,
+    ))
+    .unwrap();
+    assert!(v["coordinates"][0]["contact"].is_null());
+}
+
 #[test]
 fn info_export_smooth_and_blend_json_parse_with_their_keys() {
     let dir = tempfile::tempdir().unwrap();
@@ -292,10 +372,7 @@ fn info_export_smooth_and_blend_json_parse_with_their_keys() {
         &states,
     ));
     assert_eq!(v["format"], "csv");
-    assert_eq!(
-        v["written"][1],
-        states.with_extension("json").display().to_string()
-    );
+    assert_eq!(v["written"][1], sidecar_path(&states).display().to_string());
     assert_eq!(
         v["frames"].as_u64().unwrap() as usize,
         read_columns(&states).unwrap().1[0].len()
@@ -408,4 +485,72 @@ fn run_json_gives_every_expect_with_its_value_and_the_failing_one() {
     assert_eq!(v["ok"], false);
     assert_eq!(v["expectations"][1]["pass"], false);
     assert!(v["error"].as_str().unwrap().contains("expect"), "{v}");
+}
+
+/// Issue 16: the session's tables follow the scheme and get their sidecars too: `compare
+/// weights` (`time`, `tau:<coord>:<mass>kg`) and `report motor curves` (`time`, then per joint
+/// `tau:`, `v:`, `power:`, `current:`), each with `NAME.csv.json` giving every column its unit.
+#[test]
+fn the_session_tables_follow_the_scheme_with_their_sidecars() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let take = walk(d, 0.5);
+    let m = model(&take);
+    // (the session command, the file, a column it must have with its unit)
+    let writers: &[(&str, &str, &str, &str)] = &[
+        (
+            "compare weights 60,80 joint LeftLeg.Xrotation",
+            "weights.csv",
+            "tau:LeftLeg.Xrotation:80kg",
+            "N*m",
+        ),
+        (
+            "report motor curves",
+            "motor.csv",
+            "current:LeftLeg.Xrotation",
+            "A",
+        ),
+    ];
+    let mut text = format!("load {}\nselect LeftLeg\n", take.display());
+    for (command, file, _, _) in writers {
+        text.push_str(&format!("{command} {}\n", d.join(file).display()));
+    }
+    let session = d.join("tables.session");
+    std::fs::write(&session, text).unwrap();
+    articula().arg("run").arg(&session).assert().success();
+    for (command, file, column, unit) in writers {
+        let out = d.join(file);
+        let (header, cols) = read_columns(&out).unwrap();
+        assert_eq!(header[0], "time", "{command}");
+        assert!(cols[0].len() > 10, "{command}");
+        let side = sidecar_of(&out);
+        assert_eq!(side.file, *file);
+        let names: Vec<&str> = side.columns.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(names, header, "{command}: the sidecar lists the header");
+        for (c, h) in side.columns.iter().zip(&header) {
+            let kind = columns::kind_of(h).unwrap_or_else(|| panic!("{command}: {h} has no kind"));
+            assert_eq!(c.quantity, kind.quantity, "{command}: {h}");
+            assert_eq!(
+                c.unit,
+                columns::unit_of(h, Some(&m)).unwrap(),
+                "{command}: {h}"
+            );
+        }
+        let c = side.columns.iter().find(|c| c.name == *column);
+        assert_eq!(
+            c.map(|c| c.unit.as_str()),
+            Some(*unit),
+            "{command}: {column} in {header:?}"
+        );
+    }
+    // the mass is a component of the name: 60 kg and 80 kg of the same coordinate
+    let (header, _) = read_columns(&d.join("weights.csv")).unwrap();
+    assert_eq!(
+        header,
+        [
+            "time",
+            "tau:LeftLeg.Xrotation:60kg",
+            "tau:LeftLeg.Xrotation:80kg"
+        ]
+    );
 }

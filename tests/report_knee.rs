@@ -157,14 +157,22 @@ fn table_csv_round_trips() {
 #[test]
 fn curves_csv_has_time_and_one_column_per_mass() {
     let r = runs();
-    let text = curves_csv(&r).unwrap();
+    let text = curves_csv("tau", "knee_l", &r).unwrap();
     let (h, cols) = parse_columns(&text, Path::new("c.csv")).unwrap();
-    assert_eq!(h, ["t_s", "tau_60kg_Nm", "tau_80kg_Nm", "tau_100kg_Nm"]);
+    assert_eq!(
+        h,
+        [
+            "time",
+            "tau:knee_l:60kg",
+            "tau:knee_l:80kg",
+            "tau:knee_l:100kg"
+        ]
+    );
     assert_eq!(cols[0], r[0].t);
     assert_eq!(cols[3], r[2].tau);
     let mut late = r.clone();
     late[1].t[5] += 1e-9;
-    assert!(curves_csv(&late).is_err());
+    assert!(curves_csv("tau", "knee_l", &late).is_err());
 }
 
 #[test]

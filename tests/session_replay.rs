@@ -74,7 +74,10 @@ fn a_study_replays_and_writes_its_outputs_deterministically() {
     // with de Leva's fractions the knee torque scales with body mass (the masses scale every
     // link alike)
     let knee = std::fs::read_to_string(out1.join("knee.csv")).unwrap();
-    assert!(knee.starts_with("t_s,tau_60kg_Nm,tau_100kg_Nm\n"), "{knee}");
+    assert!(
+        knee.starts_with("time,tau:LeftLeg.Xrotation:60kg,tau:LeftLeg.Xrotation:100kg\n"),
+        "{knee}"
+    );
     for row in knee.lines().skip(1).step_by(37) {
         let v: Vec<f64> = row.split(',').map(|x| x.parse().unwrap()).collect();
         assert!(

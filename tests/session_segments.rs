@@ -31,7 +31,7 @@ fn per_kg(path: &std::path::Path) -> Vec<Vec<f64>> {
         .map(|m| {
             let j = header
                 .iter()
-                .position(|h| *h == format!("tau_{m}kg_Nm"))
+                .position(|h| *h == format!("tau:LeftLeg.Xrotation:{m}kg"))
                 .unwrap_or_else(|| panic!("no column for {m} kg in {header:?}"));
             cols[j].iter().map(|tau| tau / m).collect()
         })

@@ -269,7 +269,7 @@ fn a_parameter_changed_during_a_job_applies_at_once_and_its_recompute_follows() 
     assert!(ui.error.is_none(), "{:?}", ui.error);
     let csv = std::fs::read_to_string(dir.path().join("knee.csv")).unwrap();
     assert!(
-        csv.starts_with("t_s,tau_60kg_Nm,tau_100kg_Nm"),
+        csv.starts_with("time,tau:LeftLeg.Xrotation:60kg,tau:LeftLeg.Xrotation:100kg"),
         "{}",
         &csv[..60]
     );

@@ -107,6 +107,12 @@ pub struct BvhModelOptions {
     /// bone is part of its parent's (the parent's end at the helper becomes the helper's child:
     /// one link with the whole bone's centre of mass and inertia). Empty: none.
     pub folded: Vec<usize>,
+    /// Each BVH joint's translation in its parent's frame (file units) that the segments'
+    /// bones are measured on (lengths, centres of mass, inertias): the pipeline gives the
+    /// skeleton as held (`motion::weld::held_shape`: position channels below the body's root
+    /// at their mean), so that the same motion written with those means in its OFFSETs gets
+    /// the same segments. Empty: the OFFSETs.
+    pub bone_offsets: Vec<Vector3<f64>>,
 }
 
 impl BvhModelOptions {
@@ -129,6 +135,7 @@ impl BvhModelOptions {
             segments: None,
             held_positions: vec![],
             folded: vec![],
+            bone_offsets: vec![],
         }
     }
 }
@@ -197,17 +204,22 @@ pub struct BvhMap {
 /// What `anthropometry::distribute` needs of each BVH joint: its name, parent and the offsets of
 /// its children and End Sites in its frame, scaled to metres.
 pub fn bones(bvh: &Bvh, scale: f64) -> Vec<Bone> {
+    bones_on(bvh, scale, &[])
+}
+
+/// [`bones`] with each child's end at `offsets[child]` (file units; empty: its OFFSET),
+/// [`BvhModelOptions::bone_offsets`].
+fn bones_on(bvh: &Bvh, scale: f64, offsets: &[Vector3<f64>]) -> Vec<Bone> {
+    let end_of = |c: usize| offsets.get(c).copied().unwrap_or(bvh.joints[c].offset) * scale;
     bvh.joints
         .iter()
         .enumerate()
         .map(|(j, joint)| Bone {
             name: joint.name.clone(),
             parent: joint.parent,
-            ends: bvh
-                .joints
-                .iter()
-                .filter(|c| c.parent == Some(j))
-                .map(|c| c.offset * scale)
+            ends: (0..bvh.joints.len())
+                .filter(|&c| bvh.joints[c].parent == Some(j))
+                .map(end_of)
                 .chain(joint.end_sites.iter().map(|e| e * scale))
                 .collect(),
         })
@@ -282,7 +294,7 @@ pub fn build_bvh_model(bvh: &Bvh, opts: &BvhModelOptions) -> Result<(Model, BvhM
     if body.segments == SegmentTable::Regression && body.height_m.is_none() {
         body.height_m = Some(crate::io::bvh::stature(bvh, opts.up) * scale);
     }
-    let mut bones = bones(bvh, scale);
+    let mut bones = bones_on(bvh, scale, &opts.bone_offsets);
     let links = if opts.folded.is_empty() {
         match &opts.segments {
             Some(c) => anthropometry::distribute_classes(&bones, &body, c)?,

@@ -18,7 +18,7 @@
 //! (`motion::fold::redundant_root_child`, Bandai's `joint_Root`), the six-channel pelvis too,
 //! whether the pipeline folds the helper into it or the user keeps it with a mass.
 
-use crate::io::bvh::{Bvh, ResolvedPosition};
+use crate::io::bvh::{Bvh, PositionMode, ResolvedPosition, portable, resolve_position_modes};
 use nalgebra::Vector3;
 
 /// The position channels of one joint, held at their mean over the take.
@@ -154,6 +154,30 @@ pub fn weld_at_mean(
     welded
 }
 
+/// The skeleton as any BVH articula writes of the take holds it: `bvh` with the position
+/// channels below the body's root held at their mean ([`weld_at_mean`], the helper root's
+/// six-channel child, `motion::fold::redundant_root_child`, taken as a carrier) and folded into
+/// the OFFSETs ([`portable`](crate::io::bvh::portable)), and its position modes under `mode`.
+/// Geometry read from it (up axis, unit, stature, landmarks, the segments' bones) is the same
+/// for the take and for the take written and read back, so both get the same model. `None`
+/// when no joint below the root has position channels (`bvh` is its own shape).
+pub fn held_shape(bvh: &Bvh, mode: PositionMode) -> Option<(Bvh, Vec<ResolvedPosition>)> {
+    let pelvis = crate::motion::fold::redundant_root_child(bvh);
+    let last_carrier = *carriers(bvh, pelvis).last()?;
+    if !(bvh.joints.iter().skip(last_carrier + 1)).any(|j| j.has_position()) {
+        return None;
+    }
+    let modes = resolve_position_modes(bvh, mode);
+    let mut held = bvh.clone();
+    weld_at_mean(&mut held, &modes, 1.0, pelvis);
+    // exact translations: the same body whatever decimals the file printed (a file in another
+    // unit); a written file's rounding to its decimals moves them by half a unit of the last
+    held.decimals.clear();
+    let shape = portable(&held, &modes);
+    let shape_modes = resolve_position_modes(&shape, mode);
+    Some((shape, shape_modes))
+}
+
 /// The held values by BVH joint, as `model::bvh::BvhModelOptions::held_positions` takes them:
 /// `Some(values)` for a welded joint, `None` for the others (`joints` of them).
 pub fn held_positions(welded: &[Welded], joints: usize) -> Vec<Option<Vector3<f64>>> {
@@ -226,7 +250,7 @@ pub fn note(bvh: &Bvh, welded: &[Welded]) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::io::bvh::{self, PositionMode, resolve_position_modes};
+    use crate::io::bvh;
 
     /// A root, a spine whose channels restate its OFFSET with ±0.3 units of noise, and a
     /// head that restates its own exactly.

@@ -8,6 +8,12 @@ use std::path::{Path, PathBuf};
 /// `articula smooth`: the take's smoothed q written back as BVH channels (euler model), as
 /// portable BVH ([`bvh::portable`]: every reader places the joints alike).
 pub fn export_smoothed_bvh(take: &Take, path: &Path) -> Result<(), Error> {
+    export_smoothed_bvh_as(take, path, bvh::BvhStyle::Portable)
+}
+
+/// [`export_smoothed_bvh`] in `style`: portable, or with the channel layout as read
+/// ([`bvh::BvhStyle::AsRead`]: every joint's channels and OFFSET as the file had them).
+pub fn export_smoothed_bvh_as(take: &Take, path: &Path, style: bvh::BvhStyle) -> Result<(), Error> {
     let mut out = take.bvh.clone();
     let cc = out.channel_count;
     for (k, q) in take.states.q.iter().enumerate() {
@@ -20,12 +26,12 @@ pub fn export_smoothed_bvh(take: &Take, path: &Path) -> Result<(), Error> {
         )?;
     }
     let out = super::as_in_file(take, out);
-    bvh::write(&bvh::portable(&out, &take.positions), path)
+    bvh::write(&bvh::styled(&out, &take.positions, style), path)
 }
 
 /// `articula blend`: takes[0] into takes[1] (into takes[2] …) through one window per
-/// transition, written as portable BVH ([`bvh::portable`], position modes as `auto` finds
-/// them in the first take). Each take is read as every other job reads it
+/// transition, written in `style` (portable BVH, [`bvh::portable`], position modes as `auto`
+/// finds them in the first take; or the first take's channel layout as read). Each take is read as every other job reads it
 /// ([`super::read_take`]: a rest pose stored as frame 0 is dropped unless
 /// `keep_first_frame`), so the windows are on the clock of the motion; returns what the reader
 /// changed (one note per take it trimmed), for the user.
@@ -38,6 +44,7 @@ pub fn blend_files(
     time_scale: f64,
     up: Option<UpAxis>,
     keep_first_frame: bool,
+    style: bvh::BvhStyle,
     path: &Path,
 ) -> Result<Vec<String>, Error> {
     use crate::motion::blend::{Align, BlendOptions, TimeMap, WarpWindow, blend_chain};
@@ -84,6 +91,6 @@ pub fn blend_files(
     let maps = vec![map; takes.len() - 1];
     let out = blend_chain(&refs, &windows, &maps, &opts)?;
     let modes = bvh::resolve_position_modes(&bvhs[0], bvh::PositionMode::Auto);
-    bvh::write(&bvh::portable(&out, &modes), path)?;
+    bvh::write(&bvh::styled(&out, &modes, style), path)?;
     Ok(notes)
 }

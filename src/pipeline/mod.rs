@@ -40,7 +40,7 @@ pub use contact::{
     estimate_take_ground_reactions_with, ground_reactions, ground_reactions_with, resolve_contact,
     take_feet,
 };
-pub use edit::{blend_files, export_smoothed_bvh};
+pub use edit::{blend_files, export_smoothed_bvh, export_smoothed_bvh_as};
 pub use mujoco::{export_mjcf, floor_level};
 pub use sim::{
     Bench, SimSettings, SimSummary, Tradeoff, TradeoffRow, bench, bench_batches,
@@ -580,6 +580,16 @@ pub fn take_from_bvh_reusing(
     let named_human =
         crate::model::anthropometry::looks_human(bvh.joints.iter().map(|j| j.name.as_str()));
     let positions = bvh::resolve_position_modes(&bvh, opts.positions);
+    // the skeleton's geometry as the model holds it and any BVH written of the take says it:
+    // below the body's root, position channels at their mean in the OFFSETs
+    // (`motion::weld::held_shape`; with `--joint-translations keep` too, where the channels
+    // move about that mean), so that the take written and read back gets the same up axis,
+    // unit, stature, landmarks and segments
+    let held_shape = crate::motion::weld::held_shape(&bvh, opts.positions);
+    let (shape, shape_positions) = match &held_shape {
+        Some((b, m)) => (b, m.as_slice()),
+        None => (&bvh, positions.as_slice()),
+    };
     let up = match opts.up {
         Some(u) => u,
         // hips stand over the feet, however the body bends
@@ -590,17 +600,17 @@ pub fn take_from_bvh_reusing(
                 .map(|j| (j.name.as_str(), j.parent))
                 .collect();
             let (hips, feet) = crate::model::anthropometry::hips_and_feet(&joints);
-            bvh::detect_up_by_legs(&bvh, &hips, &feet).unwrap_or_else(|| bvh::detect_up(&bvh))
+            bvh::detect_up_by_legs(shape, &hips, &feet).unwrap_or_else(|| bvh::detect_up(shape))
         }
         // a quadruped is longer than tall: its feet tell where the floor is
-        None => bvh::detect_up_by_feet(&bvh).unwrap_or_else(|| bvh::detect_up(&bvh)),
+        None => bvh::detect_up_by_feet(shape).unwrap_or_else(|| bvh::detect_up(shape)),
     };
     // a human whose names say nothing (`J1`, `J2`, …) is one by its shape: two legs under an
     // upright trunk (`model::skeleton`); then the hips stand over its ankles
     let mut up = up;
     let mut human = named_human;
     // (about the axis along which its trunk stands most upright)
-    let sampled = anatomy::sample_bvh_poses(&bvh, &positions);
+    let sampled = anatomy::sample_bvh_poses(shape, shape_positions);
     if !named_human {
         let axes = match opts.up {
             Some(u) => vec![u],
@@ -609,7 +619,7 @@ pub fn take_from_bvh_reusing(
         if let Some((axis, h)) = axes
             .into_iter()
             .filter_map(|a| {
-                anatomy::human_of_bvh(&bvh, &sampled, a)
+                anatomy::human_of_bvh(shape, &sampled, a)
                     .ok()
                     .map(|h| (a, h))
             })
@@ -623,15 +633,15 @@ pub fn take_from_bvh_reusing(
             let ankles = [h.legs[0].ankle, h.legs[1].ankle];
             up = match opts.up {
                 Some(u) => u,
-                None => bvh::detect_up_by_legs(&bvh, &hips, &ankles).unwrap_or(axis),
+                None => bvh::detect_up_by_legs(shape, &hips, &ankles).unwrap_or(axis),
             };
         }
     }
-    let scale = bvh::choose_scale(&bvh, up, opts.unit, opts.stature_m, human)
+    let scale = bvh::choose_scale(shape, up, opts.unit, opts.stature_m, human)
         .map_err(|e| at_file(path, e))?;
     // a human's segments by topology and geometry (names only as hints)
     let in_metres: Vec<_> = sampled.iter().map(|p| p.scaled(scale.scale_to_m)).collect();
-    let landmarks = anatomy::human_of_bvh(&bvh, &in_metres, up);
+    let landmarks = anatomy::human_of_bvh(shape, &in_metres, up);
     let trunk = crate::model::anthropometry::has_trunk(bvh.joints.iter().map(|j| j.name.as_str()));
     if landmarks.is_err() && !trunk {
         notes.push(
@@ -717,10 +727,13 @@ pub fn take_from_bvh_reusing(
         segments: None,
         held_positions: vec![],
         folded: vec![],
+        bone_offsets: (held_shape.as_ref())
+            .map(|(b, _)| b.joints.iter().map(|j| j.offset).collect())
+            .unwrap_or_default(),
     };
     let human = landmarks;
     if let Ok(h) = &human {
-        let (segments, props, branches) = anatomy::segments_of(&bvh, h);
+        let (segments, props, branches) = anatomy::segments_of(shape, h);
         mopts.segments = Some(segments);
         if !branches.is_empty() {
             notes.push(format!(

@@ -94,6 +94,9 @@ pub struct ColumnStats {
     pub peak_abs: f64,
     pub peak_time_s: f64,
     pub rms: f64,
+    /// With estimated ground reactions: where the peak and RMS lie against the frames whose
+    /// needed ground force the feet cannot give ([`OnFlagged`]); null otherwise.
+    pub contact: Option<OnFlagged>,
 }
 
 impl ColumnStats {
@@ -109,6 +112,65 @@ impl ColumnStats {
             peak_abs: peak,
             peak_time_s: time.get(k).copied().unwrap_or(0.0),
             rms,
+            contact: None,
+        }
+    }
+
+    /// [`of`](Self::of) with the figures against the `flagged` frames, when there are any to
+    /// judge by (estimated ground reactions).
+    fn of_flagged(
+        name: String,
+        unit: &str,
+        time: &[f64],
+        x: &[f64],
+        flagged: Option<&[bool]>,
+    ) -> Self {
+        Self {
+            contact: flagged.map(|f| OnFlagged::of(time, x, f)),
+            ..Self::of(name, unit, time, x)
+        }
+    }
+}
+
+/// Where a column's figures lie against the frames whose needed ground force the feet cannot
+/// give (estimated contact: [`GroundReactions::cop_gap`] beyond
+/// [`COP_GAP_TOLERANCE`](crate::dynamics::grf::COP_GAP_TOLERANCE); there the torques are those
+/// of the nearest force the feet can give).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OnFlagged {
+    /// Whether the frame of the column's peak |x| is flagged.
+    pub peak_frame_flagged: bool,
+    /// The share of the column's sum of squares (its RMS²) that flagged frames contribute.
+    pub rms_share_flagged: f64,
+    /// The peak |x| over the frames not flagged, and its time (s; null without such frames).
+    pub peak_abs_unflagged: f64,
+    pub peak_time_unflagged_s: Option<f64>,
+}
+
+impl OnFlagged {
+    /// The figures of `x` (sampled at `time`) against `flagged` (per frame).
+    pub fn of(time: &[f64], x: &[f64], flagged: &[bool]) -> Self {
+        let is = |k: usize| flagged.get(k).copied().unwrap_or(false);
+        let peak = x.iter().enumerate().fold((0, 0.0f64), |(bk, b), (k, v)| {
+            if v.abs() > b { (k, v.abs()) } else { (bk, b) }
+        });
+        let unflagged = (x.iter().enumerate()).filter(|&(k, _)| !is(k)).fold(
+            None,
+            |best: Option<(usize, f64)>, (k, v)| match best {
+                Some((_, b)) if b >= v.abs() => best,
+                _ => Some((k, v.abs())),
+            },
+        );
+        let total: f64 = x.iter().map(|v| v * v).sum();
+        let on_flagged: f64 = (x.iter().enumerate())
+            .filter(|&(k, _)| is(k))
+            .map(|(_, v)| v * v)
+            .sum();
+        Self {
+            peak_frame_flagged: !x.is_empty() && is(peak.0),
+            rms_share_flagged: if total > 0.0 { on_flagged / total } else { 0.0 },
+            peak_abs_unflagged: unflagged.map_or(0.0, |(_, v)| v),
+            peak_time_unflagged_s: unflagged.and_then(|(k, _)| time.get(k).copied()),
         }
     }
 }
@@ -117,6 +179,9 @@ impl ColumnStats {
 /// ([`GroundQuality`], over the single-support frames).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ContactQuality {
+    /// Frames (of all, any support) whose needed ground force the feet cannot give: the
+    /// frames [`OnFlagged`] judges each column's figures against.
+    pub flagged_frames: usize,
     pub single_support_frames: usize,
     pub outside_frames: usize,
     pub outside_share: f64,
@@ -128,6 +193,7 @@ pub struct ContactQuality {
 impl From<&GroundQuality> for ContactQuality {
     fn from(q: &GroundQuality) -> Self {
         Self {
+            flagged_frames: 0,
             single_support_frames: q.single_support_frames,
             outside_frames: q.outside_frames,
             outside_share: q.outside_share(),
@@ -162,17 +228,26 @@ pub struct IdSummary {
 pub fn id_summary(job: &Job, t: &Torques, grf: Option<&GroundReactions>) -> IdSummary {
     let m = &job.model;
     let column = |j: usize, rows: &[Vec<f64>]| -> Vec<f64> { rows.iter().map(|r| r[j]).collect() };
+    // the frames whose needed ground force the feet cannot give (estimated forces only)
+    let measured = job.measured.is_some();
+    let flagged: Option<Vec<bool>> = grf.filter(|_| !measured).map(|g| {
+        (g.cop_gap.iter())
+            .map(|&gap| gap > crate::dynamics::grf::COP_GAP_TOLERANCE)
+            .collect()
+    });
+    let flagged = flagged.as_deref();
     let coordinates = t
         .names
         .iter()
         .enumerate()
         .map(|(j, n)| {
             let unit = if m.is_angular(j) { "N*m" } else { "N" };
-            ColumnStats::of(
+            ColumnStats::of_flagged(
                 columns::name("tau", &[n]),
                 unit,
                 &t.time,
                 &column(j, &t.tau),
+                flagged,
             )
         })
         .collect();
@@ -187,11 +262,10 @@ pub fn id_summary(job: &Job, t: &Torques, grf: Option<&GroundReactions>) -> IdSu
             .map(|(j, c)| {
                 let name = columns::name("residual", &[c]);
                 let unit = columns::unit_of(&name, None).unwrap_or("");
-                ColumnStats::of(name, unit, &t.time, &column(j, &residual_rows))
+                ColumnStats::of_flagged(name, unit, &t.time, &column(j, &residual_rows), flagged)
             })
             .collect()
     };
-    let measured = job.measured.is_some();
     IdSummary {
         frames: t.tau.len(),
         ground_reactions: match (grf.is_some(), measured) {
@@ -202,9 +276,10 @@ pub fn id_summary(job: &Job, t: &Torques, grf: Option<&GroundReactions>) -> IdSu
         .into(),
         coordinates,
         root_residual,
-        contact_quality: grf
-            .filter(|_| !measured)
-            .map(|g| ContactQuality::from(&g.quality())),
+        contact_quality: grf.filter(|_| !measured).map(|g| ContactQuality {
+            flagged_frames: flagged.map_or(0, |f| f.iter().filter(|&&x| x).count()),
+            ..ContactQuality::from(&g.quality())
+        }),
         consistency: None,
         notes: job
             .take
@@ -285,4 +360,28 @@ pub fn skeleton(take: &Take) -> Vec<JointInfo> {
             offset_m: [j.offset.x, j.offset.y, j.offset.z].map(|c| c * take.scale_to_m),
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::OnFlagged;
+
+    #[test]
+    fn figures_against_flagged_frames() {
+        let t = [0.0, 0.1, 0.2, 0.3];
+        let x = [1.0, -3.0, 2.0, 0.0];
+        // the peak (frame 1) flagged: the unflagged peak is frame 2's
+        let f = OnFlagged::of(&t, &x, &[false, true, false, false]);
+        assert!(f.peak_frame_flagged);
+        assert_eq!(f.peak_abs_unflagged, 2.0);
+        assert_eq!(f.peak_time_unflagged_s, Some(0.2));
+        assert!((f.rms_share_flagged - 9.0 / 14.0).abs() < 1e-15);
+        // nothing flagged: the column's own figures
+        let f = OnFlagged::of(&t, &x, &[false; 4]);
+        assert!(!f.peak_frame_flagged && f.rms_share_flagged == 0.0);
+        assert_eq!(f.peak_abs_unflagged, 3.0);
+        // everything flagged: no unflagged frame
+        let f = OnFlagged::of(&t, &x, &[true; 4]);
+        assert_eq!((f.rms_share_flagged, f.peak_time_unflagged_s), (1.0, None));
+    }
 }

@@ -9,6 +9,10 @@
 //! rad, a translation in m; [`UnitRule::ByCoordinate`]). Values are SI, except the anatomical
 //! angles (`angle:`), in degrees as gait labs report them.
 //!
+//! A coordinate's quantity at a given body mass (`compare weights`) takes the mass as its
+//! component: `tau:<coord>:<mass>kg` (`tau:LeftLeg.Xrotation:80kg`), in the coordinate's
+//! unit ([`body_mass_component`]).
+//!
 //! Readers use the same table: [`kind_of`] splits a name, [`unit_of`] gives its unit for a
 //! model. OpenSim's `.sto` / `.mot` keep OpenSim's own names (`report::opensim`).
 
@@ -173,6 +177,14 @@ pub fn name(kind: &str, parts: &[&str]) -> String {
     s
 }
 
+/// `<coord>` of `<coord>:<mass>kg` (a positive number of kilograms as the last component: the
+/// body mass a `compare weights` run set), else `None`.
+pub fn body_mass_component(subject: &str) -> Option<&str> {
+    let (coord, last) = subject.rsplit_once(':')?;
+    let mass: f64 = last.strip_suffix("kg")?.parse().ok()?;
+    (mass > 0.0 && mass.is_finite() && !coord.is_empty()).then_some(coord)
+}
+
 /// The kind of a column name (its text before the first `:`), if it follows the scheme.
 pub fn kind_of(column: &str) -> Option<&'static Kind> {
     let prefix = column.split(':').next().unwrap_or(column);
@@ -234,6 +246,13 @@ pub fn unit_of(column: &str, model: Option<&Model>) -> Result<&'static str, Erro
         }
         UnitRule::ByCoordinate { angular, linear } => {
             let m = model.ok_or_else(|| bad("a coordinate's unit needs its model".into()))?;
+            // `<coord>:<mass>kg`: the coordinate's quantity with the body's mass set to that
+            // (`compare weights`)
+            let named = |r: &str| m.q_names.iter().any(|n| n == r) || m.v_index(r).is_some();
+            let rest = match body_mass_component(rest) {
+                Some(coord) if !named(rest) => coord,
+                _ => rest,
+            };
             let unit = if k.prefix == "q" {
                 m.q_names
                     .iter()

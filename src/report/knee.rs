@@ -210,19 +210,21 @@ pub fn load_table_csv(rows: &[LoadRow]) -> String {
     out
 }
 
-/// The torque curves as CSV: `t_s` then one `tau_<mass>kg_Nm` column per run. The runs must
-/// share their sample times (the same take re-run), else an error.
-pub fn curves_csv(runs: &[MassRun]) -> Result<String, Error> {
+/// The torque curves of coordinate `coord` as CSV: `time` then one `<kind>:<coord>:<mass>kg`
+/// column per run (`report::columns`): `kind` is `tau` for a model coordinate (N·m or N, the
+/// coordinate's), `moment` for an anatomical axis (`knee_l:flexion`, N·m). The runs must share
+/// their sample times (the same take re-run), else an error.
+pub fn curves_csv(kind: &str, coord: &str, runs: &[MassRun]) -> Result<String, Error> {
     let series = to_series(runs);
     let named: Vec<Series> = series
         .into_iter()
         .zip(runs)
         .map(|(s, r)| Series {
-            label: format!("tau_{}kg_Nm", short(r.mass_kg)),
+            label: crate::report::columns::name(kind, &[coord, &format!("{}kg", short(r.mass_kg))]),
             ..s
         })
         .collect();
-    crate::report::chart::series_csv("t_s", &named)
+    crate::report::chart::series_csv("time", &named)
 }
 
 fn to_series(runs: &[MassRun]) -> Vec<Series> {

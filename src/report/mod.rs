@@ -10,7 +10,7 @@
 //! - [`motor`]: per-joint torque, speed, power, current `I = τ / (Km·N·η)` and the motor class
 //!   needed from an illustrative catalogue, as SVG and CSV;
 //! - [`columns`]: the one naming scheme of every CSV's columns and their units; [`sidecar`]:
-//!   the `NAME.json` beside each CSV;
+//!   the `NAME.csv.json` beside each CSV;
 //! - [`csv`]: column tables with shortest round-trip numbers and located read errors;
 //! - [`opensim`]: OpenSim's `.sto` / `.mot` tables, `.trc` markers and ExternalLoads XML;
 //! - [`superquadric`]: Barr's superquadric surface points and wireframes for drawing links.

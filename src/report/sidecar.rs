@@ -1,4 +1,4 @@
-//! The sidecar `NAME.json` beside every CSV articula writes to a file: what each column is and
+//! The sidecar `NAME.csv.json` beside every CSV articula writes to a file: what each column is and
 //! in which unit, what it was computed from and how, and which articula wrote it.
 //!
 //! Keys (documented in docs/formats.md): `file` (the CSV's file name), `articula_version`,
@@ -54,15 +54,24 @@ pub fn describe(header: &[String], model: Option<&Model>) -> Result<Vec<ColumnIn
         .collect()
 }
 
-/// Where the sidecar of `csv` goes: `NAME.json` beside `NAME.csv` (any other extension is
-/// replaced the same way); `None` for standard output (`-`) and for anything that is not a
-/// regular file once written (a device, a FIFO).
+/// Where the sidecar of `csv` goes: the file's whole name with `.json` added (`t.csv.json`
+/// beside `t.csv`), so that it never takes the name of another output (`articula info t.bvh
+/// --json > t.json`, a batch's `info` and `id` into one folder); `None` for standard output
+/// (`-`), for anything that is not a regular file once written (a device, a FIFO), and for an
+/// output whose own name ends in `.json`.
 pub fn path_for(csv: &Path) -> Option<PathBuf> {
     if csv.as_os_str() == "-" || !csv.is_file() {
         return None;
     }
-    let p = csv.with_extension("json");
-    (p != csv).then_some(p)
+    if csv
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+    {
+        return None;
+    }
+    let mut name = csv.as_os_str().to_owned();
+    name.push(".json");
+    Some(PathBuf::from(name))
 }
 
 /// The sidecar of the CSV at `csv` as written: its header line read back, so that the

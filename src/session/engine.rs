@@ -169,6 +169,9 @@ pub struct Params {
     /// Quote the edge frames' accelerations and torques too (`set edges include`, the CLI's
     /// `anatomy --edges include`); by default they are [`LeftOut::Edge`].
     pub include_edges: bool,
+    /// How `export bvh` and `export bvh sim` write the take (`set bvh_style portable|as-read`,
+    /// the CLI's `--bvh-style`); nothing computed depends on it.
+    pub bvh_style: crate::io::bvh::BvhStyle,
 }
 
 impl Default for Params {
@@ -190,6 +193,7 @@ impl Default for Params {
             motor_catalogue: None,
             consistent: None,
             include_edges: false,
+            bvh_style: crate::io::bvh::BvhStyle::Portable,
         }
     }
 }
@@ -953,7 +957,7 @@ impl Engine for Builtin {
             }
         }
         ctl.check()?;
-        pipeline::export_smoothed_bvh(&t, path)
+        pipeline::export_smoothed_bvh_as(&t, path, params.bvh_style)
     }
 }
 

@@ -45,7 +45,7 @@
 //! | `export csv\|svg\|png\|bvh\|urdf\|mjcf PATH` | write the results (CSV: `time`, `q:`, `v:`, `a:`, `tau:` per coordinate, SI), the angle and torque chart of the selection (the paper's figure 4; `png`: the same chart as a bitmap; docs/reports.md), the active take's motion as BVH as it is seen (blended, smoothed with the current `smooth`), the model as URDF, or as MuJoCo MJCF with each motor's gear `N·η` from the drives (`set motor.gear`) |
 //! | `export states\|trc\|grf PATH` | the active BVH take as `articula export states\|trc\|grf` writes it under the current settings: states (`.sto` for OpenSim, euler joints, else CSV), joint centres as OpenSim markers (`.trc`, mm), the estimated ground reactions (`.mot` with its ExternalLoads XML beside it, else CSV) |
 //! | `export bvh sim PATH` | the motion of the last `run sim` (under the current parameters) as BVH |
-//! | `compare weights 60,80,100 [joint J] PATH` | re-run inverse dynamics at each body mass; J's torque (default: the selection) per mass: a chart with the peak/RMS table (`.svg`, or `.png` as a bitmap) or the curves (`.csv`, `t_s`, `tau_<m>kg_Nm`) |
+//! | `compare weights 60,80,100 [joint J] PATH` | re-run inverse dynamics at each body mass; J's torque (default: the selection) per mass: a chart with the peak/RMS table (`.svg`, or `.png` as a bitmap) or the curves (`.csv`, `time`, `tau:<coord>:<m>kg`, with its sidecar) |
 //! | `report motor PATH` | motor sizing (report::motor) of every revolute joint of a robot (or of the selected joint of an avatar): torque, speed, power and current curves with the table of peak/RMS torque, peak speed and power, peak/RMS current and the motor class each needs (`.svg`, or `.png` as a bitmap), or the table alone (`.csv`) |
 //! | `report gait PATH` | the clinical gait view (report::gait; docs/reports.md) of the active human take: hip, knee and ankle moments (N·m/kg) over the gait cycle from each foot's strikes, mean ± SD, left and right, stance shaded, the speed-matched Schwartz 2008 band (`.svg` or `.png`); its message gives each side's cycles and stance |
 //! | `report motor curves PATH.csv` | the plotted curves: `time`, `tau:<joint>`, `v:`, `power:`, `current:` (s, N·m, rad/s, W, A) |
@@ -74,7 +74,8 @@
 //! `keep_first_frame true|false` (keep a rest pose stored as frame 0, `--keep-first-frame`; it
 //! acts when a take is read, so it applies to the takes loaded after it),
 //! `joint_translations weld|keep` (position channels on joints below the body's root held at
-//! their mean, or prismatic coordinates, `--joint-translations`); of the simulation:
+//! their mean, or prismatic coordinates, `--joint-translations`); `bvh_style portable|as-read`
+//! (how `export bvh` writes the take, `--bvh-style`); of the simulation:
 //! `kp X`, `kv X` (every coordinate's gain, 1/s² and 1/s), `kp.<joint> X`, `kv.<joint> X` (one
 //! joint's coordinates or one coordinate: diagonal gains, as `--kp LeftLeg=900`),
 //! `integrator euler|semi-implicit|rk4|dopri5`, `dt S`; `blend.window S`.

@@ -59,7 +59,7 @@ pub mod semantics;
 pub mod write;
 
 pub use parse::{parse_bytes, parse_str, read};
-pub use portable::portable;
+pub use portable::{BVH_STYLES, BvhStyle, portable, styled};
 pub use semantics::{
     JointTranslations, LengthUnit, PositionMode, ResolvedPosition, STANDARD_STATURE_M,
     STATURE_RANGE_M, Scale, UpAxis, bvh_end_site_positions, bvh_world_poses, bvh_world_positions,

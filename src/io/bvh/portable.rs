@@ -22,6 +22,56 @@
 
 use super::{Bvh, BvhJoint, Channel, ResolvedPosition, SHORTEST, decimals_of, joint_translation};
 
+/// How articula writes a take's BVH (`--bvh-style`, the session's `set bvh_style`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BvhStyle {
+    /// [`portable`]: every reader reads it alike (the default).
+    #[default]
+    Portable,
+    /// The channel layout as read: every joint keeps the channels and OFFSET the file gave it
+    /// (a welded joint's channels hold their mean in every frame); readers that treat position
+    /// channels differently (three.js adds, Blender replaces) may then disagree, as they did
+    /// on the input.
+    AsRead,
+}
+
+/// Every [`BvhStyle`] by its name, for the parser and the messages.
+pub const BVH_STYLES: &[(&str, BvhStyle)] = &[
+    ("portable", BvhStyle::Portable),
+    ("as-read", BvhStyle::AsRead),
+];
+
+impl std::str::FromStr for BvhStyle {
+    type Err = crate::error::Error;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let t = s.trim().to_ascii_lowercase();
+        BVH_STYLES
+            .iter()
+            .find(|(n, _)| *n == t)
+            .map(|(_, v)| *v)
+            .ok_or_else(|| {
+                let names: Vec<&str> = BVH_STYLES.iter().map(|(n, _)| *n).collect();
+                crate::error::Error::Invalid(format!(
+                    "unknown BVH style {s:?}: expected {}",
+                    names.join(" or ")
+                ))
+            })
+    }
+}
+
+/// `bvh` as `style` writes it: [`portable`] (with `modes`), or as it is.
+pub fn styled<'a>(
+    bvh: &'a Bvh,
+    modes: &[ResolvedPosition],
+    style: BvhStyle,
+) -> std::borrow::Cow<'a, Bvh> {
+    match style {
+        BvhStyle::Portable => std::borrow::Cow::Owned(portable(bvh, modes)),
+        BvhStyle::AsRead => std::borrow::Cow::Borrowed(bvh),
+    }
+}
+
 /// `bvh` with every joint's position channels made unambiguous (see the module
 /// documentation); `modes` is the position mode of each joint (`resolve_position_modes`).
 /// Forward kinematics of the result in either mode equals that of `bvh` in `modes`.

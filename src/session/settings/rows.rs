@@ -445,6 +445,19 @@ pub static SETTINGS: &[Setting] = &[
         panel: None,
     },
     Setting {
+        name: "bvh_style",
+        value: "portable|as-read",
+        help: "BVH written by export bvh: portable (every reader reads it alike) or the input's \
+               channel layout",
+        values: &["portable", "as-read"],
+        recompute: R::Nothing,
+        apply: |wb, a| {
+            wb.params.bvh_style = a.parsed()?;
+            Ok(())
+        },
+        panel: None,
+    },
+    Setting {
         name: "kp",
         value: "X",
         help: "every coordinate's position gain of the simulation (1/s²)",

@@ -581,6 +581,8 @@ impl Job {
         let mut runs = Vec::with_capacity(masses.len());
         let mut kind = super::super::units::Kind::Torque;
         let mut scale = 1.0;
+        let mut model = None; // the coordinates' model, for the sidecar's units
+        let mut column = "tau"; // a model coordinate's torque, or an anatomical axis's moment
         for (i, &mass_kg) in masses.iter().enumerate() {
             ctl.set_span(i as f64 / n, (i + 1) as f64 / n);
             let mut params = self.params.clone();
@@ -589,6 +591,10 @@ impl Job {
             scale = r.scale;
             let tau = torque_series(&r, coord)
                 .ok_or_else(|| err(format!("no coordinate '{coord}' in the model")))?;
+            model = Some(r.model.clone());
+            if r.tau.col_index(coord).is_none() {
+                column = "moment";
+            }
             let angular = r.model.v_index(coord).is_none_or(|k| r.model.is_angular(k));
             kind = super::super::command::Quantity::Torque.kind(angular);
             runs.push(MassRun {
@@ -599,13 +605,16 @@ impl Job {
             });
         }
         let bytes = if is_csv(out) {
-            knee::curves_csv(&runs)?.into_bytes()
+            knee::curves_csv(column, coord, &runs)?.into_bytes()
         } else {
             let caption = self.caption(scale, Some(masses));
             knee::knee_chart(coord, &runs, Some(&caption), image_format(out))?
         };
         ctl.check()?;
         crate::io::write_atomic(out, &bytes)?;
+        if is_csv(out) {
+            super::table_sidecar(out, "compare weights", model.as_deref())?;
+        }
         let message = format!(
             "compared {coord} torque at {} kg: wrote {} (set overlay weights draws them)",
             masses
@@ -709,6 +718,9 @@ impl Job {
         };
         ctl.check()?;
         crate::io::write_atomic(out, &bytes)?;
+        if curves {
+            super::table_sidecar(out, "report motor curves", Some(m.as_ref()))?;
+        }
         let classes: Vec<String> = loads
             .iter()
             .map(|l| format!("{} {}", l.joint, motor::class_name(l)))

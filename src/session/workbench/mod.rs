@@ -88,6 +88,24 @@ pub struct Outcome {
     pub value: Option<(f64, &'static str)>,
 }
 
+/// The sidecar `NAME.csv.json` of a table the session wrote in the column scheme (its units
+/// from `model`'s coordinates; docs/formats.md).
+fn table_sidecar(
+    out: &Path,
+    command: &'static str,
+    model: Option<&crate::model::Model>,
+) -> Result<(), SessionError> {
+    let p = crate::pipeline::summary::Provenance {
+        command,
+        arguments: &[],
+        take: None,
+        model,
+        notes: &[],
+    };
+    crate::pipeline::summary::write_sidecar(out, &p)?;
+    Ok(())
+}
+
 /// The message of a `load`.
 fn loaded_message(take: &Take) -> String {
     match &take.data {
