@@ -274,7 +274,7 @@ fn tradeoff_reduce_writes_its_table_sidecar_and_json() {
     assert_eq!(header, reduce::Reduce::header());
     assert_eq!(text.lines().count(), steps.len() + 1);
     let side: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("reduce.json")).unwrap())
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("reduce.csv.json")).unwrap())
             .unwrap();
     let units: Vec<&str> = side["columns"]
         .as_array()

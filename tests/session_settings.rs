@@ -28,6 +28,7 @@ fn sample(name: &str) -> &'static str {
         "overlay" => "mirror",
         "keep_first_frame" => "true",
         "joint_translations" => "keep",
+        "bvh_style" => "as-read",
         "kp" | "kp.<joint>" => "500",
         "kv" | "kv.<joint>" => "50",
         "integrator" => "euler",
