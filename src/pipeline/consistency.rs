@@ -614,23 +614,18 @@ pub fn consistent_job(
         ));
     }
     let feet = take.options.contact == super::Contact::Feet;
-    let (adjusted, estimated, c) = consistent_take(take, reduce, measured)?;
+    let (adjusted, ground, c) = consistent_take(take, reduce, measured)?;
     if measured.is_some() {
         // the measured loads on the (adjusted) motion: what the root still supplies
-        job.measured = Some(estimated);
-        if let Some(t) = adjusted {
-            job.model = t.model.clone();
-            job.states = t.states.clone();
-            job.take = Some(t);
-        }
-        return Ok(Some(c));
-    }
-    if adjusted.is_none() && feet {
+        job.measured = Some(ground);
+    } else if adjusted.is_none() && feet {
         // the take as it is: the very estimate `job_torques` would make again
-        job.estimated = Some(estimated);
+        job.estimated = Some(ground);
     }
     if let Some(t) = adjusted {
-        job.estimated = None;
+        if measured.is_none() {
+            job.estimated = None;
+        }
         job.model = t.model.clone();
         job.states = t.states.clone();
         job.take = Some(t);

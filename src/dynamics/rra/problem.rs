@@ -397,32 +397,30 @@ impl Problem<'_> {
         let layout = self.layout();
         let s = self.mass_scale(x);
         let measured = matches!(self.ground, Ground::Measured(_));
-        {
-            local.cols.clear();
-            local.jac.clear();
-            forward_kinematics(&e.model, ws, &e.q[k]);
-            let pelvis = ws.o_x_i[self.root].trans;
-            let pass = Pass::new(&e.ground, k, &pelvis, self.height, measured);
-            let needed = e.ground.wrench[k];
-            // trunk: finite differences of the needed wrench
-            for (j, m) in moved.iter().enumerate() {
-                let sw = &mut scratch.ws;
-                forward_kinematics(m, sw, &e.q[k]);
-                rnea(m, sw, &e.q[k], &e.v[k], &e.a[k], None);
-                let w = about(&root_wrench(m, sw), &pelvis);
-                let d: [f64; 6] = std::array::from_fn(|c| (w[c] - needed[c]) / TRUNK_STEP);
-                local.push(j, pass.apply(v3(&d, 3), v3(&d, 0)));
-            }
-            self.pelvis_columns(&e.model, ws, &e.ground, k, &pass, local);
-            if let (Some(at), Some(r)) = (layout.rotation, &self.rotation) {
-                let rot = ws.o_x_i[self.root].rot;
-                self.rotation_columns(e, k, at, r, &rot, &pelvis, &pass, scratch, local);
-            }
-            if let Some(at) = layout.mass {
-                // the needed wrench is linear in the inertial parameters
-                let d: [f64; 6] = std::array::from_fn(|c| needed[c] / s);
-                local.push(at, pass.apply(v3(&d, 3), v3(&d, 0)));
-            }
+        local.cols.clear();
+        local.jac.clear();
+        forward_kinematics(&e.model, ws, &e.q[k]);
+        let pelvis = ws.o_x_i[self.root].trans;
+        let pass = Pass::new(&e.ground, k, &pelvis, self.height, measured);
+        let needed = e.ground.wrench[k];
+        // trunk: finite differences of the needed wrench
+        for (j, m) in moved.iter().enumerate() {
+            let sw = &mut scratch.ws;
+            forward_kinematics(m, sw, &e.q[k]);
+            rnea(m, sw, &e.q[k], &e.v[k], &e.a[k], None);
+            let w = about(&root_wrench(m, sw), &pelvis);
+            let d: [f64; 6] = std::array::from_fn(|c| (w[c] - needed[c]) / TRUNK_STEP);
+            local.push(j, pass.apply(v3(&d, 3), v3(&d, 0)));
+        }
+        self.pelvis_columns(&e.model, ws, &e.ground, k, &pass, local);
+        if let (Some(at), Some(r)) = (layout.rotation, &self.rotation) {
+            let rot = ws.o_x_i[self.root].rot;
+            self.rotation_columns(e, k, at, r, &rot, &pelvis, &pass, scratch, local);
+        }
+        if let Some(at) = layout.mass {
+            // the needed wrench is linear in the inertial parameters
+            let d: [f64; 6] = std::array::from_fn(|c| needed[c] / s);
+            local.push(at, pass.apply(v3(&d, 3), v3(&d, 0)));
         }
     }
 
@@ -528,8 +526,7 @@ impl Problem<'_> {
     }
 
     /// The block (0 trunk, 1 pelvis offset, 2 pelvis rotation, 3 mass) of parameter `i`.
-    fn block(&self, i: usize) -> usize {
-        let l = self.layout();
+    fn block(l: &Layout, i: usize) -> usize {
         if i < l.translation {
             0
         } else if l.mass == Some(i) {
@@ -552,18 +549,20 @@ impl Problem<'_> {
     ) -> Option<DVector<f64>> {
         let (jtj, jtr) = self.normal_equations(x, e);
         let np = x.len();
+        let layout = self.layout();
+        let blocks: Vec<usize> = (0..np).map(|i| Self::block(&layout, i)).collect();
         let mut s = [0.0; 4];
         let mut n = [0usize; 4];
         for i in 0..np {
-            s[self.block(i)] += jtj[(i, i)];
-            n[self.block(i)] += 1;
+            s[blocks[i]] += jtj[(i, i)];
+            n[blocks[i]] += 1;
         }
         let s: [f64; 4] = std::array::from_fn(|b| (s[b] / n[b].max(1) as f64).max(1e-12));
         for _ in 0..20 {
             let mut a = jtj.clone();
             let mut rhs = -&jtr;
             for i in 0..np {
-                let block = self.block(i);
+                let block = blocks[i];
                 let l = mu[block] * s[block];
                 a[(i, i)] += l;
                 rhs[i] -= l * x[i];
