@@ -26,16 +26,24 @@
 //! double support, their sum everywhere, every trunk moment everywhere and every leg moment in
 //! steady support within 5 % of its peak. Measured (`cargo test --release --test
 //! fd_ground_truth -- --nocapture`): forces within 1.3 % of body weight, moments within 0.5 %
-//! of their peaks. Around the landing they are not: the contact test's hysteresis
-//! (`motion::contact::planted`, run forwards and backwards, stays in contact up to
-//! `height_off` = 7 cm) takes the slowly lowered foot for planted 0.3 s before it lands and
-//! gives it a share of the load (150–190 N while in the air; the stance hip's moment off by up
-//! to 34 N·m of 74): printed, not held to the tolerance, and left open in issue 14.
+//! of their peaks. Around the landing they are not, and cannot be from the motion alone: the
+//! right foot hovers 0–8.6 cm above the floor for 0.4 s, slowing to rest; within the contact
+//! test's heights (`ContactParams`: enters below 4 cm, what planted feet wobble in captures;
+//! stays up to 7 cm, run forwards and backwards) nothing in the kinematics tells a foot
+//! touching lightly from one about to, and once both are down how two feet share a static
+//! load is a prescribed rule (here the ankle lever rule entered over 0.4 s), not a
+//! measurement. So the estimator loads the right foot from 1.69 s, 7 cm up (150–190 N in the
+//! air; the stance hip's moment off by up to 34 N·m of 74 until the shares meet): printed, not
+//! held to the tolerance. What is held there: no foot higher than the exit height carries
+//! load. Keeping the backward pass to the entry height (4 cm) moved the onset to 1.775 s but
+//! pushed the PyMO walk's right knee extensor peak to 1.17 N·m/kg, past the published range
+//! (`contact_real`), so it was not kept.
 
 use articula::dynamics::grf::GroundReactions;
 use articula::dynamics::{Workspace, aba, forward_kinematics, rnea};
 use articula::io::bvh::{self, Bvh};
 use articula::io::generate::{WalkParams, walk};
+use articula::motion::contact::ContactParams;
 use articula::pipeline::{self, Contact, Take, TakeOptions};
 use articula::spatial::ForceVec;
 use nalgebra::{DMatrix, DVector, Vector3};
@@ -430,6 +438,22 @@ fn forward_dynamics_under_known_ground_forces_gives_them_back() {
         .find(|&j| got.loaded[j][r])
         .map(|j| t.states.time[fine_of(j)]);
     eprintln!("the right foot lands at {LAND} s; the estimator loads it from {touch:?} s");
+    // a foot in the air above the contact test's exit height carries nothing: the right foot
+    // is lowered flat, so its sole is as high above the floor as its ankle above the ankle's
+    // height once landed
+    let (right, k_land) = (foot(&loads, "right"), (LAND * FINE_HZ) as usize);
+    let landed = feet_ankle(&t, &loads, right, k_land)[loads.up];
+    let height_off = ContactParams::default().height_off;
+    for j in (edge..frames - edge).filter(|&j| got.loaded[j][r]) {
+        let k = fine_of(j);
+        let above = feet_ankle(&t, &loads, right, k)[loads.up] - landed;
+        assert!(
+            above < height_off + 1e-3,
+            "the right foot is loaded {:.1} cm above the floor at {:.3} s",
+            100.0 * above,
+            t.states.time[k]
+        );
+    }
     assert!(checked[0] > 100 && checked[1] > 100, "{checked:?}");
     assert!(worst.iter().all(|&e| e < 0.05), "{worst:?}");
     // joint moments: every leg and trunk coordinate within 5 % of its peak, the legs' in

@@ -108,6 +108,47 @@ fn a_uniform_change_of_mass_changes_no_residual_percentage() {
     assert!(c.after.is_none() && c.adjustments.is_none());
 }
 
+/// Metamorphic: a body whose every mass is scaled alike (60 → 100 kg by de Leva's fixed
+/// fractions) needs the same adjustments, and its reduced joint torques scale exactly. A knee
+/// study across body weights then compares like with like; an absolute "met" threshold in N·m
+/// once made the two reductions take different steps (the demo's knee 4 % off the ratio).
+#[test]
+fn a_body_scaled_alike_is_reduced_by_the_same_adjustments() {
+    // the workbench study's settings (tests/session_replay.rs): euler joints, a Gaussian,
+    // de Leva's fractions at 60 and 100 kg
+    let load = |mass_kg: f64| {
+        let mut options = TakeOptions {
+            contact: Contact::Feet,
+            smooth: Some("gaussian:0.02".parse().unwrap()),
+            ..TakeOptions::default()
+        };
+        options.body.mass_kg = mass_kg;
+        options.body.segments = "fractions".parse().unwrap();
+        pipeline::load_take(&common::repo("data/demo_walk.bvh"), &options).unwrap()
+    };
+    let (take, heavy) = (load(60.0), load(100.0));
+    let (light_take, _, l) = consistent_take(&take, true, None).unwrap();
+    let (heavy_take, _, h) = consistent_take(&heavy, true, None).unwrap();
+    let (la, ha) = (l.adjustments.unwrap(), h.adjustments.unwrap());
+    assert!(
+        (la.trunk_offset_m - ha.trunk_offset_m).norm() < 1e-9,
+        "{la:?} vs {ha:?}"
+    );
+    assert!((la.pelvis_peak_m - ha.pelvis_peak_m).abs() < 1e-9);
+    assert!((la.pelvis_rms_m - ha.pelvis_rms_m).abs() < 1e-9);
+    let (lt, ht) = (light_take.unwrap(), heavy_take.unwrap());
+    let (lg, hg) = (
+        pipeline::ground_reactions(&lt).unwrap().unwrap(),
+        pipeline::ground_reactions(&ht).unwrap().unwrap(),
+    );
+    let peak = lg.tau.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    for (a, b) in lg.tau.iter().zip(&hg.tau) {
+        for (x, y) in a.iter().zip(b) {
+            assert!((y - x * 5.0 / 3.0).abs() < 1e-9 * peak, "{x} vs {y}");
+        }
+    }
+}
+
 #[test]
 fn the_anatomy_csv_carries_the_residual_per_frame() {
     let a = anatomy_consistent(&demo(), true).unwrap();

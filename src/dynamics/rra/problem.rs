@@ -240,8 +240,11 @@ impl Problem<'_> {
     }
 }
 
-/// A residual this small is met (N·m; N): the feet give the wrench there.
-const MET: f64 = 1e-3;
+/// A residual this small is met, as a share of the body's weight `M g` (force) and of `M g h`
+/// (moment about the pelvis, `h` the mean COM height): the feet give the wrench there. Relative,
+/// so that the reduction of a body whose every mass is scaled alike takes the same steps and
+/// ends at the same adjustments (a knee study across body weights compares like with like).
+const MET: f64 = 1e-6;
 /// The step of the trunk offset's finite differences (m); the needed wrench is linear in the
 /// first moments `mᵢ cᵢ`, nearly so in `cᵢ` (the parallel-axis term is second order).
 const TRUNK_STEP: f64 = 0.005;
@@ -268,6 +271,7 @@ impl Pass {
         pelvis: &Vector3<f64>,
         height: f64,
         measured: bool,
+        weight: f64,
     ) -> Self {
         let r = &g.residual[k];
         let load: f64 = g.grf[k].iter().map(|f| f[g.up]).sum();
@@ -284,8 +288,8 @@ impl Pass {
         };
         Self {
             whole,
-            moment_clamped: Vector3::new(r[3], r[4], r[5]).norm() > MET,
-            force_clamped: Vector3::new(r[0], r[1], r[2]).norm() > MET,
+            moment_clamped: Vector3::new(r[3], r[4], r[5]).norm() > MET * weight * height,
+            force_clamped: Vector3::new(r[0], r[1], r[2]).norm() > MET * weight,
             lever: cop - pelvis,
             height,
         }
@@ -401,7 +405,8 @@ impl Problem<'_> {
         local.jac.clear();
         forward_kinematics(&e.model, ws, &e.q[k]);
         let pelvis = ws.o_x_i[self.root].trans;
-        let pass = Pass::new(&e.ground, k, &pelvis, self.height, measured);
+        let weight = e.model.total_mass() * e.model.gravity.norm();
+        let pass = Pass::new(&e.ground, k, &pelvis, self.height, measured, weight);
         let needed = e.ground.wrench[k];
         // trunk: finite differences of the needed wrench
         for (j, m) in moved.iter().enumerate() {
