@@ -148,6 +148,16 @@ pub fn matrix_to_euler_near(order: EulerOrder, r: &Matrix3<f64>, previous: [f64;
     } else {
         matrix_to_euler(order, r)
     };
+    nearest_branch([a1, a2, a3], previous)
+}
+
+/// Of the triple `a` and its other Tait–Bryan branch `(a1 + π, π − a2, a3 + π)` (the same
+/// rotation), each angle shifted by whole turns to lie within π of `previous`, the one with
+/// the smallest squared distance to `previous` (the first on a tie). Away from gimbal lock
+/// these are all the triples of `a`'s rotation, so this is [`matrix_to_euler_near`] of `a`'s
+/// matrix without the trip through the matrix (and without its rounding).
+pub fn nearest_branch(a: [f64; 3], previous: [f64; 3]) -> [f64; 3] {
+    let [a1, a2, a3] = a;
     let candidates = [[a1, a2, a3], [a1 + PI, PI - a2, a3 + PI]];
     let mut best = [0.0; 3];
     let mut best_d = f64::INFINITY;

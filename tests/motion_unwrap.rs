@@ -138,6 +138,56 @@ fn one_pass_repick_and_scan_equals_the_two_passes() {
     }
 }
 
+/// The re-pick without the trip through the matrix (`repick`, away from gimbal lock) picks the
+/// triple `matrix_to_euler_near` picks from the matrix, to a few ulps: over random triples on
+/// both branches, wrapped by whole turns, middle angles from far to within a hair of the
+/// lock, and previous triples near either branch.
+#[test]
+fn repick_agrees_with_the_trip_through_the_matrix() {
+    use articula::motion::unwrap::repick;
+    use articula::rotation::{EulerOrder, euler_to_matrix, matrix_to_euler_near};
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let mut state: u64 = 0x2545_f491_4f6c_dd1d;
+    let mut uniform = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut worst: f64 = 0.0;
+    for order in EulerOrder::ALL {
+        for n in 0..20_000 {
+            let a1 = (uniform() - 0.5) * 6.0 * PI;
+            let a3 = (uniform() - 0.5) * 6.0 * PI;
+            // middle angles down to 1e-4 rad from the lock, on both sides of it
+            let off = [0.5, 1e-2, 1e-3, 1e-4][n % 4] * uniform();
+            let side = if n % 8 < 4 { 1.0 } else { -1.0 };
+            let a2 = side * (FRAC_PI_2 - off) + if n % 3 == 0 { PI } else { 0.0 };
+            let x = [a1, a2, a3];
+            // a previous triple near x or near its other branch, up to 0.3 rad away
+            let base = if n % 2 == 0 {
+                x
+            } else {
+                [a1 + PI, PI - a2, a3 + PI]
+            };
+            let prev = base.map(|a| {
+                a + 2.0 * PI * ((uniform() * 3.0).floor() - 1.0) + (uniform() - 0.5) * 0.6
+            });
+            let r = euler_to_matrix(order, x);
+            let got = repick(order, &r, x, prev);
+            let want = matrix_to_euler_near(order, &r, prev);
+            let err = (0..3).map(|i| (got[i] - want[i]).abs()).fold(0.0, f64::max);
+            let scale = 1.0 + want.iter().map(|a| a.abs()).fold(0.0, f64::max);
+            worst = worst.max(err / scale);
+            assert!(
+                err <= 1e-9 * scale,
+                "{order}: x {x:?} prev {prev:?}: {got:?} vs {want:?}"
+            );
+        }
+    }
+    eprintln!("largest difference / (1 + |angle|): {worst:e}");
+}
+
 /// `round_turns` is `round`, bit for bit, the sign of zero included.
 #[test]
 fn round_turns_is_round_bit_for_bit() {

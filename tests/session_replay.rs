@@ -72,16 +72,19 @@ fn a_study_replays_and_writes_its_outputs_deterministically() {
     assert_eq!(csv.lines().count(), 481);
     assert_eq!(header.split(',').count(), 1 + 4 * 66);
     // with de Leva's fractions the knee torque scales with body mass (the masses scale every
-    // link alike)
+    // link alike), to the tolerance the ground-reaction estimate is solved to, not to rounding:
+    // over every row, main c82f38c gave up to 2.8e-8 relative (this test used to sample rows
+    // below 1e-9 by luck; the Euler re-pick without the trip through the matrix moved q in
+    // the last bits and with it which rows those are)
     let knee = std::fs::read_to_string(out1.join("knee.csv")).unwrap();
     assert!(
         knee.starts_with("time,tau:LeftLeg.Xrotation:60kg,tau:LeftLeg.Xrotation:100kg\n"),
         "{knee}"
     );
-    for row in knee.lines().skip(1).step_by(37) {
+    for row in knee.lines().skip(1) {
         let v: Vec<f64> = row.split(',').map(|x| x.parse().unwrap()).collect();
         assert!(
-            (v[2] - v[1] * 100.0 / 60.0).abs() < 1e-9 * v[2].abs().max(1.0),
+            (v[2] - v[1] * 100.0 / 60.0).abs() < 1e-6 * v[2].abs().max(1.0),
             "{row}"
         );
     }

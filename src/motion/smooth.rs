@@ -360,8 +360,7 @@ impl Smoother {
         }
         let p = self.pad;
         self.buf.clear();
-        self.buf
-            .extend((0..n + 2 * p).map(|i| odd_extension(x, i as isize - p as isize)));
+        pad_odd(x, p, &mut self.buf);
         filter_padded(&self.method, p, &mut self.buf, x);
     }
 
@@ -543,6 +542,22 @@ fn odd_extension(x: &[f64], i: isize) -> f64 {
     base + 2.0 * m as f64 * (x[last as usize] - x[0])
 }
 
+/// Appends `x` extended by `pad` samples at each end to `buf`: [`odd_extension`] at
+/// `−pad … n − 1 + pad`, bit for bit, the samples `0 … n − 2` copied rather than computed one
+/// by one (there `odd_extension` is `x[i] + 2·0·(x[L] − x[0])`: `x[i]` plus a signed zero;
+/// at `L` itself it goes round one period).
+fn pad_odd(x: &[f64], pad: usize, buf: &mut Vec<f64>) {
+    let (n, p) = (x.len() as isize, pad as isize);
+    if n < 2 {
+        buf.extend((-p..n + p).map(|i| odd_extension(x, i)));
+        return;
+    }
+    buf.extend((-p..0).map(|i| odd_extension(x, i)));
+    let zero = 2.0 * 0.0 * (x[x.len() - 1] - x[0]);
+    buf.extend(x[..x.len() - 1].iter().map(|&v| v + zero));
+    buf.extend((n - 1..n + p).map(|i| odd_extension(x, i)));
+}
+
 /// `i = r + 2L·m` with `−L ≤ r < L`: whole periods `m` of the doubly reflected extension and
 /// the remainder `r`.
 fn periods(i: isize, last: isize) -> (isize, isize) {
@@ -705,6 +720,28 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.contains("Nyquist"), "{e}");
+    }
+
+    #[test]
+    fn pad_odd_is_odd_extension_bit_for_bit() {
+        let signals: [&[f64]; 5] = [
+            &[1.5],
+            &[-0.0, -0.0, -0.0],
+            &[0.0, -0.0, 3.25, -7.0],
+            &[2.0, 1.0, -0.0, 0.5, 0.25, 1e-300],
+            &[-0.0, 4.0],
+        ];
+        for x in signals {
+            for pad in [0, 1, 3, 17] {
+                let mut buf = vec![];
+                pad_odd(x, pad, &mut buf);
+                let want: Vec<u64> = (0..x.len() + 2 * pad)
+                    .map(|i| odd_extension(x, i as isize - pad as isize).to_bits())
+                    .collect();
+                let got: Vec<u64> = buf.iter().map(|v| v.to_bits()).collect();
+                assert_eq!(got, want, "{x:?} pad {pad}");
+            }
+        }
     }
 
     #[test]

@@ -55,7 +55,7 @@ fn steps(bvh: &Bvh) -> Vec<(f64, f64)> {
             let (a, b) = (bvh.frame(k), bvh.frame(k + 1));
             let r2: f64 = rot
                 .iter()
-                .map(|&i| ((b[i] - a[i] + 180.0).rem_euclid(360.0) - 180.0).powi(2))
+                .map(|&i| (wrap_360(b[i] - a[i] + 180.0) - 180.0).powi(2))
                 .sum();
             let p2: f64 = pos.iter().map(|&i| (b[i] - a[i]).powi(2)).sum();
             ((r2 / rot.len().max(1) as f64).sqrt(), p2.sqrt())
@@ -63,9 +63,21 @@ fn steps(bvh: &Bvh) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// `x.rem_euclid(360.0)` bit for bit, without the library's `fmod` in the common case
+/// `0 ≤ x < 360` (a step of less than half a turn), where it is `x` itself.
+#[inline]
+fn wrap_360(x: f64) -> f64 {
+    if (0.0..360.0).contains(&x) {
+        x
+    } else {
+        x.rem_euclid(360.0)
+    }
+}
+
+/// The element at `len / 2` of `x` sorted by `total_cmp` (selected, not sorted).
 fn median(mut x: Vec<f64>) -> f64 {
-    x.sort_by(f64::total_cmp);
-    x[x.len() / 2]
+    let mid = x.len() / 2;
+    *x.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
 /// Whether frame 0 of `bvh` is a rest pose that does not belong to the motion (see the module
@@ -115,6 +127,27 @@ pub fn trim_rest_first_frame(bvh: &mut Bvh) -> Option<RestFrame> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn wrap_360_is_rem_euclid_bit_for_bit() {
+        for x in [
+            0.0,
+            -0.0,
+            1e-300,
+            179.5,
+            359.99999999999994,
+            360.0,
+            360.5,
+            -1e-300,
+            -0.5,
+            -360.0,
+            -725.25,
+            1e9,
+            f64::NAN,
+        ] {
+            assert_eq!(wrap_360(x).to_bits(), x.rem_euclid(360.0).to_bits(), "{x}");
+        }
+    }
     use crate::io::bvh::parse_str;
     use std::path::Path;
 

@@ -13,7 +13,9 @@
 //! [`scan_triples`] finds it (the ball joint model has no such coordinates), and also a rotation
 //! that jumps more than any joint can turn in one frame: a capture glitch.
 
-use crate::rotation::{EulerOrder, euler_to_matrix, matrix_to_euler_near, round_turns};
+use crate::rotation::{
+    EulerOrder, euler_to_matrix, matrix_to_euler_near, nearest_branch, round_turns,
+};
 use nalgebra::Matrix3;
 
 /// The unit of an angle trajectory: the period of a full turn.
@@ -49,15 +51,39 @@ pub fn unwrap_angles(unit: AngleUnit, x: &mut [f64]) {
 /// Makes a trajectory of Euler triples (radians, `R = R_c1(a1) R_c2(a2) R_c3(a3)` for
 /// `order = c1 c2 c3`) continuous in place: every frame after the first is replaced by the
 /// triple of the same rotation nearest to the previous (already continuous) frame
-/// (`rotation::matrix_to_euler_near`: both Tait–Bryan branches, whole-turn shifts, and at
-/// gimbal lock the first angle held). This removes both full-turn jumps and branch flips near
+/// ([`repick`]: both Tait–Bryan branches, whole-turn shifts, and at gimbal lock the first
+/// angle held). This removes both full-turn jumps and branch flips near
 /// the singularity; the rotations themselves are unchanged. Allocates nothing.
 pub fn make_euler_continuous(order: EulerOrder, frames: &mut [[f64; 3]]) {
     for k in 1..frames.len() {
         let r = euler_to_matrix(order, frames[k]);
-        frames[k] = matrix_to_euler_near(order, &r, frames[k - 1]);
+        frames[k] = repick(order, &r, frames[k], frames[k - 1]);
     }
 }
+
+/// The triple of rotation `r` (given as the triple `x`) nearest to `previous`. Away from
+/// gimbal lock (`|cos a2| ≥` [`LOCK_COS`]) the triples of a rotation are `x` and its other
+/// branch, each shifted by whole turns, so this is
+/// [`rotation::nearest_branch`](crate::rotation::nearest_branch) of `x`: what
+/// `matrix_to_euler_near(order, r, previous)` picks, without the rounding of the trip through
+/// the matrix (the two agree to a few ulps, `tests/motion_unwrap.rs`). Near the lock it is
+/// `matrix_to_euler_near`, which holds the first angle there.
+#[inline]
+pub fn repick(order: EulerOrder, r: &Matrix3<f64>, x: [f64; 3], previous: [f64; 3]) -> [f64; 3] {
+    let [i, j, _] = order.axes();
+    // |cos a2| from row i: r[i][i] = cos a2 cos a3, r[i][j] = −s cos a2 sin a3
+    let cos_a2 = (r[(i, i)] * r[(i, i)] + r[(i, j)] * r[(i, j)]).sqrt();
+    if cos_a2 >= LOCK_COS {
+        nearest_branch(x, previous)
+    } else {
+        matrix_to_euler_near(order, r, previous)
+    }
+}
+
+/// Below this `|cos a2|` (the middle angle within about 0.0006° of ±90°) [`repick`] goes
+/// through the rotation matrix, which holds the first angle at gimbal lock
+/// (`matrix_to_euler_near` does below 1e-9).
+pub const LOCK_COS: f64 = 1e-5;
 
 /// A frame step where a continuous Euler triple turns much faster than the rotation it
 /// describes: near gimbal lock.
@@ -101,8 +127,8 @@ pub fn scan_triples(order: EulerOrder, frames: &[[f64; 3]]) -> TripleScan {
 }
 
 /// [`make_euler_continuous`] and [`scan_triples`] in one pass: each frame's rotation matrix is
-/// made once (from the frame as given, the same rotation as its continuous triple up to
-/// rounding) and serves both the re-pick and the scan. Allocates nothing.
+/// made once (from the frame as given) and serves both the re-pick ([`repick`]) and the scan.
+/// Allocates nothing.
 pub fn make_euler_continuous_and_scan(order: EulerOrder, frames: &mut [[f64; 3]]) -> TripleScan {
     let mut out = TripleScan::default();
     let Some(first) = frames.first() else {
@@ -111,7 +137,7 @@ pub fn make_euler_continuous_and_scan(order: EulerOrder, frames: &mut [[f64; 3]]
     let mut prev = euler_to_matrix(order, *first);
     for k in 1..frames.len() {
         let r = euler_to_matrix(order, frames[k]);
-        frames[k] = matrix_to_euler_near(order, &r, frames[k - 1]);
+        frames[k] = repick(order, &r, frames[k], frames[k - 1]);
         out.step(k, &prev, &r, frames[k - 1], frames[k]);
         prev = r;
     }

@@ -53,6 +53,7 @@
 //!   frame lines with the wrong number of values, fewer or more frame lines than `Frames:`,
 //!   `Frames: 0`, a zero or negative frame time, unbalanced braces.
 
+mod frames;
 pub mod parse;
 pub mod portable;
 pub mod semantics;

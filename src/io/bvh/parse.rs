@@ -11,8 +11,9 @@
 //! with one frame line per frame, holding exactly the total channel count of values. The
 //! hierarchy is free-form apart from three line rules: a joint name sits on its ROOT/JOINT
 //! line, the channel names on their CHANNELS line, the three numbers on their OFFSET line.
-//! Values are parsed with `str::parse::<f64>` on slices of the input, with no allocation per
-//! value.
+//! Frame lines are read by `super::frames` (one pass over the bytes, in parallel chunks), or,
+//! when that reader gives up, here with `str::parse::<f64>` on slices of the input, which
+//! finds and reports what is wrong.
 
 use super::{Bvh, BvhJoint, Channel};
 use crate::error::Error;
@@ -30,20 +31,51 @@ pub fn read(path: &Path) -> Result<Bvh, Error> {
 /// Parses BVH bytes; invalid UTF-8 sequences (e.g. Latin-1 joint names) become U+FFFD, which
 /// can only affect names. `file` is used in error messages only.
 pub fn parse_bytes(bytes: &[u8], file: &Path) -> Result<Bvh, Error> {
-    parse_str(&String::from_utf8_lossy(bytes), file)
+    match std::str::from_utf8(bytes) {
+        Ok(text) => parse_str(text, file),
+        Err(_) => parse_str(&String::from_utf8_lossy(bytes), file),
+    }
 }
 
 /// Parses BVH text. `file` is used in error messages only.
+///
+/// Two readers: the fast one (`fast`) reads the frame lines with `super::frames` and gives
+/// up at anything unusual; the careful one (`careful`) then reads the whole text again and
+/// says exactly what is wrong. Both give the same `Bvh` for any text both accept.
 pub fn parse_str(text: &str, file: &Path) -> Result<Bvh, Error> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    match fast(text, file) {
+        Some(bvh) => Ok(bvh),
+        None => careful(text, file),
+    }
+}
+
+/// The hierarchy and the MOTION header by the careful reader, the frame lines by
+/// `super::frames`; `None` at any error or anything the frame reader does not expect.
+fn fast(text: &str, file: &Path) -> Option<Bvh> {
+    let mut lx = Lexer::new(text, file);
+    let joints = hierarchy(&mut lx).ok()?;
+    let channel_count = joints.iter().map(|j| j.channels.len()).sum();
+    let (frames, frame_time) = motion_header(&mut lx, channel_count).ok()?;
+    // the frame reader accepts no control character; the header is checked here
+    control_characters(&text[..lx.pos], file).ok()?;
+    let (motion, decimals) =
+        super::frames::read(&text.as_bytes()[lx.pos..], frames, channel_count)?;
+    Some(Bvh {
+        joints,
+        frame_time,
+        frames,
+        channel_count,
+        motion,
+        first_frame: 0,
+        decimals,
+    })
+}
+
+/// The careful reader: every check, every error message with its file, line and column.
+fn careful(text: &str, file: &Path) -> Result<Bvh, Error> {
     control_characters(text, file)?;
-    let mut lx = Lexer {
-        src: text,
-        pos: 0,
-        line: 1,
-        line_start: 0,
-        file,
-    };
+    let mut lx = Lexer::new(text, file);
     let joints = hierarchy(&mut lx)?;
     let channel_count = joints.iter().map(|j| j.channels.len()).sum();
     let (frames, frame_time) = motion_header(&mut lx, channel_count)?;
@@ -120,6 +152,16 @@ fn is_blank(b: u8) -> bool {
 }
 
 impl<'a> Lexer<'a> {
+    fn new(src: &'a str, file: &'a Path) -> Self {
+        Lexer {
+            src,
+            pos: 0,
+            line: 1,
+            line_start: 0,
+            file,
+        }
+    }
+
     fn bytes(&self) -> &'a [u8] {
         self.src.as_bytes()
     }
