@@ -226,10 +226,10 @@ fn table_csv_has_a_row_per_joint() {
     let mut loads =
         size_motors(&joints, &[spec(0.05, 100.0, None), spec(0.05, 50.0, None)]).unwrap();
     loads[0].joint = "shoulder, \"left\"".into();
-    let text = motor_table_csv(&loads);
+    let text = motor_table_csv(&loads).unwrap();
     let mut rdr = csv::Reader::from_reader(text.as_bytes());
     let header: Vec<String> = rdr.headers().unwrap().iter().map(String::from).collect();
-    assert_eq!(header.join(","), MOTOR_TABLE_HEADER);
+    assert_eq!(header, MOTOR_TABLE_HEADER);
     let rows: Vec<csv::StringRecord> = rdr.records().map(Result::unwrap).collect();
     assert_eq!(rows.len(), 2);
     for (r, l) in rows.iter().zip(&loads) {

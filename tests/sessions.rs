@@ -82,10 +82,10 @@ fn motor_sizing_session_sizes_every_puma_joint_with_its_own_drive() {
     let gears = [62.6111, 107.815, 53.7063, 76.0364, 71.923, 76.686];
     for (r, n) in rows.iter().zip(gears) {
         let f = |c: &str| r[col(c)].parse::<f64>().unwrap();
-        assert_eq!(f("gear_ratio"), n);
+        assert_eq!(f("gear"), n);
         assert_eq!(f("efficiency"), 0.9);
-        let i = f("peak_tau_Nm") / (f("km_Nm_per_A") * n * 0.9);
-        assert!((f("peak_current_A") - i).abs() <= 1e-12 * i.abs().max(1.0));
+        let i = f("peak:tau") / (f("km") * n * 0.9);
+        assert!((f("peak:current") - i).abs() <= 1e-12 * i.abs().max(1.0));
     }
     assert_eq!(&rows[1][col("class")], "BLDC-80 (600 W)");
     // the curves: time and four columns per joint, current = τ/(Km·N·η) sample by sample

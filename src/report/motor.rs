@@ -298,49 +298,57 @@ pub fn class_name(load: &JointLoad) -> &str {
         .map_or("none in catalogue", |c| c.name.as_str())
 }
 
-/// Header of [`motor_table_csv`].
-pub const MOTOR_TABLE_HEADER: &str = "joint,peak_tau_Nm,rms_tau_Nm,peak_qd_rad_s,peak_power_W,\
-motor_peak_tau_Nm,motor_rms_tau_Nm,motor_peak_speed_rad_s,peak_current_A,rms_current_A,class,\
-km_Nm_per_A,gear_ratio,efficiency";
+/// Header of [`motor_table_csv`], in the column scheme (`report::columns`): one row per
+/// revolute coordinate, so `peak:tau` is that coordinate's peak |τ| in N·m (units in the
+/// sidecar: docs/formats.md).
+pub const MOTOR_TABLE_HEADER: &[&str] = &[
+    "joint",
+    "peak:tau",
+    "rms:tau",
+    "peak:v",
+    "peak:power",
+    "peak:motor_tau",
+    "rms:motor_tau",
+    "peak:motor_v",
+    "peak:current",
+    "rms:current",
+    "class",
+    "km",
+    "gear",
+    "efficiency",
+];
 
-/// The sizing table as CSV ([`MOTOR_TABLE_HEADER`], numbers shortest round-trip).
-pub fn motor_table_csv(loads: &[JointLoad]) -> String {
-    let mut out = format!("{MOTOR_TABLE_HEADER}\n");
+/// The sizing table as CSV ([`MOTOR_TABLE_HEADER`], numbers shortest round-trip), through the
+/// one CSV writer.
+pub fn motor_table_csv(loads: &[JointLoad]) -> Result<String, Error> {
     let mut b = ryu::Buffer::new();
-    for l in loads {
-        out.push_str(&csv_field(&l.joint));
-        for v in [
-            l.peak_torque_nm,
-            l.rms_torque_nm,
-            l.peak_speed_rad_s,
-            l.peak_power_w,
-            l.motor_peak_torque_nm,
-            l.motor_rms_torque_nm,
-            l.motor_peak_speed_rad_s,
-            l.peak_current_a,
-            l.rms_current_a,
-        ] {
-            out.push(',');
-            out.push_str(b.format(v));
-        }
-        out.push(',');
-        out.push_str(&csv_field(class_name(l)));
-        for v in [l.spec.km_nm_per_a, l.spec.gear_ratio, l.spec.eta()] {
-            out.push(',');
-            out.push_str(b.format(v));
-        }
-        out.push('\n');
-    }
-    out
-}
-
-/// A text field quoted as RFC 4180 asks when it holds a comma, a quote or a line break.
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
+    let mut num = |x: f64| b.format(x).to_string();
+    let rows: Vec<Vec<String>> = loads
+        .iter()
+        .map(|l| {
+            let mut r = vec![l.joint.clone()];
+            for v in [
+                l.peak_torque_nm,
+                l.rms_torque_nm,
+                l.peak_speed_rad_s,
+                l.peak_power_w,
+                l.motor_peak_torque_nm,
+                l.motor_rms_torque_nm,
+                l.motor_peak_speed_rad_s,
+                l.peak_current_a,
+                l.rms_current_a,
+            ] {
+                r.push(num(v));
+            }
+            r.push(class_name(l).to_string());
+            for v in [l.spec.km_nm_per_a, l.spec.gear_ratio, l.spec.eta()] {
+                r.push(num(v));
+            }
+            r
+        })
+        .collect();
+    let header: Vec<String> = MOTOR_TABLE_HEADER.iter().map(|h| h.to_string()).collect();
+    crate::report::csv::table_to_string(&header, &rows)
 }
 
 /// Torque, speed, power and motor current curves (one panel each, one curve per joint,

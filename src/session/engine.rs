@@ -608,6 +608,7 @@ pub trait Engine: Send + Sync {
                 take: Some(&t),
                 model: None,
                 notes: &[],
+                known_units: &[],
             };
             wrote.extend(pipeline::summary::write_sidecar(path, &p)?);
         }

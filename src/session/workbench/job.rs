@@ -413,6 +413,7 @@ impl Job {
                     take: None,
                     model: Some(&r.model),
                     notes: &[],
+                    known_units: &[],
                 };
                 crate::pipeline::summary::write_sidecar(out, &p)?;
             }
@@ -705,7 +706,7 @@ impl Job {
             (true, false) => {
                 return Err(err("report motor curves: the curves are written as .csv"));
             }
-            (false, true) => motor::motor_table_csv(&loads).into_bytes(),
+            (false, true) => motor::motor_table_csv(&loads)?.into_bytes(),
             (false, false) => {
                 let caption = self.caption(r.scale, None);
                 let defaults: Vec<[bool; 3]> = joints
@@ -718,8 +719,14 @@ impl Job {
         };
         ctl.check()?;
         crate::io::write_atomic(out, &bytes)?;
-        if curves {
-            super::table_sidecar(out, "report motor curves", Some(m.as_ref()))?;
+        // the tables' sidecar NAME.csv.json (the curves are always a CSV)
+        if is_csv(out) {
+            let command = if curves {
+                "report motor curves"
+            } else {
+                "report motor"
+            };
+            super::table_sidecar(out, command, Some(m.as_ref()))?;
         }
         let classes: Vec<String> = loads
             .iter()
