@@ -678,3 +678,25 @@ fn the_summary_tables_follow_the_scheme_with_their_sidecars() {
         ],
     );
 }
+
+/// A session's `export csv` to an OpenSim name is an error that says what writes OpenSim's
+/// tables (it once wrote CSV text into `x.sto`).
+#[test]
+fn session_export_csv_to_an_opensim_name_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let session = dir.path().join("sto.session");
+    let out = dir.path().join("x.sto");
+    std::fs::write(
+        &session,
+        format!("load demo:walk\nexport csv {}\n", out.display()),
+    )
+    .unwrap();
+    articula()
+        .arg("run")
+        .arg(&session)
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains("sto.session:2"))
+        .stderr(predicates::str::contains("export states|grf PATH.sto"));
+    assert!(!out.exists());
+}

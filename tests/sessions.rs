@@ -92,7 +92,7 @@ fn motor_sizing_session_sizes_every_puma_joint_with_its_own_drive() {
     let text = std::fs::read_to_string(out.path().join("puma_motor_curves.csv")).unwrap();
     let (h, cols) =
         articula::report::csv::parse_columns(&text, std::path::Path::new("c.csv")).unwrap();
-    assert_eq!(h.len(), 1 + 6 * 4);
+    assert_eq!(h.len(), 1 + 6 * 5);
     let (tau, cur) = (
         h.iter().position(|x| x == "tau:j2").unwrap(),
         h.iter().position(|x| x == "current:j2").unwrap(),
@@ -112,9 +112,10 @@ fn motor_sizing_session_sizes_every_puma_joint_with_its_own_drive() {
         .collect();
     for want in [
         "Joint torque",
-        "Joint speed",
-        "Mechanical power τ·q̇",
-        "Motor current I = τ/(Km·N·η)",
+        "Joint speed ω",
+        "Joint power τ·ω: driving (> 0) and regenerating (< 0)",
+        "Motor current I = τ_m/Km",
+        "Torque–speed on the motor shaft against the class's envelope",
         "BLDC-80 (600 W)",
         "j6",
     ] {

@@ -233,6 +233,31 @@ pub const KINDS: &[Kind] = &[
         UnitRule::Fixed("1"),
     ),
     kind("efficiency", "gearbox efficiency", UnitRule::Fixed("1")),
+    kind(
+        "rotor_inertia",
+        "motor rotor inertia J_m (motor shaft)",
+        UnitRule::Fixed("kg*m^2"),
+    ),
+    kind(
+        "rotor_tau",
+        "reflected rotor inertia torque J_m * N^2 * a (joint side)",
+        UnitRule::Fixed("N*m"),
+    ),
+    kind(
+        "energy_driven",
+        "energy the joint took in over the take, integral of max(tau * v, 0)",
+        UnitRule::Fixed("J"),
+    ),
+    kind(
+        "energy_regen",
+        "energy the joint gave back (regenerated) over the take, integral of max(-tau * v, 0)",
+        UnitRule::Fixed("J"),
+    ),
+    kind(
+        "beyond_envelope",
+        "frames whose motor torque exceeds the class's torque-speed envelope (empty: no envelope)",
+        UnitRule::Fixed("1"),
+    ),
     kind("take", "the take's path (a name)", UnitRule::Fixed("text")),
     kind(
         "setting",

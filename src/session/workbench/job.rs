@@ -402,6 +402,15 @@ impl Job {
     ) -> Result<Output, SessionError> {
         match kind {
             ExportKind::Csv => {
+                // an OpenSim name would get CSV text: say what writes OpenSim's tables
+                let ext = out.extension().and_then(|e| e.to_str()).unwrap_or("");
+                if ["sto", "mot"].iter().any(|x| ext.eq_ignore_ascii_case(x)) {
+                    return Err(err(format!(
+                        "export csv {}: export csv writes CSV; OpenSim's .{ext} is written by \
+                         export states|grf PATH.{ext} (articula id -o PATH.sto for the torques)",
+                        out.display()
+                    )));
+                }
                 let r = self.results(ctl, analysis, 0.8)?;
                 let text = results_csv(&r);
                 ctl.check()?;
@@ -691,6 +700,7 @@ impl Job {
                 t: r.time.clone(),
                 tau: r.tau.column(k),
                 qd: r.v.column(k),
+                qdd: r.a.column(k),
             })
             .collect();
         let specs: Vec<_> = joints
