@@ -312,6 +312,7 @@ pub fn run(args: BatchArgs) -> Result<ExitCode> {
     let summary = args.output.join("summary.csv");
     let (header, cells) = summary_table(&rows, &settings, &of);
     write_table(&summary, &header, &cells)?;
+    summary_sidecar(&summary, &rows);
     if args.json {
         println!("{}", serde_json::to_string_pretty(&summary_json(&rows))?);
     }
@@ -648,8 +649,8 @@ fn read_back(row: &mut Row, of: &[String]) {
     }
 }
 
-/// The summary's header and cells: take, the swept keys, status, seconds, frames, peak and RMS
-/// of each summarised column present in some output, output, error.
+/// The summary's header and cells: take, the swept keys (`setting:<key>`), status, wall time,
+/// frames, peak and RMS of each summarised column present in some output, output, failure.
 fn summary_table(
     rows: &[Row],
     settings: &[Vec<(String, String)>],
@@ -663,14 +664,15 @@ fn summary_table(
         .iter()
         .filter(|c| rows.iter().any(|r| r.figures.iter().any(|f| &f.0 == *c)))
         .collect();
+    // the column scheme (docs/formats.md): a swept flag is `setting:<flag>`
     let mut header = vec!["take".to_string()];
-    header.extend(keys.iter().cloned());
-    header.extend(["status", "seconds", "frames"].map(String::from));
+    header.extend(keys.iter().map(|k| format!("setting:{k}")));
+    header.extend(["status", "wall_time", "frames"].map(String::from));
     for c in &figures {
         header.push(format!("peak:{c}"));
         header.push(format!("rms:{c}"));
     }
-    header.extend(["output", "error"].map(String::from));
+    header.extend(["output", "failure"].map(String::from));
 
     let number = |x: f64| ryu::Buffer::new().format(x).to_string();
     let cells = rows
@@ -693,6 +695,43 @@ fn summary_table(
         })
         .collect();
     (header, cells)
+}
+
+/// The sidecar `summary.csv.json` (docs/formats.md), through the one sidecar writer: the units
+/// of `peak:<column>` and `rms:<column>` are those the outputs' own sidecars give `<column>`
+/// (a coordinate's unit needs its model, which only the children loaded). A summary it cannot
+/// describe (an output without a sidecar naming a coordinate's column) is said on standard
+/// error; the batch's results stand.
+fn summary_sidecar(summary: &Path, rows: &[Row]) {
+    let mut known: Vec<(String, String)> = Vec::new();
+    for r in rows.iter().filter(|r| !r.figures.is_empty()) {
+        let Some(path) = articula::report::sidecar::path_for(&r.output) else {
+            continue;
+        };
+        let Some(side) = std::fs::read_to_string(&path)
+            .ok()
+            .and_then(|t| serde_json::from_str::<articula::report::sidecar::Sidecar>(&t).ok())
+        else {
+            continue;
+        };
+        for c in side.columns {
+            if !known.iter().any(|(n, _)| *n == c.name) {
+                known.push((c.name, c.unit));
+            }
+        }
+    }
+    let arguments: Vec<String> = std::env::args().skip(1).collect();
+    let p = articula::pipeline::summary::Provenance {
+        command: "batch",
+        arguments: &arguments,
+        take: None,
+        model: None,
+        notes: &[],
+        known_units: &known,
+    };
+    if let Err(e) = articula::pipeline::summary::write_sidecar(summary, &p) {
+        eprintln!("batch: {} has no sidecar: {e}", summary.display());
+    }
 }
 
 /// The summary as JSON: one object per row, the swept settings as keys, figures under `peak`

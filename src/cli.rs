@@ -1000,6 +1000,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             report(&table.text(), output.as_deref());
             if let Some(out) = output {
                 table.write_csv(&out)?;
+                sidecar(&out, "tradeoff", None, None)?;
                 wrote(&out);
             }
         }
@@ -1149,6 +1150,7 @@ fn sidecar(
         take,
         model,
         notes: &[],
+        known_units: &[],
     };
     let written = pipeline::summary::write_sidecar(output, &p)?;
     if let Some(w) = &written {

@@ -86,7 +86,7 @@ fn a_corrupt_take_is_a_failed_row_and_the_rest_are_done_then_resumed_and_forced(
         ]
     );
     assert!(
-        cell(&h, &rows[2], "error").contains("broken.bvh"),
+        cell(&h, &rows[2], "failure").contains("broken.bvh"),
         "{rows:?}"
     );
     for r in &rows[..2] {
@@ -152,10 +152,16 @@ fn a_sweep_has_one_row_per_take_and_setting_with_its_own_figures() {
         .success();
     let (h, rows) = summary(&out);
     assert_eq!(rows.len(), 2 * 2, "{rows:?}");
-    assert!(h.contains(&"mass".to_string()), "{h:?}");
+    assert!(h.contains(&"setting:mass".to_string()), "{h:?}");
     let peak = |r: &[String]| -> f64 { cell(&h, r, "peak:moment:knee_l:flexion").parse().unwrap() };
-    let light = rows.iter().find(|r| cell(&h, r, "mass") == "60").unwrap();
-    let heavy = rows.iter().find(|r| cell(&h, r, "mass") == "100").unwrap();
+    let light = rows
+        .iter()
+        .find(|r| cell(&h, r, "setting:mass") == "60")
+        .unwrap();
+    let heavy = rows
+        .iter()
+        .find(|r| cell(&h, r, "setting:mass") == "100")
+        .unwrap();
     assert!(
         peak(heavy) > 1.2 * peak(light),
         "{} vs {}",
@@ -229,11 +235,20 @@ fn a_diverged_simulation_is_a_failed_row_beside_the_settings_that_track() {
         .code(1);
     let (h, rows) = summary(&out);
     assert_eq!(rows.len(), 2);
-    let fine = rows.iter().find(|r| cell(&h, r, "dt") == "0.001").unwrap();
-    let coarse = rows.iter().find(|r| cell(&h, r, "dt") == "0.2").unwrap();
+    let fine = rows
+        .iter()
+        .find(|r| cell(&h, r, "setting:dt") == "0.001")
+        .unwrap();
+    let coarse = rows
+        .iter()
+        .find(|r| cell(&h, r, "setting:dt") == "0.2")
+        .unwrap();
     assert_eq!(cell(&h, fine, "status"), "ok");
     assert_eq!(cell(&h, coarse, "status"), "failed");
-    assert!(cell(&h, coarse, "error").contains("diverged"), "{coarse:?}");
+    assert!(
+        cell(&h, coarse, "failure").contains("diverged"),
+        "{coarse:?}"
+    );
     assert!(out.join("demo_walk__dt=0.001.csv").exists());
 }
 

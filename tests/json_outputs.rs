@@ -554,3 +554,149 @@ fn the_session_tables_follow_the_scheme_with_their_sidecars() {
         ]
     );
 }
+
+/// The summary tables' columns: the header of `out` against its sidecar, every column with a
+/// kind of the scheme and the unit `want` gives the named ones.
+fn check_summary(out: &Path, command: &str, want: &[(&str, &str)]) {
+    let text = std::fs::read_to_string(out).unwrap();
+    let mut rdr = csv::Reader::from_reader(text.as_bytes());
+    let header: Vec<String> = rdr.headers().unwrap().iter().map(String::from).collect();
+    assert!(rdr.records().count() > 0, "{command}: no rows");
+    let side = sidecar_of(out);
+    assert_eq!(side.command, command);
+    let names: Vec<&str> = side.columns.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, header, "{command}: the sidecar lists the header");
+    for (c, h) in side.columns.iter().zip(&header) {
+        let kind = columns::kind_of(h).unwrap_or_else(|| panic!("{command}: {h} has no kind"));
+        assert_eq!(c.quantity, kind.quantity, "{command}: {h}");
+        // no unit in a name: the sidecar says it
+        for unit in ["_Nm", "_rad", "_s", "_A", "_W"] {
+            assert!(
+                !h.ends_with(unit),
+                "{command}: {h} has its unit in its name"
+            );
+        }
+    }
+    for (name, unit) in want {
+        let c = side.columns.iter().find(|c| c.name == *name);
+        assert_eq!(
+            c.map(|c| c.unit.as_str()),
+            Some(*unit),
+            "{command}: {name} in {header:?}"
+        );
+    }
+}
+
+/// Issue 16: the summary tables too (one row per run, joint or take) are in the scheme, units in
+/// their sidecars: `tradeoff -o`, the session's `report motor PATH.csv` and `batch`'s
+/// `summary.csv` (whose `peak:tau:<coord>` takes its unit from the outputs' own sidecars); `-`
+/// streams the table with no sidecar.
+#[test]
+fn the_summary_tables_follow_the_scheme_with_their_sidecars() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let take = walk(d, 0.5);
+    // tradeoff -o, and -o - on standard output
+    let trade = d.join("trade.csv");
+    let args = ["tradeoff", "{take}", "--duration", "0.1", "-o", "{out}"];
+    run(&args, &take, &trade);
+    check_summary(
+        &trade,
+        "tradeoff",
+        &[
+            ("dt", "s"),
+            ("wall_per_sim", "s/s"),
+            ("deviation", "rad"),
+            ("rms:err", "rad"),
+            ("pareto", "1"),
+        ],
+    );
+    let piped = run(&args, &take, Path::new("-"));
+    let first = String::from_utf8_lossy(&piped)
+        .lines()
+        .next()
+        .map(String::from);
+    assert_eq!(
+        first.as_deref(),
+        Some("joints,integrator,dt,wall_per_sim,deviation,rms:err,energy_drift,pareto")
+    );
+    assert!(!d.join("-.json").exists());
+    // the session's motor table
+    let motor = d.join("motor.csv");
+    let session = d.join("motor.session");
+    let text = format!(
+        "load {}\nselect LeftLeg\nreport motor {}\n",
+        take.display(),
+        motor.display()
+    );
+    std::fs::write(&session, text).unwrap();
+    articula().arg("run").arg(&session).assert().success();
+    check_summary(
+        &motor,
+        "report motor",
+        &[
+            ("joint", "text"),
+            ("peak:tau", "N*m"),
+            ("peak:v", "rad/s"),
+            ("peak:power", "W"),
+            ("rms:motor_tau", "N*m"),
+            ("peak:motor_v", "rad/s"),
+            ("rms:current", "A"),
+            ("km", "N*m/A"),
+            ("gear", "1"),
+        ],
+    );
+    // batch's summary, a swept setting and a coordinate's column among the figures
+    let takes = d.join("takes");
+    std::fs::create_dir(&takes).unwrap();
+    std::fs::copy(&take, takes.join("walk.bvh")).unwrap();
+    let out = d.join("out");
+    articula()
+        .arg("batch")
+        .arg(&takes)
+        .arg("-o")
+        .arg(&out)
+        .args([
+            "--vary",
+            "mass=60,80",
+            "--of",
+            "tau:LeftLeg.Xrotation,residual:fx",
+        ])
+        .args(["--", "id", "--contact", "auto"])
+        .assert()
+        .success();
+    check_summary(
+        &out.join("summary.csv"),
+        "batch",
+        &[
+            ("take", "text"),
+            ("setting:mass", "text"),
+            ("wall_time", "s"),
+            ("peak:tau:LeftLeg.Xrotation", "N*m"),
+            ("rms:residual:fx", "N"),
+            ("failure", "text"),
+        ],
+    );
+}
+
+/// A session's `export csv` to an OpenSim name is an error that says what writes OpenSim's
+/// tables (it once wrote CSV text into `x.sto`).
+#[test]
+fn session_export_csv_to_an_opensim_name_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let session = dir.path().join("sto.session");
+    let out = dir.path().join("x.sto");
+    std::fs::write(
+        &session,
+        format!("load demo:walk\nexport csv {}\n", out.display()),
+    )
+    .unwrap();
+    articula()
+        .arg("run")
+        .arg(&session)
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains("sto.session:2"))
+        .stderr(predicates::str::contains("export states|grf PATH.sto"));
+    assert!(!out.exists());
+}

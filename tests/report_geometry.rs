@@ -401,3 +401,86 @@ fn png_beside_svg_same_layout_and_the_caption_says_the_context() {
         }
     }
 }
+
+/// The SVGs of every shipped session plus a motor report with a rotor inertia and the class
+/// envelopes (its six panels) and a gait report; `(name, svg)`.
+fn every_report() -> Vec<(String, String)> {
+    let mut sessions: Vec<_> = std::fs::read_dir(common::repo("sessions"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "session"))
+        .collect();
+    sessions.sort();
+    let dir = tempfile::tempdir().unwrap();
+    let motor = dir.path().join("motor.session");
+    std::fs::write(
+        &motor,
+        format!(
+            "load {}\nselect LeftLeg\nset motor.rotor_inertia 3e-5\nreport motor m.svg\n",
+            common::repo("data/demo_walk.bvh").display()
+        ),
+    )
+    .unwrap();
+    sessions.push(motor);
+    let mut out = vec![];
+    for s in &sessions {
+        let o = tempfile::tempdir().unwrap();
+        let r = articula::tui::run_session(s, o.path())
+            .unwrap_or_else(|e| panic!("{}: {e}", s.display()));
+        for p in r
+            .written
+            .iter()
+            .filter(|p| p.extension().is_some_and(|e| e == "svg"))
+        {
+            let name = format!("{}: {}", s.display(), p.display());
+            out.push((name, std::fs::read_to_string(p).unwrap()));
+        }
+    }
+    out
+}
+
+/// Issue 15: the motor report with the reflected rotor inertia panel and the torque–speed
+/// panel against the envelopes is as clean as the others.
+#[test]
+fn the_motor_report_with_rotor_inertia_and_envelope_is_clean() {
+    let reports = every_report();
+    let (name, svg) = reports
+        .iter()
+        .find(|(n, _)| n.ends_with("m.svg"))
+        .expect("the motor report");
+    assert_clean(svg, name);
+    let d = parse(svg);
+    for want in ["Reflected rotor inertia", "Torque–speed", "BLDC-"] {
+        assert!(
+            d.texts.iter().any(|t| t.text.contains(want)),
+            "{name}: no {want:?}"
+        );
+    }
+}
+
+/// Every character of every text the reports draw has a glyph in the embedded font (Hack), so
+/// the PNG, drawn with that font alone, shows no box: `q̇` (q + U+0307, a combining dot Hack
+/// lacks) drew one; the reports now write `ω`.
+#[test]
+fn every_report_text_has_its_glyph_in_the_embedded_font() {
+    let face = ttf_parser::Face::parse(epaint_default_fonts::HACK_REGULAR, 0).expect("Hack");
+    // the check tells: the combining dot above of `q̇` is missing, `ω` is there
+    assert!(face.glyph_index('\u{307}').is_none());
+    assert!(face.glyph_index('ω').is_some());
+    let mut checked = 0;
+    for (name, svg) in every_report() {
+        for t in parse(&svg).texts {
+            for c in t.text.chars().filter(|c| !c.is_whitespace()) {
+                assert!(
+                    face.glyph_index(c).is_some(),
+                    "{name}: {:?} in {:?} (U+{:04X}) has no glyph in the chart font",
+                    c,
+                    t.text,
+                    c as u32
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 1000, "only {checked} characters checked");
+}

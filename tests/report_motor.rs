@@ -29,6 +29,7 @@ fn spec(km: f64, n: f64, eta: Option<f64>) -> MotorSpec {
         km_nm_per_a: km,
         gear_ratio: n,
         efficiency: eta,
+        rotor_inertia_kg_m2: 0.0,
     }
 }
 
@@ -38,6 +39,7 @@ fn constant(joint: &str, tau: f64, qd: f64) -> JointMotion {
         t: vec![0.0, 1.0],
         tau: vec![tau, tau],
         qd: vec![qd, qd],
+        qdd: vec![0.0, 0.0],
     }
 }
 
@@ -59,6 +61,7 @@ fn joint_load_by_hand() {
         joint: "elbow".into(),
         tau: t.iter().map(|&t| 20.0 * (pi * t).sin()).collect(),
         qd: t.iter().map(|&t| 2.0 * (pi * t).cos()).collect(),
+        qdd: t.iter().map(|&t| -2.0 * pi * (pi * t).sin()).collect(),
         t,
     };
     let l = size_motor(&m, &spec(0.05, 100.0, Some(0.8))).unwrap();
@@ -170,6 +173,7 @@ fn arm() -> Vec<JointMotion> {
                 .map(|&t| (30.0 - 10.0 * k as f64) * (t + k as f64).sin())
                 .collect(),
             qd: t.iter().map(|&t| (1.0 + k as f64) * t.cos()).collect(),
+            qdd: t.iter().map(|&t| -(1.0 + k as f64) * t.sin()).collect(),
             t: t.clone(),
         })
         .collect()
@@ -189,32 +193,36 @@ fn report_svg_has_four_panels_every_joint_and_the_table() {
         .collect();
     for want in [
         "Joint torque",
-        "Joint speed",
-        "Mechanical power τ·q̇",
+        "Joint speed ω",
+        "Joint power τ·ω: driving (> 0) and regenerating (< 0)",
         "torque (N·m)",
         "speed (rad/s)",
         "power (W)",
-        "Motor current I = τ/(Km·N·η)",
+        "Motor current I = τ_m/Km",
+        "motor speed |ω_m| (rad/s)",
         "current (A)",
         "peak I (A)",
         "class",
     ] {
         assert!(texts.iter().any(|t| t == want), "no {want:?}");
     }
-    // each joint: a legend entry in each of the four panels plus its table row and its
-    // drive's row
+    // each joint: a legend entry in the torque, speed, current and torque–speed panels, its
+    // driving and regenerating power curves, its table row, its drive's row and its duty row
     for j in ["shoulder", "elbow"] {
-        assert_eq!(texts.iter().filter(|t| *t == j).count(), 6, "{j}");
+        assert_eq!(texts.iter().filter(|t| *t == j).count(), 7, "{j}");
+        assert!(texts.iter().any(|t| *t == format!("{j} driving")), "{j}");
+        assert!(texts.iter().any(|t| *t == format!("{j} regen")), "{j}");
     }
     for l in &loads {
         assert!(texts.iter().any(|t| t == class_name(l)));
     }
-    // 2 joints × 4 panels × (min + max)
+    // 2 joints × 3 panels (torque, speed, current) × (min + max); the power and torque–speed
+    // panels mark none
     assert_eq!(
         doc.descendants()
-            .filter(|n| n.has_tag_name("circle"))
+            .filter(|n| n.has_tag_name("circle") && n.attribute("r") == Some("4"))
             .count(),
-        16
+        12
     );
     assert_eq!(svg, motor_svg(&joints, &specs, &loads).unwrap());
     assert!(motor_svg(&joints, &specs[..1], &loads).is_err());
@@ -226,10 +234,10 @@ fn table_csv_has_a_row_per_joint() {
     let mut loads =
         size_motors(&joints, &[spec(0.05, 100.0, None), spec(0.05, 50.0, None)]).unwrap();
     loads[0].joint = "shoulder, \"left\"".into();
-    let text = motor_table_csv(&loads);
+    let text = motor_table_csv(&loads).unwrap();
     let mut rdr = csv::Reader::from_reader(text.as_bytes());
     let header: Vec<String> = rdr.headers().unwrap().iter().map(String::from).collect();
-    assert_eq!(header.join(","), MOTOR_TABLE_HEADER);
+    assert_eq!(header, MOTOR_TABLE_HEADER);
     let rows: Vec<csv::StringRecord> = rdr.records().map(Result::unwrap).collect();
     assert_eq!(rows.len(), 2);
     for (r, l) in rows.iter().zip(&loads) {
@@ -254,12 +262,14 @@ fn curves_csv_holds_torque_speed_power_and_current() {
         h[..4],
         ["time", "tau:shoulder", "v:shoulder", "power:shoulder"]
     );
-    assert_eq!(h.len(), 9);
-    assert_eq!(h[8], "current:elbow");
+    assert_eq!(h.len(), 11);
+    assert_eq!(h[9], "current:elbow");
+    assert_eq!(h[10], "rotor_tau:elbow");
     assert_eq!(cols[1], joints[0].tau);
-    assert_eq!(cols[7][50], joints[1].tau[50] * joints[1].qd[50]);
-    // I = τ / (Km·N·η) = τ / (0.2·50·0.5) = τ / 5
-    assert_eq!(cols[8][50], joints[1].tau[50] / 5.0);
+    assert_eq!(cols[8][50], joints[1].tau[50] * joints[1].qd[50]);
+    // I = τ / (Km·N·η) = τ / (0.2·50·0.5) = τ / 5 (no rotor inertia given: its term is 0)
+    assert_eq!(cols[9][50], joints[1].tau[50] / 5.0);
+    assert!(cols[10].iter().all(|&x| x == 0.0));
     assert!(motor_curves_csv(&joints, &specs[..1]).is_err());
 }
 

@@ -82,17 +82,17 @@ fn motor_sizing_session_sizes_every_puma_joint_with_its_own_drive() {
     let gears = [62.6111, 107.815, 53.7063, 76.0364, 71.923, 76.686];
     for (r, n) in rows.iter().zip(gears) {
         let f = |c: &str| r[col(c)].parse::<f64>().unwrap();
-        assert_eq!(f("gear_ratio"), n);
+        assert_eq!(f("gear"), n);
         assert_eq!(f("efficiency"), 0.9);
-        let i = f("peak_tau_Nm") / (f("km_Nm_per_A") * n * 0.9);
-        assert!((f("peak_current_A") - i).abs() <= 1e-12 * i.abs().max(1.0));
+        let i = f("peak:tau") / (f("km") * n * 0.9);
+        assert!((f("peak:current") - i).abs() <= 1e-12 * i.abs().max(1.0));
     }
     assert_eq!(&rows[1][col("class")], "BLDC-80 (600 W)");
     // the curves: time and four columns per joint, current = τ/(Km·N·η) sample by sample
     let text = std::fs::read_to_string(out.path().join("puma_motor_curves.csv")).unwrap();
     let (h, cols) =
         articula::report::csv::parse_columns(&text, std::path::Path::new("c.csv")).unwrap();
-    assert_eq!(h.len(), 1 + 6 * 4);
+    assert_eq!(h.len(), 1 + 6 * 5);
     let (tau, cur) = (
         h.iter().position(|x| x == "tau:j2").unwrap(),
         h.iter().position(|x| x == "current:j2").unwrap(),
@@ -112,9 +112,10 @@ fn motor_sizing_session_sizes_every_puma_joint_with_its_own_drive() {
         .collect();
     for want in [
         "Joint torque",
-        "Joint speed",
-        "Mechanical power τ·q̇",
-        "Motor current I = τ/(Km·N·η)",
+        "Joint speed ω",
+        "Joint power τ·ω: driving (> 0) and regenerating (< 0)",
+        "Motor current I = τ_m/Km",
+        "Torque–speed on the motor shaft against the class's envelope",
         "BLDC-80 (600 W)",
         "j6",
     ] {

@@ -74,7 +74,7 @@ def test_dask_map_equals_batch_summary(cli, tmp_path):
     assert any(r["status"] == "ok" for r in rows)
     for r in rows:
         b = batch[r["take"]]
-        assert r["status"] == b["status"], (r, b["error"])
+        assert r["status"] == b["status"], (r, b["failure"])
         assert r["frames"] == b["frames"], r["take"]
         for c in columns:
             peak, rms = b[f"peak:{c}"], b[f"rms:{c}"]

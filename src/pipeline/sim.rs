@@ -420,14 +420,15 @@ fn mark_pareto(rows: &mut [TradeoffRow]) {
 }
 
 impl Tradeoff {
+    /// The CSV header (`report::columns`' scheme; units in the sidecar: s, s/s, rad, 1).
     pub fn header() -> Vec<String> {
         [
             "joints",
             "integrator",
-            "dt_s",
-            "wall_s_per_sim_s",
-            "deviation_rad",
-            "tracking_rms_rad",
+            "dt",
+            "wall_per_sim",
+            "deviation",
+            "rms:err",
             "energy_drift",
             "pareto",
         ]
@@ -477,23 +478,25 @@ impl Tradeoff {
         s
     }
 
-    /// Writes the table as CSV (failed runs: infinite numbers, `pareto` 0).
+    /// Writes the table as CSV through the one CSV writer ([`Tradeoff::header`]; failed runs:
+    /// infinite numbers, `pareto` 0).
     pub fn write_csv(&self, path: &Path) -> Result<(), Error> {
-        let mut out = Tradeoff::header().join(",");
-        out.push('\n');
-        for r in &self.rows {
-            out.push_str(&format!(
-                "{},{},{},{},{},{},{},{}\n",
-                r.joints,
-                r.integrator,
-                r.dt,
-                r.wall_per_sim_s,
-                r.deviation_rad,
-                r.tracking_rms_rad,
-                r.energy_drift,
-                u8::from(r.pareto)
-            ));
-        }
-        crate::io::write_atomic(path, out.as_bytes())
+        let mut buf = ryu::Buffer::new();
+        let mut num = |x: f64| buf.format(x).to_string();
+        let rows: Vec<Vec<String>> = (self.rows.iter())
+            .map(|r| {
+                vec![
+                    r.joints.to_string(),
+                    r.integrator.clone(),
+                    num(r.dt),
+                    num(r.wall_per_sim_s),
+                    num(r.deviation_rad),
+                    num(r.tracking_rms_rad),
+                    num(r.energy_drift),
+                    u8::from(r.pareto).to_string(),
+                ]
+            })
+            .collect();
+        crate::report::csv::write_table(path, &Self::header(), &rows)
     }
 }

@@ -26,6 +26,9 @@ pub struct Provenance<'a> {
     pub model: Option<&'a Model>,
     /// Notes beyond the take's own.
     pub notes: &'a [String],
+    /// `(column, unit)` of the columns a summary's `peak:<column>` / `rms:<column>` names that
+    /// neither the scheme nor the model settles (a batch's, read from its outputs' sidecars).
+    pub known_units: &'a [(String, String)],
 }
 
 /// A take's resolved settings as text, for sidecars.
@@ -80,7 +83,7 @@ pub fn write_sidecar(csv: &Path, p: &Provenance) -> Result<Option<PathBuf>, Erro
         arguments: p.arguments.to_vec(),
         take: p.take.map(|t| t.path.display().to_string()),
         settings: p.take.map(take_settings).unwrap_or_default(),
-        columns: sidecar::describe(&header, model)?,
+        columns: sidecar::describe(&header, model, p.known_units)?,
         notes,
     };
     sidecar::write(csv, &s)

@@ -38,6 +38,8 @@ pub struct Series {
     pub x: Vec<f64>,
     /// Ordinates, in the unit named by the panel's y label.
     pub y: Vec<f64>,
+    /// Drawn as dots (marked samples, e.g. frames beyond a motor's envelope), not as a line.
+    pub dots: bool,
 }
 
 impl Series {
@@ -46,6 +48,15 @@ impl Series {
             label: label.into(),
             x,
             y,
+            dots: false,
+        }
+    }
+
+    /// Samples drawn as dots.
+    pub fn dots(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>) -> Self {
+        Self {
+            dots: true,
+            ..Self::new(label, x, y)
         }
     }
 }
@@ -612,7 +623,11 @@ where
         let (color, dashed) = series_style(k);
         let keep = decimate_m4(&s.x, &s.y, x0, x1, columns);
         let points = keep.iter().map(|&i| (s.x[i], s.y[i]));
-        if dashed {
+        if s.dots {
+            chart
+                .draw_series(points.map(|p| Circle::new(p, 3, color.filled())))
+                .map_err(plot_err)?;
+        } else if dashed {
             chart
                 .draw_series(DashedLineSeries::new(points, 8, 5, color.stroke_width(2)))
                 .map_err(plot_err)?;

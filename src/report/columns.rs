@@ -32,6 +32,11 @@ pub enum UnitRule {
     },
     /// By the component (last part of the name), e.g. `residual:fx` N, `residual:tx` N·m.
     ByComponent(&'static [(&'static str, &'static str)]),
+    /// `peak:<column>`, `rms:<column>`: a figure of another column, in that column's unit. In a
+    /// table with one row per revolute coordinate (the motor table) the column is a bare
+    /// coordinate kind (`peak:tau`) and takes its rotational unit; without a model, a
+    /// coordinate's column takes the unit a `known` table gives ([`unit_of_known`]).
+    OfColumn,
     /// `M:<i>:<j>`: the mass matrix entry between `v` coordinates i and j (kg·m² between two
     /// rotations, kg·m between a rotation and a translation, kg between two translations).
     MassMatrix,
@@ -163,6 +168,115 @@ pub const KINDS: &[Kind] = &[
         "error in % of the full model's outputs: peak |e| / peak |tau|, RMS e / RMS tau",
         UnitRule::Fixed("%"),
     ),
+    kind(
+        "peak",
+        "peak |x| over the frames of the column named after it",
+        UnitRule::OfColumn,
+    ),
+    kind(
+        "rms",
+        "RMS over the frames of the column named after it",
+        UnitRule::OfColumn,
+    ),
+    // summary tables (one row per run, per joint, per take): docs/formats.md
+    kind(
+        "joint",
+        "the coordinate the row is of (a name)",
+        UnitRule::Fixed("text"),
+    ),
+    kind(
+        "joints",
+        "joint model: euler (hinge chains) or ball",
+        UnitRule::Fixed("text"),
+    ),
+    kind("integrator", "integrator (a name)", UnitRule::Fixed("text")),
+    kind("dt", "integration time step", UnitRule::Fixed("s")),
+    kind(
+        "wall_per_sim",
+        "wall-clock seconds per simulated second",
+        UnitRule::Fixed("s/s"),
+    ),
+    kind(
+        "deviation",
+        "largest joint-angle difference at the end of the run from the reference run",
+        UnitRule::Fixed("rad"),
+    ),
+    kind(
+        "energy_drift",
+        "relative change of kinetic energy over a passive run (tau = 0, no gravity)",
+        UnitRule::Fixed("1"),
+    ),
+    kind(
+        "pareto",
+        "1 when no other row is both faster and more accurate, else 0",
+        UnitRule::Fixed("1"),
+    ),
+    kind(
+        "motor_tau",
+        "torque on the motor shaft tau / (N * efficiency)",
+        UnitRule::Fixed("N*m"),
+    ),
+    kind(
+        "motor_v",
+        "speed of the motor shaft N * v",
+        UnitRule::Fixed("rad/s"),
+    ),
+    kind(
+        "class",
+        "the motor class chosen from the catalogue (a name)",
+        UnitRule::Fixed("text"),
+    ),
+    kind("km", "motor torque constant", UnitRule::Fixed("N*m/A")),
+    kind(
+        "gear",
+        "gear ratio N (motor turns per joint turn)",
+        UnitRule::Fixed("1"),
+    ),
+    kind("efficiency", "gearbox efficiency", UnitRule::Fixed("1")),
+    kind(
+        "rotor_inertia",
+        "motor rotor inertia J_m (motor shaft)",
+        UnitRule::Fixed("kg*m^2"),
+    ),
+    kind(
+        "rotor_tau",
+        "reflected rotor inertia torque J_m * N^2 * a (joint side)",
+        UnitRule::Fixed("N*m"),
+    ),
+    kind(
+        "energy_driven",
+        "energy the joint took in over the take, integral of max(tau * v, 0)",
+        UnitRule::Fixed("J"),
+    ),
+    kind(
+        "energy_regen",
+        "energy the joint gave back (regenerated) over the take, integral of max(-tau * v, 0)",
+        UnitRule::Fixed("J"),
+    ),
+    kind(
+        "beyond_envelope",
+        "frames whose motor torque exceeds the class's torque-speed envelope (empty: no envelope)",
+        UnitRule::Fixed("1"),
+    ),
+    kind("take", "the take's path (a name)", UnitRule::Fixed("text")),
+    kind(
+        "setting",
+        "a varied setting's value, as passed to the command (`setting:<flag>`)",
+        UnitRule::Fixed("text"),
+    ),
+    kind("status", "ok, failed or skipped", UnitRule::Fixed("text")),
+    kind(
+        "wall_time",
+        "wall-clock time of the run",
+        UnitRule::Fixed("s"),
+    ),
+    kind("frames", "rows of the output", UnitRule::Fixed("1")),
+    kind("output", "the output's path", UnitRule::Fixed("text")),
+    kind(
+        "failure",
+        "why the run failed (the last line of its error output), empty when it did not",
+        UnitRule::Fixed("text"),
+    ),
 ];
 
 /// A column name from its kind and parts: `name("tau", &["LeftLeg.Xrotation"])` is
@@ -189,6 +303,22 @@ pub fn body_mass_component(subject: &str) -> Option<&str> {
 pub fn kind_of(column: &str) -> Option<&'static Kind> {
     let prefix = column.split(':').next().unwrap_or(column);
     KINDS.iter().find(|k| k.prefix == prefix)
+}
+
+/// `unit` in the scheme's own spelling (a unit some kind of [`KINDS`] is measured in), for
+/// units read back from a sidecar.
+pub fn scheme_unit(unit: &str) -> Option<&'static str> {
+    const MASS_MATRIX: [&str; 3] = ["kg*m^2", "kg*m", "kg"];
+    let of_kind = |k: &Kind| -> Vec<&'static str> {
+        match k.unit {
+            UnitRule::Fixed(u) => vec![u],
+            UnitRule::ByCoordinate { angular, linear } => vec![angular, linear, "1"],
+            UnitRule::ByComponent(t) => t.iter().map(|(_, u)| *u).collect(),
+            UnitRule::MassMatrix => MASS_MATRIX.to_vec(),
+            UnitRule::OfColumn => vec![],
+        }
+    };
+    KINDS.iter().flat_map(of_kind).find(|u| *u == unit)
 }
 
 /// How a coordinate's quantities are measured.
@@ -225,6 +355,16 @@ fn v_unit(model: &Model, k: usize) -> CoordUnit {
 /// robot-free table; then coordinate kinds are an error). An error names the column when it
 /// does not follow the scheme or names no coordinate of the model.
 pub fn unit_of(column: &str, model: Option<&Model>) -> Result<&'static str, Error> {
+    unit_of_known(column, model, &|_| None)
+}
+
+/// [`unit_of`], with `known` giving the unit of a column that neither the scheme nor `model`
+/// settles (the columns a batch's `peak:<column>` names, in its outputs' sidecars).
+pub fn unit_of_known(
+    column: &str,
+    model: Option<&Model>,
+    known: &dyn Fn(&str) -> Option<&'static str>,
+) -> Result<&'static str, Error> {
     let bad = |why: String| Error::Invalid(format!("column {column:?}: {why}"));
     let k = kind_of(column).ok_or_else(|| {
         bad(
@@ -266,6 +406,15 @@ pub fn unit_of(column: &str, model: Option<&Model>) -> Result<&'static str, Erro
                 CoordUnit::Linear => Ok(linear),
                 CoordUnit::Quaternion => Ok("1"),
             }
+        }
+        UnitRule::OfColumn => {
+            // a bare coordinate kind (`peak:tau` in a table of revolute coordinates): rotational
+            if let Some(inner) = kind_of(rest).filter(|i| i.prefix == rest)
+                && let UnitRule::ByCoordinate { angular, .. } = inner.unit
+            {
+                return Ok(angular);
+            }
+            unit_of_known(rest, model, known).or_else(|e| known(rest).ok_or(e))
         }
         UnitRule::MassMatrix => {
             let m =

@@ -24,6 +24,8 @@ pub mod knee;
 pub mod labels;
 pub mod legend;
 pub mod motor;
+pub mod motor_chart;
+pub mod motor_duty;
 pub mod opensim;
 pub mod sidecar;
 pub mod superquadric;

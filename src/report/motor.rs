@@ -24,8 +24,9 @@
 //! `data/motor_classes.toml` ([`default_catalogue`]), another is read by [`read_catalogue`].
 
 use crate::error::Error;
-use crate::report::chart::{ImageFormat, Panel, Series, Table, fmt_value, stacked_chart};
+use crate::report::chart::Series;
 use crate::report::knee::{check_series, peak_abs, rms};
+use crate::report::motor_duty as duty;
 
 /// Motor constant and transmission of one joint's drive.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -36,6 +37,8 @@ pub struct MotorSpec {
     pub gear_ratio: f64,
     /// Gearbox efficiency `η` in (0, 1]; `None` means 1 (ideal gear).
     pub efficiency: Option<f64>,
+    /// Rotor inertia `J_m` (kg·m², motor shaft), ≥ 0; 0: not given (no reflected term).
+    pub rotor_inertia_kg_m2: f64,
 }
 
 /// One class of a motor catalogue (values on the motor shaft).
@@ -48,6 +51,9 @@ pub struct MotorClass {
     pub peak_torque_nm: f64,
     /// Rated speed (rad/s), compared with the peak motor speed.
     pub rated_speed_rad_s: f64,
+    /// No-load speed (rad/s): the speed–torque line's end, for the torque–speed envelope
+    /// ([`super::motor_duty::Envelope`]); `None` when the catalogue does not give it.
+    pub no_load_speed_rad_s: Option<f64>,
 }
 
 /// rpm → rad/s (rated speeds are quoted in rpm by vendors and in the catalogue file).
@@ -71,6 +77,8 @@ struct ClassRow {
     rated_torque_nm: f64,
     peak_torque_nm: f64,
     rated_speed_rpm: f64,
+    #[serde(default)]
+    no_load_speed_rpm: Option<f64>,
 }
 
 /// Parses a catalogue (the format of `data/motor_classes.toml`); `path` names it in errors.
@@ -103,11 +111,26 @@ pub fn parse_catalogue(text: &str, path: &std::path::Path) -> Result<Vec<MotorCl
                     c.name
                 )));
             }
+            // the rated point must lie under the peak line τ_peak(1 − ω/ω0)
+            if let Some(w0) = c.no_load_speed_rpm
+                && !(w0.is_finite()
+                    && w0 > c.rated_speed_rpm
+                    && c.rated_torque_nm <= c.peak_torque_nm * (1.0 - c.rated_speed_rpm / w0))
+            {
+                return Err(Error::Invalid(format!(
+                    "{}: class {:?}: no_load_speed_rpm {w0} must exceed the rated speed and put \
+                     the rated point (rated torque at rated speed) under the peak line \
+                     peak_torque * (1 - speed / no_load_speed)",
+                    path.display(),
+                    c.name
+                )));
+            }
             Ok(MotorClass {
                 name: c.name,
                 rated_torque_nm: c.rated_torque_nm,
                 peak_torque_nm: c.peak_torque_nm,
                 rated_speed_rad_s: rpm(c.rated_speed_rpm),
+                no_load_speed_rad_s: c.no_load_speed_rpm.map(rpm),
             })
         })
         .collect()
@@ -139,6 +162,8 @@ pub struct JointMotion {
     pub tau: Vec<f64>,
     /// Joint speed `q̇` (rad/s).
     pub qd: Vec<f64>,
+    /// Joint acceleration `q̈` (rad/s²), for the reflected rotor inertia.
+    pub qdd: Vec<f64>,
 }
 
 /// What one joint asks of its motor.
@@ -163,6 +188,14 @@ pub struct JointLoad {
     pub peak_current_a: f64,
     /// RMS current `rms(τ) / (Km·N·η)` (A).
     pub rms_current_a: f64,
+    /// Peak reflected rotor inertia torque `max |J_m·N²·q̈|` (N·m, joint side); 0 without a
+    /// rotor inertia. The motor figures above include it ([`super::motor_duty`]).
+    pub peak_rotor_torque_nm: f64,
+    /// Energy the joint took in (`τ·q̇ > 0`) and gave back (`τ·q̇ < 0`) over the take (J).
+    pub energy: super::motor_duty::Energy,
+    /// Frames whose motor torque lies beyond the chosen class's torque–speed envelope; `None`
+    /// without a class or without envelope data (no no-load speed).
+    pub frames_beyond_envelope: Option<usize>,
     /// The drive it was sized with.
     pub spec: MotorSpec,
     /// The first class of the catalogue that carries the load; `None` when none does (lower
@@ -188,6 +221,12 @@ impl MotorSpec {
             return Err(Error::Invalid(format!(
                 "gear ratio N = {} must be positive",
                 self.gear_ratio
+            )));
+        }
+        if !(self.rotor_inertia_kg_m2.is_finite() && self.rotor_inertia_kg_m2 >= 0.0) {
+            return Err(Error::Invalid(format!(
+                "rotor inertia J_m = {} kg·m² must be 0 or positive",
+                self.rotor_inertia_kg_m2
             )));
         }
         let eta = self.eta();
@@ -232,23 +271,42 @@ pub fn size_motor(
     check_series(
         &format!("motor sizing of {:?}", m.joint),
         &m.t,
-        &[("torque", &m.tau), ("speed", &m.qd)],
+        &[
+            ("torque", &m.tau),
+            ("speed", &m.qd),
+            ("acceleration", &m.qdd),
+        ],
     )?;
     // joint side
     let (peak_torque_nm, _) = peak_abs(&m.tau);
     let rms_torque_nm = rms(&m.t, &m.tau);
     let (peak_speed_rad_s, _) = peak_abs(&m.qd);
-    let peak_power_w = m
-        .tau
-        .iter()
-        .zip(&m.qd)
-        .map(|(t, w)| (t * w).abs())
-        .fold(0.0, f64::max);
-    // motor side through the gear: τ_m = τ / (N·η), ω_m = N·q̇, I = τ_m / Km
+    let power: Vec<f64> = m.tau.iter().zip(&m.qd).map(|(t, w)| t * w).collect();
+    let peak_power_w = power.iter().map(|p| p.abs()).fold(0.0, f64::max);
+    // motor side through the gear: τ_m = (τ + η·J_m·N²·q̈) / (N·η), ω_m = N·q̇, I = τ_m / Km
+    let rotor = duty::rotor_torque(spec.rotor_inertia_kg_m2, spec.gear_ratio, &m.qdd);
+    let geared = duty::geared_torque(&m.tau, &rotor, spec.eta());
     let reduce = spec.gear_ratio * spec.eta();
-    let motor_peak_torque_nm = peak_torque_nm / reduce;
-    let motor_rms_torque_nm = rms_torque_nm / reduce;
+    let (peak_geared, _) = peak_abs(&geared);
+    let rms_geared = rms(&m.t, &geared);
+    let motor_peak_torque_nm = peak_geared / reduce;
+    let motor_rms_torque_nm = rms_geared / reduce;
     let motor_peak_speed_rad_s = peak_speed_rad_s * spec.gear_ratio;
+    let class = choose_class(
+        catalogue,
+        motor_rms_torque_nm,
+        motor_peak_torque_nm,
+        motor_peak_speed_rad_s,
+    )
+    .cloned();
+    let frames_beyond_envelope = class.as_ref().and_then(duty::Envelope::of).map(|e| {
+        let omega: Vec<f64> = m.qd.iter().map(|w| w * spec.gear_ratio).collect();
+        let tau_m: Vec<f64> = geared.iter().map(|t| t / reduce).collect();
+        duty::beyond(&e, &omega, &tau_m)
+            .iter()
+            .filter(|&&b| b)
+            .count()
+    });
     Ok(JointLoad {
         joint: m.joint.clone(),
         peak_torque_nm,
@@ -258,16 +316,13 @@ pub fn size_motor(
         motor_peak_torque_nm,
         motor_rms_torque_nm,
         motor_peak_speed_rad_s,
-        peak_current_a: motor_current(peak_torque_nm, spec),
-        rms_current_a: motor_current(rms_torque_nm, spec),
+        peak_current_a: motor_current(peak_geared, spec),
+        rms_current_a: motor_current(rms_geared, spec),
+        peak_rotor_torque_nm: peak_abs(&rotor).0,
+        energy: duty::energy(&m.t, &power),
         spec: *spec,
-        class: choose_class(
-            catalogue,
-            motor_rms_torque_nm,
-            motor_peak_torque_nm,
-            motor_peak_speed_rad_s,
-        )
-        .cloned(),
+        class,
+        frames_beyond_envelope,
     })
 }
 
@@ -298,202 +353,83 @@ pub fn class_name(load: &JointLoad) -> &str {
         .map_or("none in catalogue", |c| c.name.as_str())
 }
 
-/// Header of [`motor_table_csv`].
-pub const MOTOR_TABLE_HEADER: &str = "joint,peak_tau_Nm,rms_tau_Nm,peak_qd_rad_s,peak_power_W,\
-motor_peak_tau_Nm,motor_rms_tau_Nm,motor_peak_speed_rad_s,peak_current_A,rms_current_A,class,\
-km_Nm_per_A,gear_ratio,efficiency";
+/// Header of [`motor_table_csv`], in the column scheme (`report::columns`): one row per
+/// revolute coordinate, so `peak:tau` is that coordinate's peak |τ| in N·m (units in the
+/// sidecar: docs/formats.md).
+pub const MOTOR_TABLE_HEADER: &[&str] = &[
+    "joint",
+    "peak:tau",
+    "rms:tau",
+    "peak:v",
+    "peak:power",
+    "peak:motor_tau",
+    "rms:motor_tau",
+    "peak:motor_v",
+    "peak:current",
+    "rms:current",
+    "class",
+    "km",
+    "gear",
+    "efficiency",
+    "rotor_inertia",
+    "peak:rotor_tau",
+    "energy_driven",
+    "energy_regen",
+    "beyond_envelope",
+];
 
-/// The sizing table as CSV ([`MOTOR_TABLE_HEADER`], numbers shortest round-trip).
-pub fn motor_table_csv(loads: &[JointLoad]) -> String {
-    let mut out = format!("{MOTOR_TABLE_HEADER}\n");
+/// The sizing table as CSV ([`MOTOR_TABLE_HEADER`], numbers shortest round-trip), through the
+/// one CSV writer.
+pub fn motor_table_csv(loads: &[JointLoad]) -> Result<String, Error> {
     let mut b = ryu::Buffer::new();
-    for l in loads {
-        out.push_str(&csv_field(&l.joint));
-        for v in [
-            l.peak_torque_nm,
-            l.rms_torque_nm,
-            l.peak_speed_rad_s,
-            l.peak_power_w,
-            l.motor_peak_torque_nm,
-            l.motor_rms_torque_nm,
-            l.motor_peak_speed_rad_s,
-            l.peak_current_a,
-            l.rms_current_a,
-        ] {
-            out.push(',');
-            out.push_str(b.format(v));
-        }
-        out.push(',');
-        out.push_str(&csv_field(class_name(l)));
-        for v in [l.spec.km_nm_per_a, l.spec.gear_ratio, l.spec.eta()] {
-            out.push(',');
-            out.push_str(b.format(v));
-        }
-        out.push('\n');
-    }
-    out
-}
-
-/// A text field quoted as RFC 4180 asks when it holds a comma, a quote or a line break.
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
-}
-
-/// Torque, speed, power and motor current curves (one panel each, one curve per joint,
-/// min/max marked; the current `I = τ / (Km·N·η)` with `specs[k]` for `joints[k]`), followed by
-/// the sizing table of `loads`.
-pub fn motor_svg(
-    joints: &[JointMotion],
-    specs: &[MotorSpec],
-    loads: &[JointLoad],
-) -> Result<String, Error> {
-    let bytes = motor_chart(joints, specs, loads, &[], None, ImageFormat::Svg)?;
-    String::from_utf8(bytes).map_err(|e| Error::Invalid(format!("chart: SVG is not UTF-8: {e}")))
-}
-
-/// [`motor_svg`] as SVG or PNG bytes, with the drive parameters each joint was sized with
-/// under the sizing table (gear `N`, `Km`, efficiency `η`; a value is followed by `(default)`
-/// where `defaults[k]` says joint `k`'s `[gear, Km, η]` was not set) and `caption` (the
-/// figure's context) under it all.
-pub fn motor_chart(
-    joints: &[JointMotion],
-    specs: &[MotorSpec],
-    loads: &[JointLoad],
-    defaults: &[[bool; 3]],
-    caption: Option<&str>,
-    format: ImageFormat,
-) -> Result<Vec<u8>, Error> {
-    if joints.is_empty() {
-        return Err(Error::Invalid("motor report: no joint to plot".into()));
-    }
-    if specs.len() != joints.len() {
-        return Err(Error::Invalid(format!(
-            "motor report: {} joints but {} motor specs",
-            joints.len(),
-            specs.len()
-        )));
-    }
-    for m in joints {
-        check_series(
-            &format!("motor report of {:?}", m.joint),
-            &m.t,
-            &[("torque", &m.tau), ("speed", &m.qd)],
-        )?;
-    }
-    let curves = |f: &dyn Fn(&JointMotion) -> Vec<f64>| -> Vec<Series> {
-        joints
-            .iter()
-            .map(|m| Series::new(m.joint.clone(), m.t.clone(), f(m)))
-            .collect()
-    };
-    let torque = curves(&|m| m.tau.clone());
-    let speed = curves(&|m| m.qd.clone());
-    let power = curves(&|m| m.tau.iter().zip(&m.qd).map(|(t, w)| t * w).collect());
-    let current: Vec<Series> = joints
+    let mut num = |x: f64| b.format(x).to_string();
+    let rows: Vec<Vec<String>> = loads
         .iter()
-        .zip(specs)
-        .map(|(m, s)| {
-            let i = m.tau.iter().map(|t| motor_current(*t, s)).collect();
-            Series::new(m.joint.clone(), m.t.clone(), i)
+        .map(|l| {
+            let mut r = vec![l.joint.clone()];
+            for v in [
+                l.peak_torque_nm,
+                l.rms_torque_nm,
+                l.peak_speed_rad_s,
+                l.peak_power_w,
+                l.motor_peak_torque_nm,
+                l.motor_rms_torque_nm,
+                l.motor_peak_speed_rad_s,
+                l.peak_current_a,
+                l.rms_current_a,
+            ] {
+                r.push(num(v));
+            }
+            r.push(class_name(l).to_string());
+            for v in [
+                l.spec.km_nm_per_a,
+                l.spec.gear_ratio,
+                l.spec.eta(),
+                l.spec.rotor_inertia_kg_m2,
+                l.peak_rotor_torque_nm,
+                l.energy.driven_j,
+                l.energy.regen_j,
+            ] {
+                r.push(num(v));
+            }
+            // empty: no class, or a class without envelope data
+            r.push(
+                l.frames_beyond_envelope
+                    .map_or(String::new(), |n| n.to_string()),
+            );
+            r
         })
         .collect();
-    let panel = |title, y_label, series| Panel {
-        title,
-        x_label: "time (s)",
-        y_label,
-        series,
-        mark_min_max: true,
-        shaded: &[],
-        shaded_label: "",
-        bands: &[],
-    };
-    // a column's values below its resolution (report::labels) are noise: printed as 0
-    let quote = |v: f64, f: &dyn Fn(&JointLoad) -> f64| {
-        let column: Vec<f64> = loads.iter().map(f).collect();
-        let res = crate::report::labels::resolution([column.as_slice()]);
-        fmt_value(crate::report::labels::denoise(v, res))
-    };
-    let table = Table {
-        header: [
-            "joint",
-            "peak τ (N·m)",
-            "RMS τ (N·m)",
-            "peak q̇ (rad/s)",
-            "peak P (W)",
-            "peak I (A)",
-            "class",
-        ]
-        .map(String::from)
-        .to_vec(),
-        rows: loads
-            .iter()
-            .map(|l| {
-                vec![
-                    l.joint.clone(),
-                    quote(l.peak_torque_nm, &|l| l.peak_torque_nm),
-                    quote(l.rms_torque_nm, &|l| l.rms_torque_nm),
-                    quote(l.peak_speed_rad_s, &|l| l.peak_speed_rad_s),
-                    quote(l.peak_power_w, &|l| l.peak_power_w),
-                    quote(l.peak_current_a, &|l| l.peak_current_a),
-                    class_name(l).to_string(),
-                ]
-            })
-            .collect(),
-    };
-    let mut table = table;
-    table.rows.extend(drive_rows(joints, specs, defaults));
-    stacked_chart(
-        &[
-            panel("Joint torque", "torque (N·m)", &torque),
-            panel("Joint speed", "speed (rad/s)", &speed),
-            panel("Mechanical power τ·q̇", "power (W)", &power),
-            panel("Motor current I = τ/(Km·N·η)", "current (A)", &current),
-        ],
-        Some(&table),
-        caption,
-        format,
-    )
+    let header: Vec<String> = MOTOR_TABLE_HEADER.iter().map(|h| h.to_string()).collect();
+    crate::report::csv::table_to_string(&header, &rows)
 }
 
-/// The drive parameters under the sizing table: a blank line, a heading line, and per joint
-/// its gear ratio, torque constant and efficiency, each marked `(default)` when so.
-fn drive_rows(
-    joints: &[JointMotion],
-    specs: &[MotorSpec],
-    defaults: &[[bool; 3]],
-) -> Vec<Vec<String>> {
-    let mut rows = vec![
-        vec![],
-        ["drive", "gear N", "Km (N·m/A)", "efficiency η"]
-            .map(String::from)
-            .to_vec(),
-    ];
-    for (k, (m, s)) in joints.iter().zip(specs).enumerate() {
-        let d = defaults.get(k).copied().unwrap_or([false; 3]);
-        let cell = |v: f64, default: bool| {
-            let v = ryu::Buffer::new()
-                .format(v)
-                .trim_end_matches(".0")
-                .to_string();
-            if default { format!("{v} (default)") } else { v }
-        };
-        rows.push(vec![
-            m.joint.clone(),
-            cell(s.gear_ratio, d[0]),
-            cell(s.km_nm_per_a, d[1]),
-            cell(s.efficiency.unwrap_or(1.0), d[2]),
-        ]);
-    }
-    rows
-}
+pub use super::motor_chart::{motor_chart, motor_svg};
 
 /// The plotted curves as CSV, named by `report::columns`: `time` (s), then per joint
-/// `tau:<joint>` (N·m), `v:<joint>` (rad/s), `power:<joint>` (W), `current:<joint>` (A) (with
-/// `specs[k]` for `joints[k]`). The joints must
+/// `tau:<joint>` (N·m), `v:<joint>` (rad/s), `power:<joint>` (W), `current:<joint>` (A, with
+/// the rotor's term) and `rotor_tau:<joint>` (the reflected rotor inertia torque J_m·N²·q̈,
+/// N·m) (with `specs[k]` for `joints[k]`). The joints must
 /// share their sample times.
 pub fn motor_curves_csv(joints: &[JointMotion], specs: &[MotorSpec]) -> Result<String, Error> {
     if specs.len() != joints.len() {
@@ -508,8 +444,14 @@ pub fn motor_curves_csv(joints: &[JointMotion], specs: &[MotorSpec]) -> Result<S
         check_series(
             &format!("motor export of {:?}", m.joint),
             &m.t,
-            &[("torque", &m.tau), ("speed", &m.qd)],
+            &[
+                ("torque", &m.tau),
+                ("speed", &m.qd),
+                ("acceleration", &m.qdd),
+            ],
         )?;
+        let rotor = duty::rotor_torque(spec.rotor_inertia_kg_m2, spec.gear_ratio, &m.qdd);
+        let geared = duty::geared_torque(&m.tau, &rotor, spec.eta());
         let p: Vec<f64> = m.tau.iter().zip(&m.qd).map(|(t, w)| t * w).collect();
         series.push(Series::new(
             super::columns::name("tau", &[&m.joint]),
@@ -526,11 +468,16 @@ pub fn motor_curves_csv(joints: &[JointMotion], specs: &[MotorSpec]) -> Result<S
             m.t.clone(),
             p,
         ));
-        let i = m.tau.iter().map(|t| motor_current(*t, spec)).collect();
+        let i = geared.iter().map(|t| motor_current(*t, spec)).collect();
         series.push(Series::new(
             super::columns::name("current", &[&m.joint]),
             m.t.clone(),
             i,
+        ));
+        series.push(Series::new(
+            super::columns::name("rotor_tau", &[&m.joint]),
+            m.t.clone(),
+            rotor,
         ));
     }
     crate::report::chart::series_csv("time", &series)

@@ -38,12 +38,23 @@ pub struct Sidecar {
 }
 
 /// The columns of `header` with their quantities and units for `model` (an error names the
-/// first column outside the scheme).
-pub fn describe(header: &[String], model: Option<&Model>) -> Result<Vec<ColumnInfo>, Error> {
+/// first column outside the scheme); `known` gives `(column, unit)` of columns a summary's
+/// `peak:<column>` names that neither the scheme nor the model settles (a batch's, from its
+/// outputs' sidecars).
+pub fn describe(
+    header: &[String],
+    model: Option<&Model>,
+    known: &[(String, String)],
+) -> Result<Vec<ColumnInfo>, Error> {
+    let known = |c: &str| {
+        (known.iter())
+            .find(|(n, _)| n == c)
+            .and_then(|(_, u)| columns::scheme_unit(u))
+    };
     header
         .iter()
         .map(|h| {
-            let unit = columns::unit_of(h, model)?;
+            let unit = columns::unit_of_known(h, model, &known)?;
             let quantity = columns::kind_of(h).map_or("", |k| k.quantity);
             Ok(ColumnInfo {
                 name: h.clone(),

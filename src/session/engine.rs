@@ -188,6 +188,7 @@ impl Default for Params {
                 km_nm_per_a: 0.1,
                 gear_ratio: 100.0,
                 efficiency: Some(1.0),
+                rotor_inertia_kg_m2: 0.0,
             },
             motor_joint: BTreeMap::new(),
             motor_catalogue: None,
@@ -230,6 +231,7 @@ impl Params {
             km_nm_per_a: o.km.unwrap_or(self.motor.km_nm_per_a),
             gear_ratio: o.gear.unwrap_or(self.motor.gear_ratio),
             efficiency: o.efficiency.or(self.motor.efficiency),
+            rotor_inertia_kg_m2: self.motor.rotor_inertia_kg_m2,
         }
     }
 }
@@ -608,6 +610,7 @@ pub trait Engine: Send + Sync {
                 take: Some(&t),
                 model: None,
                 notes: &[],
+                known_units: &[],
             };
             wrote.extend(pipeline::summary::write_sidecar(path, &p)?);
         }

@@ -86,7 +86,8 @@
 //!
 //! Motor drives for `report motor` (the gear relations of report::motor: `τ_m = τ/(N·η)`,
 //! `ω_m = N·q̇`, `I = τ/(Km·N·η)`): `motor.km` (Km, N·m/A), `motor.gear` (N, motor turns per
-//! joint turn), `motor.efficiency` (η in (0, 1]) set the drive of every joint;
+//! joint turn), `motor.efficiency` (η in (0, 1]), `motor.rotor_inertia` (J_m, kg·m², motor
+//! shaft: the reflected term `J_m·N²·q̈` of report::motor_duty) set the drive of every joint;
 //! `motor.<coord>.km|gear|efficiency` override it for one coordinate (`motor.j2.gear 107.815`);
 //! `motor.catalogue PATH|auto` chooses the catalogue of motor classes (TOML, the format of the
 //! bundled `data/motor_classes.toml`, values on the motor shaft).

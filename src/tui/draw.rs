@@ -436,6 +436,7 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
             t: r.time.clone(),
             tau: r.tau.column(k),
             qd: r.v.column(k),
+            qdd: r.a.column(k),
         };
         if let Ok(l) = crate::report::motor::size_motor(&m, &p.motor_of(sel), &wb.motor_classes) {
             lines.push(Line::from(format!(

@@ -665,6 +665,20 @@ pub static SETTINGS: &[Setting] = &[
         panel: None,
     },
     Setting {
+        name: "motor.rotor_inertia",
+        value: "X",
+        help: "every motor's rotor inertia J_m (kg·m², motor shaft; 0: none): report motor adds \
+               the reflected term J_m·N²·q̈ to the torque the motor gives",
+        values: &[],
+        recompute: R::Nothing,
+        apply: |wb, a| {
+            // a.num without a unit table: a finite number ≥ 0, else an error saying so
+            wb.params.motor.rotor_inertia_kg_m2 = a.num(None, "a rotor inertia in kg·m²")?;
+            Ok(())
+        },
+        panel: None,
+    },
+    Setting {
         name: "motor.<joint>.km",
         value: "X",
         help: "one coordinate's Km (N·m/A)",

@@ -402,6 +402,15 @@ impl Job {
     ) -> Result<Output, SessionError> {
         match kind {
             ExportKind::Csv => {
+                // an OpenSim name would get CSV text: say what writes OpenSim's tables
+                let ext = out.extension().and_then(|e| e.to_str()).unwrap_or("");
+                if ["sto", "mot"].iter().any(|x| ext.eq_ignore_ascii_case(x)) {
+                    return Err(err(format!(
+                        "export csv {}: export csv writes CSV; OpenSim's .{ext} is written by \
+                         export states|grf PATH.{ext} (articula id -o PATH.sto for the torques)",
+                        out.display()
+                    )));
+                }
                 let r = self.results(ctl, analysis, 0.8)?;
                 let text = results_csv(&r);
                 ctl.check()?;
@@ -413,6 +422,7 @@ impl Job {
                     take: None,
                     model: Some(&r.model),
                     notes: &[],
+                    known_units: &[],
                 };
                 crate::pipeline::summary::write_sidecar(out, &p)?;
             }
@@ -690,6 +700,7 @@ impl Job {
                 t: r.time.clone(),
                 tau: r.tau.column(k),
                 qd: r.v.column(k),
+                qdd: r.a.column(k),
             })
             .collect();
         let specs: Vec<_> = joints
@@ -705,7 +716,7 @@ impl Job {
             (true, false) => {
                 return Err(err("report motor curves: the curves are written as .csv"));
             }
-            (false, true) => motor::motor_table_csv(&loads).into_bytes(),
+            (false, true) => motor::motor_table_csv(&loads)?.into_bytes(),
             (false, false) => {
                 let caption = self.caption(r.scale, None);
                 let defaults: Vec<[bool; 3]> = joints
@@ -718,8 +729,14 @@ impl Job {
         };
         ctl.check()?;
         crate::io::write_atomic(out, &bytes)?;
-        if curves {
-            super::table_sidecar(out, "report motor curves", Some(m.as_ref()))?;
+        // the tables' sidecar NAME.csv.json (the curves are always a CSV)
+        if is_csv(out) {
+            let command = if curves {
+                "report motor curves"
+            } else {
+                "report motor"
+            };
+            super::table_sidecar(out, command, Some(m.as_ref()))?;
         }
         let classes: Vec<String> = loads
             .iter()

@@ -101,6 +101,7 @@ fn table_sidecar(
         take: None,
         model,
         notes: &[],
+        known_units: &[],
     };
     crate::pipeline::summary::write_sidecar(out, &p)?;
     Ok(())
