@@ -112,6 +112,9 @@ fn a_uniform_change_of_mass_changes_no_residual_percentage() {
 /// fractions) needs the same adjustments, and its reduced joint torques scale exactly. A knee
 /// study across body weights then compares like with like; an absolute "met" threshold in N·m
 /// once made the two reductions take different steps (the demo's knee 4 % off the ratio).
+/// Equal to the solver's tolerance, not to rounding: a Gauss–Newton step is kept when the
+/// cost falls, and where two costs agree to rounding the two masses may keep different ones
+/// (1e-6 m, 1e-6 of the peak torque).
 #[test]
 fn a_body_scaled_alike_is_reduced_by_the_same_adjustments() {
     // the workbench study's settings (tests/session_replay.rs): euler joints, a Gaussian,
@@ -131,11 +134,11 @@ fn a_body_scaled_alike_is_reduced_by_the_same_adjustments() {
     let (heavy_take, _, h) = consistent_take(&heavy, true, None).unwrap();
     let (la, ha) = (l.adjustments.unwrap(), h.adjustments.unwrap());
     assert!(
-        (la.trunk_offset_m - ha.trunk_offset_m).norm() < 1e-9,
+        (la.trunk_offset_m - ha.trunk_offset_m).norm() < 1e-6,
         "{la:?} vs {ha:?}"
     );
-    assert!((la.pelvis_peak_m - ha.pelvis_peak_m).abs() < 1e-9);
-    assert!((la.pelvis_rms_m - ha.pelvis_rms_m).abs() < 1e-9);
+    assert!((la.pelvis_peak_m - ha.pelvis_peak_m).abs() < 1e-6);
+    assert!((la.pelvis_rms_m - ha.pelvis_rms_m).abs() < 1e-6);
     let (lt, ht) = (light_take.unwrap(), heavy_take.unwrap());
     let (lg, hg) = (
         pipeline::ground_reactions(&lt).unwrap().unwrap(),
@@ -144,7 +147,7 @@ fn a_body_scaled_alike_is_reduced_by_the_same_adjustments() {
     let peak = lg.tau.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
     for (a, b) in lg.tau.iter().zip(&hg.tau) {
         for (x, y) in a.iter().zip(b) {
-            assert!((y - x * 5.0 / 3.0).abs() < 1e-9 * peak, "{x} vs {y}");
+            assert!((y - x * 5.0 / 3.0).abs() < 1e-6 * peak, "{x} vs {y}");
         }
     }
 }
