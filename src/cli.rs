@@ -187,15 +187,30 @@ pub enum Cmd {
         #[arg(long)]
         json: bool,
         /// Batches of at least 2 ms each; the median is reported.
-        #[arg(long, default_value_t = 7, conflicts_with = "stages")]
+        #[arg(long, default_value_t = 7, conflicts_with_all = ["stages", "edit"])]
         batches: usize,
         /// Time the stages a take goes through in `articula id` (parse, model, coordinates,
         /// unwrap, smooth, derivatives, job, contact, inverse dynamics): min and median.
         #[arg(long, conflicts_with_all = ["urdf", "dh", "states"])]
         stages: bool,
-        /// Timed runs of the stages (after one warm-up run).
-        #[arg(long, default_value_t = 5, requires = "stages")]
-        repeat: usize,
+        /// Time a workbench edit on the take: `set SETTING V` then `run id`, the values in
+        /// turn (`body.mass=80,70`), as the terminal UI's "recomputed in N ms" (min and
+        /// median, and the stages each edit reran). The take flags set the workbench's take
+        /// options (`--contact feet`); see docs/workbench.md.
+        #[arg(
+            long,
+            value_name = "SETTING=V1,V2",
+            conflicts_with_all = ["urdf", "dh", "states", "stages"]
+        )]
+        edit: Option<String>,
+        /// With --edit: a workbench setting applied before the first run, `KEY=VALUE`
+        /// (`consistent=off`); repeatable.
+        #[arg(long = "set", value_name = "KEY=VALUE", requires = "edit")]
+        set: Vec<String>,
+        /// Timed runs of the stages (after one warm-up run), or timed edits with --edit
+        /// [default: 5].
+        #[arg(long)]
+        repeat: Option<usize>,
         /// Cycle the take to this many minutes of frames before timing: frame 0 once, then
         /// frames 1…last forward and backward in turn; the parse is timed on the cycled text.
         #[arg(
@@ -920,6 +935,36 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             src,
             opts,
             json,
+            edit: Some(edit),
+            set,
+            repeat,
+            ..
+        } => {
+            let take = src
+                .take
+                .as_deref()
+                .ok_or_else(|| anyhow::anyhow!("bench --edit needs a take (a BVH file)"))?;
+            need(take)?;
+            let settings = articula::session::edit_bench::EditSettings::parse(
+                &edit,
+                &set,
+                repeat.unwrap_or(5),
+            )?;
+            let r = articula::session::edit_bench::bench_edit(
+                take,
+                &opts.options_for_source("bench --edit", &src)?,
+                &settings,
+            )?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&r.json())?);
+            } else {
+                print!("{}", r.text());
+            }
+        }
+        Cmd::Bench {
+            src,
+            opts,
+            json,
             stages: true,
             repeat,
             minutes,
@@ -930,7 +975,10 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
                 .as_deref()
                 .ok_or_else(|| anyhow::anyhow!("bench --stages needs a take (a BVH file)"))?;
             need(take)?;
-            let settings = pipeline::StageSettings { repeat, minutes };
+            let settings = pipeline::StageSettings {
+                repeat: repeat.unwrap_or(5),
+                minutes,
+            };
             let r = pipeline::bench_stages(
                 take,
                 &opts.options_for_source("bench --stages", &src)?,
@@ -947,8 +995,12 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             opts,
             json,
             batches,
+            repeat,
             ..
         } => {
+            if repeat.is_some() {
+                bail!("--repeat times --stages or --edit: give one of them, or drop --repeat");
+            }
             let model =
                 pipeline::load_model(&src.source()?, &opts.options_for_source("bench", &src)?)?;
             let r = pipeline::bench_batches(&model, batches)?;

@@ -2,7 +2,8 @@
 //! every block of work (a run of frames, a joint's columns) computes the same operations in the
 //! same order whatever thread runs it. So `articula id`'s CSV is the same bytes with
 //! `--threads 1` (the serial path) and `--threads 2`, on the demo take in the joint models
-//! and smoothings that take different paths, and on every real take.
+//! and smoothings that take different paths, and on every real take; and so is `articula
+//! anatomy`'s (its angles and moments per frame in parallel, with and without contact).
 
 mod common;
 
@@ -11,11 +12,16 @@ use std::path::Path;
 
 /// `articula id TAKE ARGS --threads N` written to a temporary file, as bytes.
 fn id_bytes(take: &Path, args: &[&str], threads: usize) -> Vec<u8> {
+    command_bytes("id", take, args, threads)
+}
+
+/// `articula CMD TAKE ARGS --threads N` written to a temporary file, as bytes.
+fn command_bytes(cmd: &str, take: &Path, args: &[&str], threads: usize) -> Vec<u8> {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("tau.csv");
+    let out = dir.path().join("out.csv");
     let run = Command::cargo_bin("articula")
         .unwrap()
-        .arg("id")
+        .arg(cmd)
         .arg(take)
         .args(args)
         .args(["--threads", &threads.to_string(), "-o"])
@@ -53,6 +59,20 @@ fn id_is_the_same_bytes_with_one_and_two_threads_on_the_demo() {
         &["--smooth", "none", "--joints", "ball", "--contact", "none"],
     ] {
         same_with_one_and_two_threads(&demo, args);
+    }
+}
+
+#[test]
+fn anatomy_is_the_same_bytes_with_one_and_two_threads() {
+    let demo = common::repo("data/demo_walk.bvh");
+    for args in [&["--contact", "feet"][..], &["--contact", "none"]] {
+        let one = command_bytes("anatomy", &demo, args, 1);
+        let two = command_bytes("anatomy", &demo, args, 2);
+        assert!(one.len() > 100, "{args:?}: an empty CSV");
+        assert!(
+            one == two,
+            "{args:?}: anatomy differs between 1 and 2 threads"
+        );
     }
 }
 

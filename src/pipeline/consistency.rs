@@ -142,10 +142,11 @@ pub fn consistent_take(
     };
     let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)?;
     let counted = counted_frames(s.len(), super::edge_frames(take));
-    let heights = com_heights(&take.model, &s.q, before.up, before.floor);
+    // the centre of mass and the pelvis of the estimate's own kinematics
+    let heights = com_heights_of(&before);
     let fig_before = figures(&before, &heights, &counted);
     let mass_kg = take.model.total_mass();
-    let travel = pelvis_travel(take);
+    let travel = pelvis_travel(&before.pelvis, up);
     if !reduce {
         let c = finish(fig_before, None, None, mass_kg, &before, counted, travel);
         return Ok((None, before, c));
@@ -334,19 +335,18 @@ fn finish(
 /// A pelvis that travels less than this over a take (m) walks in place.
 const IN_PLACE_M: f64 = 0.1;
 
-/// How far the pelvis gets from where it starts, along the floor (m), over the take.
-fn pelvis_travel(take: &Take) -> f64 {
-    let model = &take.model;
-    let Some(root) = crate::dynamics::grf::floating_root(model) else {
-        return f64::INFINITY;
-    };
-    let up = take.up.index();
-    let mut ws = crate::dynamics::Workspace::new(model);
+/// Per frame, the height (m) of the whole-body centre of mass over the floor of `g`.
+fn com_heights_of(g: &GroundReactions) -> Vec<f64> {
+    g.com.iter().map(|c| c[g.up] - g.floor).collect()
+}
+
+/// How far the pelvis (`pelvis`, per frame, world) gets from where it starts, along the floor
+/// (m, `up` the vertical axis), over the take.
+fn pelvis_travel(pelvis: &[Vector3<f64>], up: usize) -> f64 {
     let mut start = None;
     let mut far: f64 = 0.0;
-    for q in &take.states.q {
-        crate::dynamics::forward_kinematics(model, &mut ws, q);
-        let mut p = ws.o_x_i[root].trans;
+    for p in pelvis {
+        let mut p = *p;
         p[up] = 0.0;
         let s = *start.get_or_insert(p);
         far = far.max((p - s).norm());

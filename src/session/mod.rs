@@ -127,6 +127,7 @@
 //! files are written last, through `io::write_atomic`, after the last cancel check.
 
 pub mod command;
+pub mod edit_bench;
 pub mod engine;
 pub mod settings;
 pub mod trajectory;

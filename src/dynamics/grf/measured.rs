@@ -85,6 +85,8 @@ pub fn apply_ground_reactions(
         free_moment: loads.free_moment.clone(),
         wrench: vec![[0.0; 6]; n],
         residual: vec![[0.0; 6]; n],
+        pelvis: vec![Vector3::zeros(); n],
+        com: vec![Vector3::zeros(); n],
         cop_gap: vec![0.0; n],
         tau: vec![vec![0.0; model.nv]; n],
     };
@@ -97,6 +99,8 @@ pub fn apply_ground_reactions(
         rnea(model, &mut ws, &q[k], &v[k], &a[k], None);
         let w = root_wrench(model, &ws);
         let pelvis = ws.o_x_i[root].trans;
+        out.pelvis[k] = pelvis;
+        out.com[k] = crate::dynamics::residual::centre_of_mass(model, &ws);
         out.wrench[k] = about(&w, &pelvis);
 
         // the loads given, and how far their centre of pressure is from the needed one

@@ -64,9 +64,10 @@
 //! [`acceleration_spread_s`]: crate::motion::contact::acceleration_spread_s
 
 pub mod measured;
+mod passes;
 mod share;
 
-use super::{Workspace, forward_kinematics, rnea};
+use super::Workspace;
 use crate::error::Error;
 use crate::model::{JointKind, Model};
 use crate::motion::contact::{
@@ -107,6 +108,12 @@ pub struct GroundReactions {
     pub wrench: Vec<[f64; 6]>,
     /// `[frame]`: what the root still supplies with the ground reactions applied, same layout.
     pub residual: Vec<[f64; 6]>,
+    /// `[frame]`: the root joint's origin (m, world): the point `wrench` and `residual` are
+    /// taken about.
+    pub pelvis: Vec<Vector3<f64>>,
+    /// `[frame]`: the whole-body centre of mass (m, world;
+    /// [`centre_of_mass`](super::residual::centre_of_mass) of the frame's kinematics).
+    pub com: Vec<Vector3<f64>>,
     /// `[frame]`: how far (m, along the floor) the centre of pressure of the feet's loads
     /// together lies from the one the whole-body wrench needs; 0 where they coincide, where no
     /// foot is loaded, or where the motion needs no pressing force. It grows where the needed
@@ -327,44 +334,28 @@ pub fn estimate_ground_reactions_progress(
         )));
     }
     let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
-    let mut ws = Workspace::new(model);
+
+    // pass 1: the whole-body wrench each frame needs (world axes, about the world origin),
+    // and the poses of the bodies every later step reads (frames in parallel: `passes`)
+    let bodies = passes::Poses::bodies(model, feet, root);
+    let (needed, com, poses) = passes::needed_wrenches(model, bodies, q, v, a, &mut |k| {
+        keep_going(0.5 * k as f64 / n as f64)
+    })
+    .ok_or(Error::Cancelled)?;
 
     // contact phases from the heel and toe paths
     let mut feet = feet.to_vec();
-    let (points, by_foot) =
-        planted_feet(model, &mut ws, &mut feet, q, up, dt, params).map_err(|why| {
-            Error::Invalid(format!(
-                "model {}: {why}; use --contact none (`set contact none` in the workbench)",
-                model.name
-            ))
-        })?;
+    let (points, by_foot) = planted_feet(&poses, &mut feet, up, dt, params).map_err(|why| {
+        Error::Invalid(format!(
+            "model {}: {why}; use --contact none (`set contact none` in the workbench)",
+            model.name
+        ))
+    })?;
     let floor = floor_height(&points, up);
     let contact: Vec<Vec<bool>> = (0..n)
         .map(|k| by_foot.iter().map(|c| c[k]).collect())
         .collect();
     let shares = transitions(&contact, time);
-
-    // the whole-body wrench each frame needs (world axes, about the world origin)
-    // (frames in parallel, each worker with its own workspace: `crate::par`)
-    let mut needed = vec![ForceVec::ZERO; n];
-    let mut workspaces = crate::par::scratch(|| Workspace::new(model));
-    let reached = crate::par::rounds(
-        &mut needed,
-        PROGRESS_EVERY,
-        &mut workspaces,
-        |ws, first, block| {
-            for (i, w) in block.iter_mut().enumerate() {
-                let k = first + i;
-                forward_kinematics(model, ws, &q[k]);
-                rnea(model, ws, &q[k], &v[k], &a[k], None);
-                *w = root_wrench(model, ws);
-            }
-        },
-        &mut |k| keep_going(0.5 * k as f64 / n as f64),
-    );
-    if reached < n {
-        return Err(Error::Cancelled);
-    }
     let up_force: Vec<f64> = needed.iter().map(|w| w.lin[up]).collect();
     let spread = (params.spread_s / dt).round() as usize;
     let loaded = carry_across_spread(&contact, &up_force, spread);
@@ -382,28 +373,73 @@ pub fn estimate_ground_reactions_progress(
         free_moment: vec![vec![0.0; nf]; n],
         wrench: vec![[0.0; 6]; n],
         residual: vec![[0.0; 6]; n],
+        pelvis: vec![Vector3::zeros(); n],
+        com,
         cop_gap: vec![0.0; n],
         tau: vec![vec![0.0; model.nv]; n],
     };
-    let mut f_ext = vec![ForceVec::ZERO; model.nbodies()];
+    // pass 2 (serial: a foot's load carries from frame to frame): the feet's loads
+    let wrenches = assign_loads(
+        model, &feet, root, &poses, &needed, &shares, params, &mut out,
+    );
+
+    // pass 3: inverse dynamics with the ground reactions (frames in parallel)
+    let GroundReactions {
+        bodies,
+        tau,
+        residual,
+        ..
+    } = &mut out;
+    let finished = passes::with_ground_reactions(
+        model,
+        root,
+        &poses,
+        bodies,
+        &wrenches,
+        [q, v, a],
+        (tau, residual),
+        &mut |k| keep_going(0.5 + 0.5 * k as f64 / n as f64),
+    );
+    if !finished {
+        return Err(Error::Cancelled);
+    }
+    Ok(out)
+}
+
+/// Pass 2 of the estimate: the loads of the feet at every frame, from the needed wrenches
+/// `needed` and the kept poses, written into `out` (`pelvis`, `wrench`, `grf`, `cop`,
+/// `free_moment`, `cop_gap`; `out.loaded` read). Returns each foot's wrench (`[frame * feet + j]`, world
+/// axes about the world origin) for pass 3.
+#[allow(clippy::too_many_arguments)]
+fn assign_loads(
+    model: &Model,
+    feet: &[Foot],
+    root: usize,
+    poses: &passes::Poses,
+    needed: &[ForceVec],
+    shares: &[Option<Transition>],
+    params: &ContactParams,
+    out: &mut GroundReactions,
+) -> Vec<ForceVec> {
+    let (n, nf, up, floor) = (needed.len(), feet.len(), out.up, out.floor);
+    let mut o_x_i = vec![SpatialTransform::IDENTITY; model.nbodies()];
+    let mut wrenches = vec![ForceVec::ZERO; n * nf];
     let mut loads = vec![FootLoad::default(); nf];
     let mut scratch = Scratch::new(nf);
     let mut support = vec![Support::default(); nf];
     let mut last_single: Vec<Option<FootLoad>> = vec![None; nf];
     let e_up = Vector3::ith(up, 1.0);
     for k in 0..n {
-        if k % PROGRESS_EVERY == 0 && !keep_going(0.5 + 0.5 * k as f64 / n as f64) {
-            return Err(Error::Cancelled);
-        }
         // whole-body wrench the motion needs (world axes, about the world origin)
-        forward_kinematics(model, &mut ws, &q[k]);
+        poses.restore(k, &mut o_x_i);
         let w = needed[k];
-        let pelvis = ws.o_x_i[root].trans;
+        let pelvis = o_x_i[root].trans;
+        out.pelvis[k] = pelvis;
         out.wrench[k] = about(&w, &pelvis);
 
         // the feet's shares and their wrenches
-        for (s, f) in support.iter_mut().zip(&feet) {
-            *s = Support::new(f, &ws.o_x_i, up, floor);
+        for (s, f) in support.iter_mut().zip(feet) {
+            *s = Support::new(f, &o_x_i, up, floor);
         }
         let c = &out.loaded[k];
         let floor_at = Floor { up, height: floor };
@@ -433,22 +469,18 @@ pub fn estimate_ground_reactions_progress(
             out.grf[k][j] = load.force;
             out.cop[k][j] = load.cop;
             out.free_moment[k][j] = load.free_moment;
-            given += load.wrench(&e_up);
+            let wj = load.wrench(&e_up);
+            wrenches[k * nf + j] = wj;
+            given += wj;
         }
-        out.external_forces(k, &ws.o_x_i, &mut f_ext);
         if let (Some((p, _)), Some((p_feet, _))) = (
             centre_of_pressure(&w, up, floor),
             centre_of_pressure(&given, up, floor),
         ) {
             out.cop_gap[k] = (p - p_feet).norm();
         }
-
-        // inverse dynamics with the ground reactions; what the root still supplies
-        let tau = rnea(model, &mut ws, &q[k], &v[k], &a[k], Some(&f_ext));
-        out.tau[k].copy_from_slice(tau.as_slice());
-        out.residual[k] = about(&root_wrench(model, &ws), &pelvis);
     }
-    Ok(out)
+    wrenches
 }
 
 /// The contact phases (`[foot][frame]`) of `feet` over samples `time` of `q` (the first step
@@ -470,23 +502,27 @@ pub fn stance(
         ));
     }
     let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
-    let mut ws = Workspace::new(model);
     let mut feet = feet.to_vec();
-    planted_feet(model, &mut ws, &mut feet, q, up, dt, params).map(|(_, by_foot)| by_foot)
+    let bodies = feet
+        .iter()
+        .flat_map(|f| [f.ankle_body, f.toe_body])
+        .collect::<std::collections::BTreeSet<_>>()
+        .into_iter()
+        .collect();
+    let poses = passes::Poses::of_motion(model, bodies, q);
+    planted_feet(&poses, &mut feet, up, dt, params).map(|(_, by_foot)| by_foot)
 }
 
 /// The heel and toe paths of `feet` (their heel points fitted to the take) and the contact
 /// phases from them, or why no foot is ever planted ([`why_no_contact`]).
 fn planted_feet(
-    model: &Model,
-    ws: &mut Workspace,
+    poses: &passes::Poses,
     feet: &mut [Foot],
-    q: &[Vec<f64>],
     up: usize,
     dt: f64,
     params: &ContactParams,
 ) -> Result<(Vec<FootPoints>, Vec<Vec<bool>>), String> {
-    let points = foot_paths(model, ws, feet, q, up);
+    let points = foot_paths(poses, feet, up);
     let by_foot = contact_phases(&points, up, dt, params);
     if by_foot.iter().flatten().all(|c| !c) {
         return Err(why_no_contact(&points, up, dt, params));
@@ -572,27 +608,14 @@ pub fn floating_root(model: &Model) -> Option<usize> {
     (lin == 3 && ang == 3).then_some(r)
 }
 
-/// World path of each foot's heel and toe over the take, after fitting each heel point to the
-/// take ([`fit_heel_points`]: the rest pose of some skeletons is not standing).
-fn foot_paths(
-    model: &Model,
-    ws: &mut Workspace,
-    feet: &mut [Foot],
-    q: &[Vec<f64>],
-    up: usize,
-) -> Vec<FootPoints> {
-    let mut poses = vec![Vec::with_capacity(q.len()); feet.len()];
-    let mut paths = vec![FootPoints::default(); feet.len()];
-    for qk in q {
-        forward_kinematics(model, ws, qk);
-        for ((p, x), f) in paths.iter_mut().zip(&mut poses).zip(&*feet) {
-            p.toe.push(f.toe(&ws.o_x_i));
-            x.push(ws.o_x_i[f.ankle_body]);
-        }
-    }
+/// World path of each foot's heel and toe over the take, from the kept poses, after fitting
+/// each heel point to the take ([`fit_heel_points`]: the rest pose of some skeletons is not
+/// standing).
+fn foot_paths(poses: &passes::Poses, feet: &mut [Foot], up: usize) -> Vec<FootPoints> {
+    let (ankle_poses, mut paths) = poses.feet(feet);
     let floor = floor_height(&paths, up);
-    fit_heel_points(feet, &poses, up, floor);
-    for ((p, x), f) in paths.iter_mut().zip(&poses).zip(&*feet) {
+    fit_heel_points(feet, &ankle_poses, up, floor);
+    for ((p, x), f) in paths.iter_mut().zip(&ankle_poses).zip(&*feet) {
         p.heel = x.iter().map(|x| x.transform_point(&f.heel_point)).collect();
     }
     paths

@@ -632,9 +632,17 @@ pub fn anatomy_with(take: &Take, grf: Option<&GroundReactions>) -> Result<Anatom
     let s = &take.states;
     let n = s.len();
     let mut ws = Workspace::new(model);
+    // the world poses the moments read later (each mapped joint's body, the feet's), kept
+    // from this one kinematics pass
+    let mut kept: Vec<usize> = take.map.joints.iter().map(|jm| jm.body).collect();
+    kept.extend(grf.iter().flat_map(|g| g.bodies.iter().copied()));
+    kept.sort_unstable();
+    kept.dedup();
+    let mut poses = Vec::with_capacity(n * kept.len());
     let frames: Vec<Posed> = (0..n)
         .map(|k| {
             dynamics::forward_kinematics(model, &mut ws, &s.q[k]);
+            poses.extend(kept.iter().map(|&b| ws.o_x_i[b]));
             posed(take, &ws)
         })
         .collect();
@@ -659,47 +667,51 @@ pub fn anatomy_with(take: &Take, grf: Option<&GroundReactions>) -> Result<Anatom
             }
         }
     }
-    let mut columns = vec![Vec::with_capacity(n); names.len()];
-    let mut f_ext = vec![ForceVec::ZERO; model.nbodies()];
-    for (k, p) in frames.iter().enumerate() {
-        dynamics::forward_kinematics(model, &mut ws, &s.q[k]);
-        let fx = grf.map(|g| {
-            g.external_forces(k, &ws.o_x_i, &mut f_ext);
-            f_ext.as_slice()
-        });
-        dynamics::rnea(model, &mut ws, &s.q[k], &s.v[k], &s.a[k], fx);
-        let mut c = 0;
-        for j in &joints {
-            let (Some(fp), Some(fd)) = (j.proximal.at(p, &up), j.distal.at(p, &up)) else {
-                return Err(Error::Numerical(format!(
-                    "{}: frame {k}: the {}{} joint's segments have no frame (a bone of zero \
-                     length or parallel to its lateral axis)",
-                    take.path.display(),
-                    j.kind.name,
-                    j.suffix
-                )));
-            };
-            let m = j.moment_at.map_or(Vector3::zeros(), |b| {
-                let jm = &take.map.joints[b];
-                ws.o_x_i[jm.body].rot * ws.f[jm.body].ang
+    // the angles and moments of every frame (frames in parallel, each worker with its own
+    // workspace: `crate::par`), a row of `names` per frame
+    let ncol = names.len();
+    let mut values = vec![0.0; n * ncol];
+    let mut missing = vec![false; n];
+    if ncol > 0 {
+        let mut rows: Vec<(&mut [f64], &mut bool)> =
+            values.chunks_mut(ncol).zip(missing.iter_mut()).collect();
+        let mut scratch =
+            crate::par::scratch(|| (Workspace::new(model), vec![ForceVec::ZERO; model.nbodies()]));
+        let frame = |ws: &mut Workspace, f_ext: &mut [ForceVec], k: usize, row: &mut [f64]| {
+            for (x, &b) in poses[k * kept.len()..].iter().zip(&kept) {
+                ws.o_x_i[b] = *x;
+            }
+            let fx = grf.map(|g| {
+                g.external_forces(k, &ws.o_x_i, f_ext);
+                &*f_ext
             });
-            let (ang, mom) = jcs::joint_angles_moments(j.kind, j.suffix != "_l", &fp, &fd, &m);
-            for a in ang {
-                columns[c].push(a.to_degrees());
-                c += 1;
+            dynamics::rnea(model, ws, &s.q[k], &s.v[k], &s.a[k], fx);
+            frame_row(take, &joints, &frames[k], &up, mass, ws, row)
+        };
+        crate::par::for_each_block(&mut rows, 64, &mut scratch, |(ws, f_ext), first, block| {
+            for (i, (row, missing)) in block.iter_mut().enumerate() {
+                **missing = frame(ws, f_ext, first + i, row).is_none();
             }
-            if j.moment_at.is_some() {
-                for x in mom {
-                    columns[c].push(x);
-                    c += 1;
-                }
-                for x in mom {
-                    columns[c].push(x / mass);
-                    c += 1;
-                }
-            }
-        }
+        });
     }
+    if let Some(k) = missing.iter().position(|m| *m) {
+        let j = joints
+            .iter()
+            .find(|j| {
+                j.proximal.at(&frames[k], &up).is_none() || j.distal.at(&frames[k], &up).is_none()
+            })
+            .unwrap_or(&joints[0]);
+        return Err(Error::Numerical(format!(
+            "{}: frame {k}: the {}{} joint's segments have no frame (a bone of zero \
+             length or parallel to its lateral axis)",
+            take.path.display(),
+            j.kind.name,
+            j.suffix
+        )));
+    }
+    let mut columns: Vec<Vec<f64>> = (0..ncol)
+        .map(|c| (0..n).map(|k| values[k * ncol + c]).collect())
+        .collect();
     for (name, col) in names.iter().zip(columns.iter_mut()) {
         if name.ends_with(":angle") {
             unwrap_degrees(col);
@@ -723,6 +735,45 @@ pub fn anatomy_with(take: &Take, grf: Option<&GroundReactions>) -> Result<Anatom
         edge: super::edge_frames(take),
         include_edges: false,
     })
+}
+
+/// One frame's row of [`anatomy_with`]'s columns into `row`: per joint its angles (deg) and,
+/// where it has a moment, the moment in its joint coordinate system (N·m) and per kg, from
+/// the net forces `ws.f` of RNEA and the world poses `ws.o_x_i`. `None` when a joint's
+/// segments have no frame.
+fn frame_row(
+    take: &Take,
+    joints: &[Joint],
+    p: &Posed,
+    up: &Vector3<f64>,
+    mass: f64,
+    ws: &Workspace,
+    row: &mut [f64],
+) -> Option<()> {
+    let mut c = 0;
+    for j in joints {
+        let (fp, fd) = (j.proximal.at(p, up)?, j.distal.at(p, up)?);
+        let m = j.moment_at.map_or(Vector3::zeros(), |b| {
+            let jm = &take.map.joints[b];
+            ws.o_x_i[jm.body].rot * ws.f[jm.body].ang
+        });
+        let (ang, mom) = jcs::joint_angles_moments(j.kind, j.suffix != "_l", &fp, &fd, &m);
+        for a in ang {
+            row[c] = a.to_degrees();
+            c += 1;
+        }
+        if j.moment_at.is_some() {
+            for x in mom {
+                row[c] = x;
+                c += 1;
+            }
+            for x in mom {
+                row[c] = x / mass;
+                c += 1;
+            }
+        }
+    }
+    Some(())
 }
 
 /// Removes jumps of whole turns from an angle series (deg).

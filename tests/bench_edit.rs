@@ -1,0 +1,82 @@
+//! `articula bench TAKE --edit SETTING=V1,V2`: the instrument for issue 17's workbench-edit
+//! targets. It replays `set SETTING V` + `run id` on a take loaded once, and says what each
+//! edit reran, counted by the pipeline's own stage reports: a body-mass edit rebuilds the
+//! model and reruns the contact stage, never the smoothing. Times are not asserted (speed
+//! lives in benchmarks).
+
+mod common;
+
+use common::cli::articula;
+
+fn edit_json(args: &[&str]) -> serde_json::Value {
+    let out = articula()
+        .arg("bench")
+        .arg(common::repo("data/demo_walk.bvh"))
+        .args(["--repeat", "3", "--json"])
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn a_mass_edit_is_timed_and_reruns_the_model_and_contact_but_not_the_smoothing() {
+    let j = edit_json(&[
+        "--edit",
+        "body.mass=80,70",
+        "--contact",
+        "feet",
+        "--set",
+        "consistent=off",
+    ]);
+    assert_eq!(j["frames"], 480);
+    assert_eq!(j["nv"], 66);
+    assert_eq!(j["contact"], "feet");
+    assert_eq!(j["edit"], "body.mass");
+    assert_eq!(j["before"]["consistent"], "off");
+    let ms = j["edit_ms"].as_array().unwrap();
+    assert_eq!(ms.len(), 3);
+    assert!(ms.iter().all(|t| t.as_f64().unwrap() > 0.0), "{ms:?}");
+    let reran = j["reran"].as_object().unwrap();
+    assert_eq!(reran["model"], 1.0, "{reran:?}");
+    assert_eq!(reran["contact"], 1.0, "{reran:?}");
+    for kept in ["parse", "coordinates", "unwrap", "smooth", "derivatives"] {
+        assert!(!reran.contains_key(kept), "{kept} reran: {reran:?}");
+    }
+
+    // without contact: inverse dynamics instead of the contact stage
+    let j = edit_json(&["--edit", "body.mass=80,70", "--contact", "none"]);
+    assert_eq!(j["contact"], "none");
+    let reran = j["reran"].as_object().unwrap();
+    assert_eq!(reran["inverse_dynamics"], 1.0, "{reran:?}");
+    assert!(!reran.contains_key("contact"), "{reran:?}");
+}
+
+#[test]
+fn an_edit_that_changes_nothing_or_a_set_without_edit_is_refused() {
+    for args in [
+        vec!["bench", "data/demo_walk.bvh", "--edit", "body.mass=80"],
+        vec!["bench", "data/demo_walk.bvh", "--edit", "body.mass=80,80"],
+        vec!["bench", "data/demo_walk.bvh", "--edit", "body.mass"],
+        vec!["bench", "data/demo_walk.bvh", "--set", "consistent=off"],
+        vec![
+            "bench",
+            "data/demo_walk.bvh",
+            "--edit",
+            "body.mass=80,70",
+            "--stages",
+        ],
+        vec!["bench", "data/demo_walk.bvh", "--edit", "nosuch=1,2"],
+    ] {
+        articula()
+            .current_dir(common::repo(""))
+            .args(&args)
+            .assert()
+            .failure();
+    }
+}
