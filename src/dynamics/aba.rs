@@ -65,10 +65,17 @@ pub fn aba<'w>(
         let d = ws.o_x_i[i].trans - ws.o_x_i[p].trans;
         ws.lever[i] = d;
         let mut vj = MotionVec::ZERO;
-        for k in 0..joint.nv() {
-            let s = rot.act_motion(&joint.subspace_col(k));
-            vj += s * v[iv + k];
-            ws.s_world[iv + k] = s;
+        if let Some(k) = joint.revolute_coordinate_axis() {
+            // S = e_k (angular) in body axes: column k of the rotation in world axes
+            let s = MotionVec::new(rot.rot.column(k).into_owned(), Vector3::zeros());
+            vj.ang = s.ang * v[iv];
+            ws.s_world[iv] = s;
+        } else {
+            for k in 0..joint.nv() {
+                let s = rot.act_motion(&joint.subspace_col(k));
+                vj += s * v[iv + k];
+                ws.s_world[iv + k] = s;
+            }
         }
         let vi = moved(&ws.ov[p], &d) + vj;
         let inertia = &model.inertia[i];
@@ -99,7 +106,11 @@ pub fn aba<'w>(
             // one degree of freedom: D_i and u_i are scalars, the reduction is rank 1
             let mut ia = ws.oyaba[i];
             let s = ws.s_world[iv];
-            let u = ia.mul_motion(&s);
+            let u = if s.lin == Vector3::zeros() {
+                ia.mul_ang(&s.ang)
+            } else {
+                ia.mul_motion(&s)
+            };
             let d = s.dot(&u);
             check_pivot(model, iv, d, pivot_scale(&ia, &joint.subspace_col(0)))?;
             let uu = tau[iv] - model.damping[iv] * v[iv] - s.dot(&pa);
@@ -117,10 +128,14 @@ pub fn aba<'w>(
         let p = model.parent[i];
         if p > 0 {
             let d = ws.lever[i];
-            let mut ia_red = ia_red;
-            ia_red.move_by(&-d);
+            let (mut ia_red, mut pa_red) = (ia_red, pa_red);
+            // zero-length links (a BVH euler model's fictitious ones) need no move
+            if d != Vector3::zeros() {
+                ia_red.move_by(&-d);
+                pa_red.ang += d.cross(&pa_red.lin);
+            }
             ws.oyaba[p].add(&ia_red);
-            ws.p_a[p] += ForceVec::new(pa_red.ang + d.cross(&pa_red.lin), pa_red.lin);
+            ws.p_a[p] += pa_red;
         }
     }
 
@@ -208,7 +223,11 @@ fn pivot_scale(ia: &SymInertia6, s: &MotionVec) -> f64 {
 /// linear part gains `ω × d`.
 #[inline]
 fn moved(m: &MotionVec, d: &Vector3<f64>) -> MotionVec {
-    MotionVec::new(m.ang, m.lin + m.ang.cross(d))
+    if *d == Vector3::zeros() {
+        *m
+    } else {
+        MotionVec::new(m.ang, m.lin + m.ang.cross(d))
+    }
 }
 
 /// `Ok` when `pivot > SINGULAR_RTOL · scale` (and is a number).

@@ -74,6 +74,21 @@ impl SymInertia6 {
         }
     }
 
+    /// `I · [ω; 0]` (a pure rotation, a revolute joint's axis about its own point):
+    /// `n = A ω`, `f = Bᵀ ω`.
+    #[inline]
+    pub fn mul_ang(&self, w: &Vector3<f64>) -> ForceVec {
+        let b = &self.b;
+        ForceVec {
+            ang: sym_mul(&self.a, w),
+            lin: Vector3::new(
+                b[0][0] * w.x + b[1][0] * w.y + b[2][0] * w.z,
+                b[0][1] * w.x + b[1][1] * w.y + b[2][1] * w.z,
+                b[0][2] * w.x + b[1][2] * w.y + b[2][2] * w.z,
+            ),
+        }
+    }
+
     /// `I += o`, number by number.
     #[inline]
     pub fn add(&mut self, o: &SymInertia6) {
@@ -210,6 +225,9 @@ mod tests {
             let s = MotionVec::new(rng.vec3(1.0), rng.vec3(1.0));
             let f = i.mul_motion(&s).to_vector6();
             assert!((f - mi * s.to_vector6()).norm() < 1e-12 * mi.norm());
+            let w = MotionVec::new(s.ang, Vector3::zeros());
+            let f = i.mul_ang(&w.ang).to_vector6();
+            assert!((f - mi * w.to_vector6()).norm() < 1e-12 * mi.norm());
             let mut sum = i;
             sum.add(&j);
             assert!((sum.to_matrix() - (mi + mj)).norm() < 1e-12 * mi.norm());
