@@ -5,7 +5,7 @@
 #
 #   tools/bench_side_by_side.sh [REAL_TAKES_DIR]      # default ../shared/data/bvh
 #
-# Models: data/arm7.urdf and data/humanoid.urdf (fixed base, gravity 0,0,-9.81, both sides read
+# Models: UR5 and TALOS from example-robot-data (installed with Pinocchio), data/arm7.urdf and data/humanoid.urdf (fixed base, gravity 0,0,-9.81, both sides read
 # the same URDF); data/demo_walk.bvh and REAL_TAKES_DIR/cmu_01_01.bvh (if present) in the euler
 # joint model: articula builds the model from the BVH (default options: 75 kg male, de Leva),
 # Pinocchio reads the URDF that `articula export urdf` writes for that take (same model, same
@@ -29,6 +29,16 @@ run() {  # name, articula args, pinocchio urdf, pinocchio args
     tools/pinocchio_cpp_bench/run.sh "$urdf" $p --batches "$BATCHES" > "$TMP/$name.pinocchio.json" 2>/dev/null
     echo "$name" >> "$TMP/order"
 }
+# Pinocchio's own benchmark robots (example-robot-data, in the Pinocchio venv): UR5 (fixed
+# base, nv 6) and TALOS (talos_full_v2, floating base, nv 50), the models issue 17 names
+ERD="$(echo "${PIN_VENV:-$HOME/.cache/pin-oracle}"/lib/python3*/site-packages/cmeel.prefix/share/example-robot-data/robots)"
+if [ -d "$ERD" ]; then
+    run ur5 "--urdf $ERD/ur_description/urdf/ur5_robot.urdf" "$ERD/ur_description/urdf/ur5_robot.urdf" ""
+    run talos "--urdf $ERD/talos_data/robots/talos_full_v2.urdf --floating" \
+        "$ERD/talos_data/robots/talos_full_v2.urdf" "--floating"
+else
+    echo "SKIPPED ur5 and talos: no example-robot-data in the Pinocchio venv" >&2
+fi
 run arm7 "--urdf data/arm7.urdf" data/arm7.urdf ""
 run humanoid "--urdf data/humanoid.urdf" data/humanoid.urdf ""
 target/release/articula export urdf data/demo_walk.bvh -o "$TMP/demo_walk.urdf" 2>/dev/null

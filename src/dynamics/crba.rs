@@ -96,20 +96,9 @@ pub fn crba<'w>(model: &Model, ws: &'w mut Workspace, q: &[f64]) -> &'w DMatrix<
     let nv = model.nv;
     let n = model.nbodies();
 
-    // forward pass: world poses 0X_i = 0X_λ λX_i, and the first body with mass
-    let mut first_massive = None;
-    for i in 1..n {
-        let o = then(&ws.o_x_i[model.parent[i]], &model.parent_transform(i, q));
-        if first_massive.is_none() && !model.inertia[i].is_zero() {
-            first_massive = Some(i);
-        }
-        ws.o_x_i[i] = o;
-    }
-
-    // inertias and motion subspaces in world axes about the origin of that body (an avatar's
-    // pelvis, an arm's base), so that lever arms stay short wherever the take walks to
-    // (world-frame sums lose digits as |lever|²; the shift itself is exact to round-off)
-    let r = first_massive.map_or(Vector3::zeros(), |b| ws.o_x_i[b].trans);
+    // forward pass: world poses 0X_i = 0X_λ λX_i; inertias and motion subspaces in world axes
+    // about the origin of the first body with mass
+    let r = world_poses(model, ws, q);
     for i in 1..n {
         let o = &mut ws.o_x_i[i];
         o.trans -= r;
@@ -152,6 +141,24 @@ pub fn crba<'w>(model: &Model, ws: &'w mut Workspace, q: &[f64]) -> &'w DMatrix<
         }
     }
     &ws.mass_matrix
+}
+
+/// The forward pass of the world-axes algorithms (CRBA, ABA): `ws.o_x_i[i] = 0X_λ λX_i` for
+/// every body, and the origin of the first body with mass (an avatar's pelvis, an arm's base),
+/// which the caller takes as the reference point of its world-axes sums so that lever arms stay
+/// short wherever a take walks to (world-frame sums lose digits as |lever|²; the shift itself
+/// is exact to round-off). Zero when no body has mass.
+#[inline]
+pub(crate) fn world_poses(model: &Model, ws: &mut Workspace, q: &[f64]) -> Vector3<f64> {
+    let mut first_massive = None;
+    for i in 1..model.nbodies() {
+        let o = then(&ws.o_x_i[model.parent[i]], &model.parent_transform(i, q));
+        if first_massive.is_none() && !model.inertia[i].is_zero() {
+            first_massive = Some(i);
+        }
+        ws.o_x_i[i] = o;
+    }
+    first_massive.map_or(Vector3::zeros(), |b| ws.o_x_i[b].trans)
 }
 
 /// `0X_i = 0X_λ · λX_i` with `λX_i` in fast form (a coordinate-axis rotation mixes two columns).

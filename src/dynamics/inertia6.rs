@@ -1,132 +1,271 @@
-//! 6×6 spatial inertias (composite and articulated) as plain matrices, angular first, and the
-//! two operations CRBA and ABA need on them: apply to a motion, and move to the parent frame.
-//! A rigid-body [`SpatialInertia`](crate::spatial::SpatialInertia) becomes one with
-//! `to_matrix()`; an articulated inertia is a general symmetric positive semi-definite matrix.
+//! Symmetric 6×6 spatial inertias (articulated ones, for ABA) in the 21 numbers that define
+//! them: `I = [A B; Bᵀ C]`, angular first, `A` and `C` symmetric (Featherstone 2008 §7.1: an
+//! articulated-body inertia is symmetric positive semi-definite but not a rigid body's). ABA
+//! keeps them in world axes (as Pinocchio's `oYaba`) about each body's origin, so an
+//! articulated inertia is handed to the parent by a shift of reference point (no rotation) and
+//! 21 additions, and the 1-DoF reduction `I − U Uᵀ / D` is a rank-1 update of the 21 numbers.
 
-use crate::spatial::{AxisRotation, FastTransform, ForceVec, MotionVec, SpatialTransform, skew};
-use nalgebra::{Matrix3, Matrix6, Vector6};
+use super::crba::WorldInertia;
+use crate::spatial::{ForceVec, MotionVec};
+use nalgebra::{Matrix3, Matrix6, Vector3};
 
-/// `I · m` for a 6×6 inertia (angular first).
-#[inline]
-pub fn mul_motion(i: &Matrix6<f64>, m: &MotionVec) -> ForceVec {
-    let x = i * Vector6::new(m.ang.x, m.ang.y, m.ang.z, m.lin.x, m.lin.y, m.lin.z);
-    ForceVec::from_vector6(&x)
+/// `[A B; Bᵀ C]` with `A`, `C` symmetric as `[xx, yy, zz, xy, xz, yz]` and `B` full (row-major
+/// `b[r][c]`). Units: `A` kg·m², `B` kg·m, `C` kg (about the frame's origin).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SymInertia6 {
+    pub a: [f64; 6],
+    pub b: [[f64; 3]; 3],
+    pub c: [f64; 6],
 }
 
-/// An inertia given in frame i (about i's origin) expressed in frame λ, where `x = λX_i` is the
-/// pose of i in λ: `X* I X⁻¹` (Featherstone 2008, eq. 2.66), done block by block.
-///
-/// With `I = [A B; Bᵀ C]`, `R` and `P = [p]×` the rotation and translation of `x`: first rotate
-/// (`A₁ = R A Rᵀ`, …), then move the reference point from i's origin to λ's:
-/// `A₂ = A₁ − B₁P + PB₁ᵀ − PC₁P = A₁ − B₁P − (B₁P)ᵀ − PC₁P`, `B₂ = B₁ + PC₁`, `C₂ = C₁`.
+/// `S v` for a symmetric 3×3 `S` stored as `[xx, yy, zz, xy, xz, yz]`.
 #[inline]
-pub fn to_parent(x: &SpatialTransform, i: &Matrix6<f64>) -> Matrix6<f64> {
-    let r = &x.rot;
-    let a: Matrix3<f64> = i.fixed_view::<3, 3>(0, 0).into_owned();
-    let b: Matrix3<f64> = i.fixed_view::<3, 3>(0, 3).into_owned();
-    let c: Matrix3<f64> = i.fixed_view::<3, 3>(3, 3).into_owned();
-    // rotate into λ's axes
-    let a1 = r * a * r.transpose();
-    let b1 = r * b * r.transpose();
-    let c1 = r * c * r.transpose();
-    // shift the reference point by p
-    let p = skew(&x.trans);
-    let pc = p * c1;
-    let bp = b1 * p;
-    let a2 = a1 - bp - bp.transpose() - pc * p;
-    let b2 = b1 + pc;
-    let mut out = Matrix6::zeros();
-    out.fixed_view_mut::<3, 3>(0, 0).copy_from(&a2);
-    out.fixed_view_mut::<3, 3>(0, 3).copy_from(&b2);
-    out.fixed_view_mut::<3, 3>(3, 0).copy_from(&b2.transpose());
-    out.fixed_view_mut::<3, 3>(3, 3).copy_from(&c1);
-    out
+fn sym_mul(s: &[f64; 6], v: &Vector3<f64>) -> Vector3<f64> {
+    let [xx, yy, zz, xy, xz, yz] = *s;
+    Vector3::new(
+        xx * v.x + xy * v.y + xz * v.z,
+        xy * v.x + yy * v.y + yz * v.z,
+        xz * v.x + yz * v.y + zz * v.z,
+    )
 }
 
-/// [`to_parent`] for a transform in fast form: a coordinate-axis rotation turns each 3×3 block
-/// with 24 multiplications instead of 54, and a zero translation (the zero-length fictitious
-/// links of a BVH euler model) skips the shift.
+/// `s −= k u uᵀ` on the 6 stored numbers of a symmetric 3×3.
 #[inline]
-pub fn to_parent_fast(x: &FastTransform, i: &Matrix6<f64>) -> Matrix6<f64> {
-    let (trans, rot) = match x {
-        FastTransform::Axis { trans, rot } => (trans, rot),
-        FastTransform::General(x) => return to_parent(x, i),
-    };
-    let a1 = sandwich(rot, &i.fixed_view::<3, 3>(0, 0).into_owned());
-    let b1 = sandwich(rot, &i.fixed_view::<3, 3>(0, 3).into_owned());
-    let c1 = sandwich(rot, &i.fixed_view::<3, 3>(3, 3).into_owned());
-    let (a2, b2) = if *trans == nalgebra::Vector3::zeros() {
-        (a1, b1)
-    } else {
-        let p = skew(trans);
-        let pc = p * c1;
-        let bp = b1 * p;
-        (a1 - bp - bp.transpose() - pc * p, b1 + pc)
-    };
-    let mut out = Matrix6::zeros();
-    out.fixed_view_mut::<3, 3>(0, 0).copy_from(&a2);
-    out.fixed_view_mut::<3, 3>(0, 3).copy_from(&b2);
-    out.fixed_view_mut::<3, 3>(3, 0).copy_from(&b2.transpose());
-    out.fixed_view_mut::<3, 3>(3, 3).copy_from(&c1);
-    out
+fn sym_sub_outer(s: &mut [f64; 6], u: &Vector3<f64>, k: f64) {
+    let ku = u * k;
+    s[0] -= ku.x * u.x;
+    s[1] -= ku.y * u.y;
+    s[2] -= ku.z * u.z;
+    s[3] -= ku.x * u.y;
+    s[4] -= ku.x * u.z;
+    s[5] -= ku.y * u.z;
 }
 
-/// `R M Rᵀ` for a coordinate-axis rotation `R`: rotate the columns (`R M`), then the rows
-/// (`(R M) Rᵀ`, whose rows are `R` times the rows of `R M`).
-#[inline]
-fn sandwich(r: &AxisRotation, m: &Matrix3<f64>) -> Matrix3<f64> {
-    let rm = Matrix3::from_columns(&[
-        r.rotate(&m.column(0).into_owned()),
-        r.rotate(&m.column(1).into_owned()),
-        r.rotate(&m.column(2).into_owned()),
-    ]);
-    Matrix3::from_rows(&[
-        r.rotate(&rm.row(0).transpose()).transpose(),
-        r.rotate(&rm.row(1).transpose()).transpose(),
-        r.rotate(&rm.row(2).transpose()).transpose(),
-    ])
+impl SymInertia6 {
+    /// A rigid body's (or composite's) inertia from its ten numbers: `A = I_O`, `B = [h]×`,
+    /// `C = m 1` (`n = I_O ω + h × v`, `f = m v − h × ω`).
+    #[inline]
+    pub fn from_world(y: &WorldInertia) -> Self {
+        let h = &y.h;
+        SymInertia6 {
+            a: y.i,
+            b: [[0.0, -h.z, h.y], [h.z, 0.0, -h.x], [-h.y, h.x, 0.0]],
+            c: [y.m, y.m, y.m, 0.0, 0.0, 0.0],
+        }
+    }
+
+    /// `I · m`: `n = A ω + B v`, `f = Bᵀ ω + C v`.
+    #[inline]
+    pub fn mul_motion(&self, m: &MotionVec) -> ForceVec {
+        let (w, v, b) = (&m.ang, &m.lin, &self.b);
+        let bv = Vector3::new(
+            b[0][0] * v.x + b[0][1] * v.y + b[0][2] * v.z,
+            b[1][0] * v.x + b[1][1] * v.y + b[1][2] * v.z,
+            b[2][0] * v.x + b[2][1] * v.y + b[2][2] * v.z,
+        );
+        let btw = Vector3::new(
+            b[0][0] * w.x + b[1][0] * w.y + b[2][0] * w.z,
+            b[0][1] * w.x + b[1][1] * w.y + b[2][1] * w.z,
+            b[0][2] * w.x + b[1][2] * w.y + b[2][2] * w.z,
+        );
+        ForceVec {
+            ang: sym_mul(&self.a, w) + bv,
+            lin: btw + sym_mul(&self.c, v),
+        }
+    }
+
+    /// `I · [ω; 0]` (a pure rotation, a revolute joint's axis about its own point):
+    /// `n = A ω`, `f = Bᵀ ω`.
+    #[inline]
+    pub fn mul_ang(&self, w: &Vector3<f64>) -> ForceVec {
+        let b = &self.b;
+        ForceVec {
+            ang: sym_mul(&self.a, w),
+            lin: Vector3::new(
+                b[0][0] * w.x + b[1][0] * w.y + b[2][0] * w.z,
+                b[0][1] * w.x + b[1][1] * w.y + b[2][1] * w.z,
+                b[0][2] * w.x + b[1][2] * w.y + b[2][2] * w.z,
+            ),
+        }
+    }
+
+    /// `I += o`, number by number.
+    #[inline]
+    pub fn add(&mut self, o: &SymInertia6) {
+        for (x, y) in self.a.iter_mut().zip(&o.a) {
+            *x += y;
+        }
+        for (x, y) in self.c.iter_mut().zip(&o.c) {
+            *x += y;
+        }
+        for (r, s) in self.b.iter_mut().zip(&o.b) {
+            for (x, y) in r.iter_mut().zip(s) {
+                *x += y;
+            }
+        }
+    }
+
+    /// The rank-1 reduction `I −= k u uᵀ` for a force-like `u = [u_n; u_f]` (ABA's
+    /// `I^A − U D⁻¹ Uᵀ` for a 1-DoF joint, `k = 1/D`).
+    #[inline]
+    pub fn sub_outer(&mut self, u: &ForceVec, k: f64) {
+        sym_sub_outer(&mut self.a, &u.ang, k);
+        sym_sub_outer(&mut self.c, &u.lin, k);
+        let kn = u.ang * k;
+        for (r, kr) in self.b.iter_mut().zip(kn.iter()) {
+            r[0] -= kr * u.lin.x;
+            r[1] -= kr * u.lin.y;
+            r[2] -= kr * u.lin.z;
+        }
+    }
+
+    /// The same inertia about the point `p` (relative to the current reference point, same
+    /// axes): `A' = A + B P + (B P)ᵀ − P C P`, `B' = B − P C`, `C' = C` with `P = [p]×` (from
+    /// `n_p = n − p × f` and `v = v_p + p × ω`).
+    #[inline]
+    pub fn move_by(&mut self, p: &Vector3<f64>) {
+        let pm = [[0.0, -p.z, p.y], [p.z, 0.0, -p.x], [-p.y, p.x, 0.0]];
+        let c = &self.c;
+        let cm = [[c[0], c[3], c[4]], [c[3], c[1], c[5]], [c[4], c[5], c[2]]];
+        let b = &self.b;
+        // P C and B P (3×3 products)
+        let pc: [[f64; 3]; 3] = std::array::from_fn(|r| {
+            std::array::from_fn(|k| pm[r][0] * cm[0][k] + pm[r][1] * cm[1][k] + pm[r][2] * cm[2][k])
+        });
+        let bp: [[f64; 3]; 3] = std::array::from_fn(|r| {
+            std::array::from_fn(|k| b[r][0] * pm[0][k] + b[r][1] * pm[1][k] + b[r][2] * pm[2][k])
+        });
+        // (P C P)_rk on the upper triangle
+        let pcp =
+            |r: usize, k: usize| pc[r][0] * pm[0][k] + pc[r][1] * pm[1][k] + pc[r][2] * pm[2][k];
+        const UPPER: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
+        for (x, &(r, k)) in self.a.iter_mut().zip(&UPPER) {
+            *x += bp[r][k] + bp[k][r] - pcp(r, k);
+        }
+        for (br, pr) in self.b.iter_mut().zip(&pc) {
+            for (x, y) in br.iter_mut().zip(pr) {
+                *x -= y;
+            }
+        }
+    }
+
+    /// `tr(A)`.
+    #[inline]
+    pub fn trace_a(&self) -> f64 {
+        self.a[0] + self.a[1] + self.a[2]
+    }
+
+    /// `tr(C)`: three times the mass the inertia resists translation with.
+    #[inline]
+    pub fn trace_c(&self) -> f64 {
+        self.c[0] + self.c[1] + self.c[2]
+    }
+
+    /// The full 6×6 matrix.
+    pub fn to_matrix(&self) -> Matrix6<f64> {
+        let s = |x: &[f64; 6]| Matrix3::new(x[0], x[3], x[4], x[3], x[1], x[5], x[4], x[5], x[2]);
+        let b = Matrix3::from_fn(|r, c| self.b[r][c]);
+        let mut m = Matrix6::zeros();
+        m.fixed_view_mut::<3, 3>(0, 0).copy_from(&s(&self.a));
+        m.fixed_view_mut::<3, 3>(0, 3).copy_from(&b);
+        m.fixed_view_mut::<3, 3>(3, 0).copy_from(&b.transpose());
+        m.fixed_view_mut::<3, 3>(3, 3).copy_from(&s(&self.c));
+        m
+    }
+
+    /// The 21 numbers of a symmetric 6×6 matrix (its upper triangle).
+    pub fn from_matrix(m: &Matrix6<f64>) -> Self {
+        let s = |o: usize| {
+            [
+                m[(o, o)],
+                m[(o + 1, o + 1)],
+                m[(o + 2, o + 2)],
+                m[(o, o + 1)],
+                m[(o, o + 2)],
+                m[(o + 1, o + 2)],
+            ]
+        };
+        SymInertia6 {
+            a: s(0),
+            b: std::array::from_fn(|r| std::array::from_fn(|c| m[(r, c + 3)])),
+            c: s(3),
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
+    //! The 21-number operations are the 6×6 matrix operations they replace.
     use super::*;
-    use crate::spatial::SpatialInertia;
-    use nalgebra::{UnitQuaternion, Vector3};
+    use crate::dynamics::samples::{SplitMix64, random_inertia};
+    use crate::spatial::SpatialTransform;
+    use nalgebra::Vector6;
+
+    fn random_sym(rng: &mut SplitMix64) -> SymInertia6 {
+        // a rigid body's, then a general symmetric perturbation (articulated inertias are not
+        // rigid-body ones)
+        let y = WorldInertia::of_body(
+            &random_inertia(rng, 0.1, 20.0),
+            &SpatialTransform::new(*rng.rotation().to_rotation_matrix().matrix(), rng.vec3(2.0)),
+        );
+        let mut m = SymInertia6::from_world(&y).to_matrix();
+        let (u, w) = (rng.vec3(1.0), rng.vec3(1.0));
+        let g = Vector6::new(u.x, u.y, u.z, w.x, w.y, w.z);
+        m += g * g.transpose();
+        SymInertia6::from_matrix(&m)
+    }
 
     #[test]
-    fn to_parent_matches_the_congruence_transform() {
-        let x = SpatialTransform::new(
-            *UnitQuaternion::from_euler_angles(0.3, -0.7, 1.1)
-                .to_rotation_matrix()
-                .matrix(),
-            Vector3::new(0.2, -0.5, 0.9),
-        );
-        let i = SpatialInertia::new(
-            2.5,
-            Vector3::new(0.1, -0.2, 0.3),
-            nalgebra::Matrix3::new(0.3, 0.01, 0.0, 0.01, 0.2, 0.02, 0.0, 0.02, 0.1),
-        )
-        .to_matrix();
-        // a general symmetric matrix too (articulated inertias are not rigid-body ones)
-        let mut g = i;
-        g[(0, 4)] += 0.3;
-        g[(4, 0)] += 0.3;
-        g[(3, 5)] -= 0.2;
-        g[(5, 3)] -= 0.2;
-        for m in [i, g] {
-            let a = to_parent(&x, &m);
-            let b = x.act_inertia_matrix(&m);
-            assert!((a - b).norm() < 1e-12, "{}", (a - b).norm());
-            // the fast form, with and without translation, about each coordinate axis
-            for axis in 0..3 {
-                for trans in [x.trans, Vector3::zeros()] {
-                    let rot = AxisRotation::new(axis, 0.9);
-                    let fast = FastTransform::Axis { trans, rot };
-                    let a = to_parent_fast(&fast, &m);
-                    let b = to_parent(&fast.to_transform(), &m);
-                    assert!((a - b).norm() < 1e-12, "axis {axis}: {}", (a - b).norm());
-                }
-            }
+    fn the_21_numbers_act_as_the_6x6_matrix() {
+        let mut rng = SplitMix64(5);
+        for _ in 0..20 {
+            let (i, j) = (random_sym(&mut rng), random_sym(&mut rng));
+            let (mi, mj) = (i.to_matrix(), j.to_matrix());
+            assert_eq!(SymInertia6::from_matrix(&mi), i);
+            let s = MotionVec::new(rng.vec3(1.0), rng.vec3(1.0));
+            let f = i.mul_motion(&s).to_vector6();
+            assert!((f - mi * s.to_vector6()).norm() < 1e-12 * mi.norm());
+            let w = MotionVec::new(s.ang, Vector3::zeros());
+            let f = i.mul_ang(&w.ang).to_vector6();
+            assert!((f - mi * w.to_vector6()).norm() < 1e-12 * mi.norm());
+            let mut sum = i;
+            sum.add(&j);
+            assert!((sum.to_matrix() - (mi + mj)).norm() < 1e-12 * mi.norm());
+            let u = ForceVec::new(rng.vec3(1.0), rng.vec3(1.0));
+            let mut red = i;
+            red.sub_outer(&u, 0.7);
+            let uv = u.to_vector6();
+            let want = mi - uv * uv.transpose() * 0.7;
+            assert!((red.to_matrix() - want).norm() < 1e-12 * mi.norm());
         }
+    }
+
+    #[test]
+    fn moving_the_reference_point_is_the_6x6_congruence() {
+        let mut rng = SplitMix64(9);
+        for _ in 0..20 {
+            let mut i = random_sym(&mut rng);
+            let m = i.to_matrix();
+            let p = rng.vec3(3.0);
+            // about p: X* I X⁻¹ with X the pure translation to p (Featherstone's eq. 2.66)
+            let want = SpatialTransform::from_translation(-p).act_inertia_matrix(&m);
+            i.move_by(&p);
+            let tol = 1e-12 * m.norm() * (1.0 + p.norm_squared());
+            assert!((i.to_matrix() - want).norm() < tol);
+        }
+        // a rigid body's inertia moved to its centre of mass has h = 0 and A = I_c
+        let body = random_inertia(&mut rng, 0.1, 20.0);
+        let y = WorldInertia::of_body(&body, &SpatialTransform::IDENTITY);
+        let mut rigid = SymInertia6::from_world(&y);
+        rigid.move_by(&body.com);
+        let a = rigid.to_matrix().fixed_view::<3, 3>(0, 0).into_owned();
+        assert!((a - body.inertia_com).norm() < 1e-12 * (1.0 + body.inertia_com.norm()));
+        assert!(
+            rigid
+                .b
+                .iter()
+                .flatten()
+                .all(|x| x.abs() < 1e-12 * (1.0 + body.mass))
+        );
     }
 }

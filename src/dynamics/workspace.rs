@@ -3,6 +3,7 @@
 //! writes it.
 
 use super::crba::WorldInertia;
+use super::inertia6::SymInertia6;
 use crate::model::Model;
 use crate::spatial::{FastTransform, ForceVec, MotionVec, SpatialTransform};
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
@@ -17,20 +18,21 @@ pub struct Workspace {
     /// `forward_kinematics` and the energy functions.
     pub li_x_i: Vec<SpatialTransform>,
     /// The same pose in the fast form of `Model::parent_transform` (`nbodies`); written by
-    /// `rnea` and `aba`.
+    /// `rnea`.
     pub x_up: Vec<FastTransform>,
     /// Pose of body i in the world frame (`nbodies`); written by `forward_kinematics` and the
-    /// energy functions; `crba` writes it relative to the origin of the first body with mass
-    /// (world axes). Entry 0 stays the identity.
+    /// energy functions (and `aba`); `crba` writes it relative to the origin of the first body
+    /// with mass (world axes). Entry 0 stays the identity.
     pub o_x_i: Vec<SpatialTransform>,
     /// Motion subspace column of each velocity coordinate in world axes (`nv`; the spatial
-    /// velocity of its body at unit rate, about `crba`'s reference point); written by `crba`.
+    /// velocity of its body at unit rate, at unit rate); written by `crba` (about its reference point)
+    /// and `aba` (about the body's origin).
     pub s_world: Vec<MotionVec>,
-    /// Spatial velocity of body i, body frame (`nbodies`, rad/s, m/s); written by `rnea`, `aba`
-    /// and the energy functions.
+    /// Spatial velocity of body i, body frame (`nbodies`, rad/s, m/s); written by `rnea` and
+    /// the energy functions.
     pub v: Vec<MotionVec>,
     /// Spatial acceleration of body i, body frame, gravity included as a fictitious upward
-    /// acceleration of the world (`nbodies`); written by `rnea` and `aba`.
+    /// acceleration of the world (`nbodies`); written by `rnea`.
     pub a: Vec<MotionVec>,
     /// Spatial force transmitted by joint i onto body i, body frame (`nbodies`, N·m, N);
     /// written by `rnea`.
@@ -42,16 +44,26 @@ pub struct Workspace {
     /// kg·m²), world axes, about `crba`'s reference point (the origin of the first body with
     /// mass); written by `crba`.
     pub ycrb: Vec<WorldInertia>,
-    /// 6×6 articulated-body inertia `I^A_i` of body i, angular first, body frame about its
+    /// Articulated-body inertia `I^A_i` of body i, angular first, world axes about the body's
     /// origin (`nbodies`, kg, kg·m, kg·m²); written by `aba`.
-    pub inertia6: Vec<Matrix6<f64>>,
-    /// Articulated bias force `p^A_i`, body frame (`nbodies`, N·m, N); written by `aba`.
+    pub oyaba: Vec<SymInertia6>,
+    /// Articulated bias force `p^A_i`, world axes about the body's origin (`nbodies`, N·m, N);
+    /// written by `aba`.
     pub p_a: Vec<ForceVec>,
-    /// Velocity-product acceleration `c_i = v_i ×ₘ S_i q̇_i`, body frame (`nbodies`); written by
-    /// `aba`.
+    /// Velocity-product acceleration `c_i = v_i ×ₘ S_i q̇_i`, world axes about the body's
+    /// origin (`nbodies`); written by `aba`.
     pub c: Vec<MotionVec>,
-    /// `U_i = I^A_i S_i`, its first `nv_i` columns used (`nbodies`); written by `aba`.
-    pub u_mat: Vec<Matrix6<f64>>,
+    /// Spatial velocity of body i, world axes about its origin (`nbodies`); written by `aba`.
+    pub ov: Vec<MotionVec>,
+    /// Spatial acceleration of body i, world axes about its origin, gravity included as an
+    /// upward acceleration of the world (`nbodies`); written by `aba`.
+    pub oa: Vec<MotionVec>,
+    /// The lever from the parent's origin to body i's, world axes (`nbodies`, m); written by
+    /// `aba`.
+    pub lever: Vec<nalgebra::Vector3<f64>>,
+    /// `U = I^A_i S_k` for each velocity coordinate k of body i, world axes about its origin
+    /// (`nv`); written by `aba`.
+    pub u_f: Vec<ForceVec>,
     /// `D_i⁻¹ = (S_iᵀ U_i)⁻¹`, its top-left `nv_i × nv_i` block used (`nbodies`); written by
     /// `aba`.
     pub d_inv: Vec<Matrix6<f64>>,
@@ -97,10 +109,13 @@ impl Workspace {
             f: vec![ForceVec::ZERO; n],
             tau: DVector::zeros(nv),
             ycrb: vec![WorldInertia::default(); n],
-            inertia6: vec![Matrix6::zeros(); n],
+            oyaba: vec![SymInertia6::default(); n],
             p_a: vec![ForceVec::ZERO; n],
             c: vec![MotionVec::ZERO; n],
-            u_mat: vec![Matrix6::zeros(); n],
+            ov: vec![MotionVec::ZERO; n],
+            oa: vec![MotionVec::ZERO; n],
+            lever: vec![nalgebra::Vector3::zeros(); n],
+            u_f: vec![ForceVec::ZERO; nv],
             d_inv: vec![Matrix6::zeros(); n],
             u_vec: vec![Vector6::zeros(); n],
             mass_matrix: DMatrix::zeros(nv, nv),
