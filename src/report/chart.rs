@@ -728,7 +728,8 @@ const TABLE_FONT: u32 = 14;
 /// The left edge (px) of each of the table's columns, and the characters a cell of each may
 /// show: every column as wide as its widest cell ([`labels::text_width`]) plus a gap, so that
 /// no cell runs into the next; when they do not fit the chart's width, the widest column
-/// loses a character at a time (its cells then elided in the middle, `mixa…rotation`).
+/// loses a character at a time (its cells then elided after their first characters,
+/// [`elide_keeping_tail`]).
 fn table_columns(t: &Table, left: f64, right: f64) -> (Vec<f64>, Vec<usize>) {
     let lines = || std::iter::once(&t.header).chain(&t.rows);
     let ncols = lines().map(Vec::len).max().unwrap_or(0);
@@ -743,7 +744,7 @@ fn table_columns(t: &Table, left: f64, right: f64) -> (Vec<f64>, Vec<usize>) {
         .collect();
     let size = TABLE_FONT as f64;
     let glyph = labels::text_width("m", size);
-    let gap = 2.0 * glyph;
+    let gap = 1.5 * glyph;
     let total = |chars: &[usize]| {
         chars.iter().map(|&n| n as f64 * glyph).sum::<f64>()
             + gap * chars.len().saturating_sub(1) as f64
@@ -770,12 +771,28 @@ fn table_columns(t: &Table, left: f64, right: f64) -> (Vec<f64>, Vec<usize>) {
     (starts, chars)
 }
 
+/// `s` in at most `room` characters (`room` ≥ 5): whole, or its first four characters, `…` and
+/// as much of its end as fits: the end tells a table's rows apart
+/// (`mixa…ftUpLeg.Xrotation`, `mixa…ftUpLeg.Yrotation`), a namespace prefix does not.
+fn elide_keeping_tail(s: &str, room: usize) -> String {
+    let n = s.chars().count();
+    if n <= room || room < 5 {
+        return s.to_string();
+    }
+    let head = 4.min((room - 1) / 2);
+    let tail = room - 1 - head;
+    let mut out: String = s.chars().take(head).collect();
+    out.push('…');
+    out.extend(s.chars().skip(n - tail));
+    out
+}
+
 /// Draws `t` as a grid of left-aligned text cells in `area` ([`table_columns`]).
 fn draw_table<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, t: &Table) -> Result<(), Error>
 where
     DB::ErrorType: 'static,
 {
-    let (starts, room) = table_columns(t, 90.0, WIDTH as f64 - 20.0);
+    let (starts, room) = table_columns(t, 48.0, WIDTH as f64 - 20.0);
     let lines = std::iter::once((&t.header, true)).chain(t.rows.iter().map(|r| (r, false)));
     for (row, (cells, is_header)) in lines.enumerate() {
         let y = TABLE_LINE as i32 * (row as i32 + 1);
@@ -786,7 +803,7 @@ where
         };
         for ((cell, x), &room) in cells.iter().zip(&starts).zip(&room) {
             let style = TextStyle::from((MONO, TABLE_FONT).into_font()).color(&color);
-            let text = elide_middle(cell, room);
+            let text = elide_keeping_tail(cell, room);
             area.draw(&Text::new(text.as_str(), (x.round() as i32, y), style))
                 .map_err(plot_err)?;
         }
