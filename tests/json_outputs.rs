@@ -697,6 +697,6 @@ fn session_export_csv_to_an_opensim_name_is_a_clear_error() {
         .assert()
         .failure()
         .stderr(predicates::str::contains("sto.session:2"))
-        .stderr(predicates::str::contains("export states|grf PATH.sto"));
+        .stderr(predicates::str::contains("export states|grf|id PATH.sto"));
     assert!(!out.exists());
 }

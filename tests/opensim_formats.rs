@@ -375,3 +375,38 @@ fn a_session_exports_the_same_files_as_the_cli() {
     let xml = std::fs::read_to_string(ses.join("g.xml")).unwrap();
     assert!(xml.contains("<ExternalLoads"), "{xml}");
 }
+
+/// Issue 16: a session's `export id PATH.sto|.csv` writes the active take's inverse dynamics
+/// with `articula id`'s own writer: under the same settings (residual reduction on, the
+/// session's default with contact), the very bytes of `articula id -o PATH`.
+#[test]
+fn session_export_id_is_the_cli_id_byte_for_byte() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |n: &str| dir.path().join(n);
+    for ext in ["sto", "csv"] {
+        write(
+            &demo(),
+            &["id", "--consistent", "on"],
+            &p(&format!("cli.{ext}")),
+        );
+    }
+    let session = p("id.session");
+    std::fs::write(
+        &session,
+        format!(
+            "load {}\nexport id {}\nexport id {}\n",
+            demo().display(),
+            p("session.sto").display(),
+            p("session.csv").display()
+        ),
+    )
+    .unwrap();
+    articula().arg("run").arg(&session).assert().success();
+    for ext in ["sto", "csv"] {
+        let cli = std::fs::read(p(&format!("cli.{ext}"))).unwrap();
+        let ses = std::fs::read(p(&format!("session.{ext}"))).unwrap();
+        assert!(cli == ses, "export id .{ext} differs from articula id's");
+    }
+    let sto = std::fs::read_to_string(p("session.sto")).unwrap();
+    assert!(sto.contains("LeftLeg.Xrotation_moment") && sto.contains("Hips.Yposition_force"));
+}

@@ -18,6 +18,8 @@ struct TextBox {
     b: [f64; 4],
     /// Drawn rotated (the y axis title): its box is not where `b` says.
     rotated: bool,
+    /// In the monospace face: a cell of the table under the panels.
+    mono: bool,
 }
 
 /// A curve: a polyline drawn 2 px wide, its colour and points.
@@ -58,6 +60,7 @@ fn parse(svg: &str) -> Drawing {
                 text,
                 b: [left, top, left + w, top + size],
                 rotated: n.attribute("transform").is_some(),
+                mono: n.attribute("font-family") == Some("monospace"),
             }
         })
         .collect();
@@ -483,4 +486,53 @@ fn every_report_text_has_its_glyph_in_the_embedded_font() {
         }
     }
     assert!(checked > 1000, "only {checked} characters checked");
+}
+
+/// Issue 15: in the motor report's table, a long joint name (a Mixamo take's
+/// `mixamorig:LeftUpLeg.Xrotation`) never runs into the numbers beside it: columns are as wide
+/// as their widest cell, names elided in the middle only when the table would not fit.
+#[test]
+fn motor_table_cells_never_overlap_with_long_mixamo_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let demo = std::fs::read_to_string(common::repo("data/demo_walk.bvh")).unwrap();
+    let mixamo = ["ROOT ", "JOINT "]
+        .iter()
+        .fold(demo, |b, k| b.replace(k, &format!("{k}mixamorig:")));
+    let take = dir.path().join("mixamo.bvh");
+    std::fs::write(&take, mixamo).unwrap();
+    let session = dir.path().join("motor.session");
+    std::fs::write(
+        &session,
+        format!(
+            "load {}\nselect mixamorig:LeftUpLeg\nreport motor m.svg\n",
+            take.display()
+        ),
+    )
+    .unwrap();
+    let r = articula::tui::run_session(&session, dir.path()).expect("the session runs");
+    let svg = r
+        .written
+        .iter()
+        .find(|p| p.extension().is_some_and(|e| e == "svg"))
+        .expect("the motor report");
+    let d = parse(&std::fs::read_to_string(svg).unwrap());
+    let cells: Vec<&TextBox> = d.texts.iter().filter(|t| t.mono).collect();
+    assert!(
+        cells.iter().any(|t| t.text.starts_with("mixa")),
+        "no long name in the table: {cells:?}"
+    );
+    assert!(cells.iter().any(|t| t.text.contains("N·m")), "no header");
+    // names elided, when they must be, keep the end that tells the rows apart
+    let names: std::collections::BTreeSet<&str> = cells
+        .iter()
+        .filter(|t| t.text.starts_with("mixa"))
+        .map(|t| t.text.as_str())
+        .collect();
+    assert!(names.len() >= 3, "rows no longer told apart: {names:?}");
+    for (i, a) in cells.iter().enumerate() {
+        for b in &cells[i + 1..] {
+            assert!(!overlaps(&a.b, &b.b), "table cell {a:?} overlaps {b:?}");
+        }
+        assert!(a.b[2] <= d.width + 0.5, "{a:?} leaves the image");
+    }
 }

@@ -456,7 +456,7 @@ fn malformed_lines_name_their_line_and_what_was_expected() {
         ),
         (
             "export bvh simulated a.bvh",
-            "usage: export csv|svg|bvh|urdf|mjcf|states|trc|grf|gltf|png PATH",
+            "usage: export csv|svg|bvh|urdf|mjcf|states|trc|grf|gltf|png|id PATH",
         ),
         ("set motor.j1.speed 3", "unknown setting 'motor.j1.speed'"),
         ("set motor..km 3", "unknown setting"),

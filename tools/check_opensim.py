@@ -4,6 +4,7 @@
 For one take, writes with the articula binary:
   export states -o states.sto   and  -o states.csv
   id            -o id.sto       and  -o id.csv
+  a session's   export id session_id.sto (`set consistent off`, as `id`'s default)
   export grf    -o grf.mot (+ grf.xml) and -o grf.csv
   export trc    -o markers.trc (mm) and markers_m.trc (--trc-units m), export positions -o positions.csv
 then loads each with the `opensim` wheel (PyPI: `pip install opensim`):
@@ -172,6 +173,11 @@ def main():
     coords = [h for h in header[1:] if h.startswith("tau:")]
     mapping = [(f"{h[4:]}_{'force' if 'position' in h else 'moment'}", (h, 1.0)) for h in coords]
     check_table(c, opensim, p("id.sto"), p("id.csv"), mapping, False)
+    # the session's twin of `id -o id.sto`: the same writer, the same numbers
+    with open(p("id.session"), "w") as f:
+        f.write(f"load {take}\nset consistent off\nexport id {p('session_id.sto')}\n")
+    run(binary, ["run", p("id.session")])
+    check_table(c, opensim, p("session_id.sto"), p("id.csv"), mapping, False)
 
     # ground reactions: external loads .mot and its XML (a take that never stands has none)
     if run(binary, ["export", "grf", take, "-o", p("grf.mot")], "no ground contact"):

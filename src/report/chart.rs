@@ -698,7 +698,7 @@ where
             .map_err(plot_err)?;
         // a box that holds the text in any face a viewer substitutes: 0.6 em a glyph at the
         // nominal size (the SVG draws it smaller, the substitutes are wider)
-        let w = MARK_FONT as f64 * 0.6 * text.chars().count() as f64;
+        let w = labels::text_width(&text, MARK_FONT as f64);
         let h = MARK_FONT as f64 + 2.0;
         let Some(b) = placer.place(dot, w, h, up) else {
             continue;
@@ -722,21 +722,77 @@ pub(crate) const SHADE: RGBColor = RGBColor(0xDD, 0xDD, 0xDD);
 pub(crate) const MARK_FONT: u32 = 13;
 pub(crate) const LEGEND_FONT: u32 = 14;
 
-/// Draws `t` as a grid of left-aligned text cells in `area`.
+/// Font size (px) of the table under the panels.
+const TABLE_FONT: u32 = 14;
+
+/// The left edge (px) of each of the table's columns, and the characters a cell of each may
+/// show: every column as wide as its widest cell ([`labels::text_width`]) plus a gap, so that
+/// no cell runs into the next; when they do not fit the chart's width, the widest column
+/// loses a character at a time (its cells then elided after their first characters,
+/// [`elide_keeping_tail`]).
+fn table_columns(t: &Table, left: f64, right: f64) -> (Vec<f64>, Vec<usize>) {
+    let lines = || std::iter::once(&t.header).chain(&t.rows);
+    let ncols = lines().map(Vec::len).max().unwrap_or(0);
+    let mut chars: Vec<usize> = (0..ncols)
+        .map(|c| {
+            lines()
+                .filter_map(|r| r.get(c))
+                .map(|s| s.chars().count())
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    let size = TABLE_FONT as f64;
+    let glyph = labels::text_width("m", size);
+    let gap = 1.5 * glyph;
+    let total = |chars: &[usize]| {
+        chars.iter().map(|&n| n as f64 * glyph).sum::<f64>()
+            + gap * chars.len().saturating_sub(1) as f64
+    };
+    const NARROWEST: usize = 5;
+    while total(&chars) > right - left {
+        let Some((widest, n)) = chars.iter().copied().enumerate().max_by_key(|&(_, n)| n) else {
+            break;
+        };
+        if n <= NARROWEST {
+            break;
+        }
+        chars[widest] = n - 1;
+    }
+    let mut x = left;
+    let starts = chars
+        .iter()
+        .map(|&n| {
+            let at = x;
+            x += n as f64 * glyph + gap;
+            at
+        })
+        .collect();
+    (starts, chars)
+}
+
+/// `s` in at most `room` characters (`room` ≥ 5): whole, or its first four characters, `…` and
+/// as much of its end as fits: the end tells a table's rows apart
+/// (`mixa…ftUpLeg.Xrotation`, `mixa…ftUpLeg.Yrotation`), a namespace prefix does not.
+fn elide_keeping_tail(s: &str, room: usize) -> String {
+    let n = s.chars().count();
+    if n <= room || room < 5 {
+        return s.to_string();
+    }
+    let head = 4.min((room - 1) / 2);
+    let tail = room - 1 - head;
+    let mut out: String = s.chars().take(head).collect();
+    out.push('…');
+    out.extend(s.chars().skip(n - tail));
+    out
+}
+
+/// Draws `t` as a grid of left-aligned text cells in `area` ([`table_columns`]).
 fn draw_table<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, t: &Table) -> Result<(), Error>
 where
     DB::ErrorType: 'static,
 {
-    let ncols = t
-        .rows
-        .iter()
-        .map(Vec::len)
-        .chain(std::iter::once(t.header.len()))
-        .max()
-        .unwrap_or(0)
-        .max(1);
-    let left = 90;
-    let col_w = (WIDTH as i32 - left - 20) / ncols as i32;
+    let (starts, room) = table_columns(t, 48.0, WIDTH as f64 - 20.0);
     let lines = std::iter::once((&t.header, true)).chain(t.rows.iter().map(|r| (r, false)));
     for (row, (cells, is_header)) in lines.enumerate() {
         let y = TABLE_LINE as i32 * (row as i32 + 1);
@@ -745,14 +801,11 @@ where
         } else {
             RGBColor(0x33, 0x33, 0x33)
         };
-        for (c, cell) in cells.iter().enumerate() {
-            let style = TextStyle::from((MONO, 14).into_font()).color(&color);
-            area.draw(&Text::new(
-                cell.as_str(),
-                (left + c as i32 * col_w, y),
-                style,
-            ))
-            .map_err(plot_err)?;
+        for ((cell, x), &room) in cells.iter().zip(&starts).zip(&room) {
+            let style = TextStyle::from((MONO, TABLE_FONT).into_font()).color(&color);
+            let text = elide_keeping_tail(cell, room);
+            area.draw(&Text::new(text.as_str(), (x.round() as i32, y), style))
+                .map_err(plot_err)?;
         }
     }
     Ok(())

@@ -37,6 +37,13 @@ pub fn idle(lo: f64, hi: f64, res: f64) -> bool {
 }
 
 /// True when the boxes `[left, top, right, bottom]` overlap.
+/// The width (px) a text takes at `size` px in any face a viewer substitutes: 0.6 em a glyph
+/// (Hack's advance, at least as wide as the common sans-serif faces). The label placer's and
+/// the table's measure.
+pub fn text_width(text: &str, size: f64) -> f64 {
+    size * 0.6 * text.chars().count() as f64
+}
+
 pub fn overlaps(a: &[f64; 4], b: &[f64; 4]) -> bool {
     a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]
 }

@@ -34,6 +34,9 @@ pub enum ExportKind {
     /// The active take as glTF 2.0 binary (`.glb`): skeleton, skinned superquadric links and
     /// the animation, as `articula export gltf`.
     Gltf,
+    /// The active take's inverse dynamics as `articula id` writes them: CSV, or OpenSim's
+    /// `.sto` (`<coord>_moment` N·m, `<coord>_force` N) when the path ends so.
+    Id,
 }
 
 /// Every `export` word and its kind (`bvh sim` is `bvh` followed by `sim`).
@@ -49,6 +52,7 @@ pub const EXPORT_WORDS: &[(&str, ExportKind)] = &[
     ("grf", ExportKind::Grf),
     ("gltf", ExportKind::Gltf),
     ("png", ExportKind::Png),
+    ("id", ExportKind::Id),
 ];
 
 impl ExportKind {
@@ -64,7 +68,11 @@ impl ExportKind {
     pub fn take_file(self) -> bool {
         matches!(
             self,
-            ExportKind::States | ExportKind::Trc | ExportKind::Grf | ExportKind::Gltf
+            ExportKind::States
+                | ExportKind::Trc
+                | ExportKind::Grf
+                | ExportKind::Gltf
+                | ExportKind::Id
         )
     }
 }
@@ -477,8 +485,7 @@ pub fn parse_line(line: &str, lineno: usize) -> Result<Option<Command>, SessionE
             Command::Quit
         }
         "export" => {
-            let usage =
-                "export csv|svg|bvh|urdf|mjcf|states|trc|grf|gltf|png PATH, or export bvh sim PATH";
+            let usage = "export csv|svg|bvh|urdf|mjcf|states|trc|grf|gltf|png|id PATH, or export bvh sim PATH";
             arity(&[2, 3], usage)?;
             if args.len() == 3 && (args[0] != "bvh" || args[1] != "sim") {
                 return Err(syntax(lineno, format!("usage: {usage}")));

@@ -561,8 +561,9 @@ pub trait Engine: Send + Sync {
         ctl: &Control,
     ) -> Result<(), Error>;
     /// Writes a BVH take's states, joint centres, ground reactions or glTF animation under
-    /// `params` as the CLI's `export states|trc|grf|gltf` does (`kind` one of [`ExportKind::take_file`]; the
-    /// format by `path`'s extension: `.sto` / `.mot` for OpenSim, else CSV; `.trc` in mm).
+    /// `params` as the CLI's `export states|trc|grf|gltf` does, or its inverse dynamics as
+    /// `articula id` does (`kind` one of [`ExportKind::take_file`]; the format by `path`'s
+    /// extension: `.sto` / `.mot` for OpenSim, else CSV; `.trc` in mm).
     /// Returns the files written. Nothing is written once `ctl` is cancelled.
     fn export_take_file(
         &self,
@@ -572,7 +573,9 @@ pub trait Engine: Send + Sync {
         path: &Path,
         ctl: &Control,
     ) -> Result<Vec<std::path::PathBuf>, Error> {
-        use crate::pipeline::formats::{TableFormat, export_grf, export_states_as, export_trc};
+        use crate::pipeline::formats::{
+            TableFormat, export_grf, export_states_as, export_trc, write_inverse_dynamics_as,
+        };
         let mut t = pipeline_take(take, params, "export", &mut ctl.stage(0.0, 0.7))?;
         pipeline::resolve_contact(&mut t);
         ctl.check()?;
@@ -585,6 +588,29 @@ pub trait Engine: Send + Sync {
         match kind {
             ExportKind::States => export_states_as(&t, path, format)?,
             ExportKind::Trc => export_trc(&t, path, crate::report::opensim::TrcUnits::Mm)?,
+            ExportKind::Id => {
+                // `articula id`'s own path: the take made consistent as the session's
+                // results are (`set consistent`, on by default with contact feet)
+                let feet = t.options.contact == pipeline::Contact::Feet;
+                let reduce = feet && params.consistent.unwrap_or(true);
+                let mut job = pipeline::Job::from_take(t.clone());
+                pipeline::consistency::consistent_job(&mut job, reduce, true, None)?;
+                ctl.check()?;
+                write_inverse_dynamics_as(&job, path, format)?;
+                if format == TableFormat::Csv {
+                    // the sidecar of `articula id`'s CSV: the (adjusted) take and model
+                    let p = pipeline::summary::Provenance {
+                        command: "export id",
+                        arguments: &[],
+                        take: job.take.as_ref(),
+                        model: Some(&job.model),
+                        notes: &[],
+                        known_units: &[],
+                    };
+                    wrote.extend(pipeline::summary::write_sidecar(path, &p)?);
+                }
+                return Ok(wrote);
+            }
             ExportKind::Grf => {
                 if let crate::pipeline::formats::ExternalLoadsXml::Written(xml) =
                     export_grf(&t, path, format)?
@@ -594,15 +620,14 @@ pub trait Engine: Send + Sync {
             }
             other => {
                 return Err(Error::Invalid(format!(
-                    "export {other:?}: not a take file (states, trc, grf or gltf)"
+                    "export {other:?}: not a take file (states, trc, grf, gltf or id)"
                 )));
             }
         }
         if kind != ExportKind::Trc && format == TableFormat::Csv {
-            let command = if kind == ExportKind::States {
-                "export states"
-            } else {
-                "export grf"
+            let command = match kind {
+                ExportKind::States => "export states",
+                _ => "export grf",
             };
             let p = pipeline::summary::Provenance {
                 command,

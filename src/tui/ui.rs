@@ -794,11 +794,12 @@ pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
             .into_iter()
             .chain(wb.take_names())
             .collect(),
-        ["export"] => [
-            "csv", "svg", "bvh", "urdf", "mjcf", "states", "trc", "grf", "gltf",
-        ]
-        .map(String::from)
-        .to_vec(),
+        ["export"] => crate::session::command::EXPORT_WORDS
+            .iter()
+            .map(|(w, _)| *w)
+            .filter(|w| !w.contains(' '))
+            .map(String::from)
+            .collect(),
         ["export", "bvh"] => std::iter::once("sim".to_string())
             .chain(paths(wb, last, None))
             .collect(),
@@ -820,7 +821,7 @@ pub fn complete(wb: &Workbench, line: &str) -> (String, Vec<String>) {
         // paths: what `load` and `scene` read, where exports and reports are written
         ["load"] => paths(wb, last, Some(&["bvh", "toml", "urdf", "csv"])),
         ["scene"] => paths(wb, last, Some(&["toml"])),
-        ["export", "csv" | "svg" | "urdf"]
+        ["export", _]
         | ["export", "bvh", "sim"]
         | ["report", "motor", "curves"]
         | ["compare", "weights", _]

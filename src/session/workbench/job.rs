@@ -407,7 +407,7 @@ impl Job {
                 if ["sto", "mot"].iter().any(|x| ext.eq_ignore_ascii_case(x)) {
                     return Err(err(format!(
                         "export csv {}: export csv writes CSV; OpenSim's .{ext} is written by \
-                         export states|grf PATH.{ext} (articula id -o PATH.sto for the torques)",
+                         export states|grf|id PATH.{ext} (id: the torques)",
                         out.display()
                     )));
                 }
@@ -466,7 +466,11 @@ impl Job {
                 ctl.check()?;
                 crate::io::write_atomic(out, mjcf.as_bytes())?;
             }
-            ExportKind::States | ExportKind::Trc | ExportKind::Grf | ExportKind::Gltf => {
+            ExportKind::States
+            | ExportKind::Trc
+            | ExportKind::Grf
+            | ExportKind::Gltf
+            | ExportKind::Id => {
                 let take = self.take()?;
                 let files = self
                     .engine
