@@ -535,4 +535,21 @@ fn motor_table_cells_never_overlap_with_long_mixamo_names() {
         }
         assert!(a.b[2] <= d.width + 0.5, "{a:?} leaves the image");
     }
+    // the legends (the torque-speed panel's mixes joints and classes: no shared prefix) keep
+    // each joint's axis: three distinct entries ending in their coordinate, none cut before it
+    let legend: std::collections::BTreeSet<&str> = d
+        .texts
+        .iter()
+        .filter(|t| !t.mono && t.text.contains('…') && !t.text.ends_with('…'))
+        .map(|t| t.text.as_str())
+        .collect();
+    assert!(!legend.is_empty(), "no elided legend entry: {:?}", d.texts);
+    for entry in &legend {
+        assert!(
+            ["Xrotation", "Yrotation", "Zrotation"]
+                .iter()
+                .any(|axis| entry.ends_with(axis)),
+            "a legend entry lost its coordinate: {entry:?} (of {legend:?})"
+        );
+    }
 }

@@ -774,7 +774,7 @@ fn table_columns(t: &Table, left: f64, right: f64) -> (Vec<f64>, Vec<usize>) {
 /// `s` in at most `room` characters (`room` ≥ 5): whole, or its first four characters, `…` and
 /// as much of its end as fits: the end tells a table's rows apart
 /// (`mixa…ftUpLeg.Xrotation`, `mixa…ftUpLeg.Yrotation`), a namespace prefix does not.
-fn elide_keeping_tail(s: &str, room: usize) -> String {
+pub(crate) fn elide_keeping_tail(s: &str, room: usize) -> String {
     let n = s.chars().count();
     if n <= room || room < 5 {
         return s.to_string();

@@ -3,7 +3,8 @@
 //! shading; a prefix all curve names share heads it once.
 
 use super::chart::{
-    Band, FONT, LEGEND_FONT, Panel, REFERENCE, SHADE, WIDTH, plot_err, series_style,
+    Band, FONT, LEGEND_FONT, Panel, REFERENCE, SHADE, WIDTH, elide_keeping_tail, plot_err,
+    series_style,
 };
 use crate::error::Error;
 use plotters::coord::Shift;
@@ -12,23 +13,18 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// The legend's lines: each series' label without the prefix all of them share (a rig's
 /// `mixamorig:`), which heads the legend instead, each at most a quarter of the chart's width
-/// (elided in the middle), and the shading's entry.
+/// (elided in the middle, keeping the end that tells `…UpLeg.Xrotation` from
+/// `…UpLeg.Zrotation`), and the shading's entry.
 pub(crate) fn legend_entries(p: &Panel<'_>) -> Vec<String> {
     let names: Vec<&str> = p.series.iter().map(|s| s.label.as_str()).collect();
     let prefix = common_prefix(&names);
     let max_chars = ((WIDTH as f64 / 4.0 - 40.0) / (LEGEND_FONT as f64 * 0.6)) as usize;
-    let fit = |s: &str| {
-        if s.chars().count() > max_chars {
-            let mut t: String = s.chars().take(max_chars - 1).collect();
-            t.push('…');
-            t
-        } else {
-            s.to_string()
-        }
-    };
+    let fit = |s: &str| elide_keeping_tail(s, max_chars);
     let mut out: Vec<String> = vec![];
     if !prefix.is_empty() {
-        out.push(fit(&format!("{prefix}…")));
+        // the shared prefix reads from its start
+        let head: String = prefix.chars().take(max_chars.saturating_sub(1)).collect();
+        out.push(format!("{head}…"));
     }
     out.extend(names.iter().map(|n| fit(&n[prefix.len()..])));
     out.extend(reference_bands(p).map(|b| fit(&b.label)));
