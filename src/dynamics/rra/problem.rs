@@ -336,6 +336,18 @@ impl Local {
     }
 }
 
+/// What every frame's Jacobian shares, computed once per normal equations.
+struct Shared {
+    layout: Layout,
+    /// The mass scale (1: not adjusted).
+    mass_scale: f64,
+    /// The adjusted model's total mass (kg) and weight (N).
+    mass: f64,
+    weight: f64,
+    /// Whether the ground reactions are measured.
+    measured: bool,
+}
+
 /// Scratch for one frame's finite differences, allocated once per normal equations.
 struct Scratch {
     ws: Workspace,
@@ -345,6 +357,18 @@ struct Scratch {
 }
 
 impl Problem<'_> {
+    /// What every frame's Jacobian at `x` (evaluated as `e`) shares.
+    fn shared(&self, x: &DVector<f64>, e: &Evaluated) -> Shared {
+        let mass = e.model.total_mass();
+        Shared {
+            layout: self.layout(),
+            mass_scale: self.mass_scale(x),
+            mass,
+            weight: mass * e.model.gravity.norm(),
+            measured: matches!(self.ground, Ground::Measured(_)),
+        }
+    }
+
     /// The Gauss–Newton normal equations `JᵀJ`, `Jᵀr` at `x` (evaluated as `e`): per counted
     /// frame, the residual `r = [n; h f]` and how each parameter changes it (module doc).
     pub fn normal_equations(
@@ -352,10 +376,11 @@ impl Problem<'_> {
         x: &DVector<f64>,
         e: &Evaluated,
     ) -> (DMatrix<f64>, DVector<f64>) {
-        let np = self.layout().len;
+        let shared = self.shared(x, e);
+        let np = shared.layout.len;
         let (mut jtj, mut jtr) = (DMatrix::zeros(np, np), DVector::zeros(np));
         let offset = self.trunk_offset(x);
-        let s = self.mass_scale(x);
+        let s = shared.mass_scale;
         let moved: Vec<Model> = self
             .trunk
             .across
@@ -378,7 +403,7 @@ impl Problem<'_> {
             jac: Vec::with_capacity(NT + 21),
         };
         for k in (0..e.q.len()).filter(|&k| self.counted[k]) {
-            self.frame_jacobian(x, e, k, &moved, &mut ws, &mut scratch, &mut local);
+            self.frame_jacobian(&shared, e, k, &moved, &mut ws, &mut scratch, &mut local);
             let rk = self.weighted(&e.ground.residual[k]);
             local.accumulate(&rk, &mut jtj, &mut jtr);
         }
@@ -390,7 +415,7 @@ impl Problem<'_> {
     #[allow(clippy::too_many_arguments)]
     fn frame_jacobian(
         &self,
-        x: &DVector<f64>,
+        shared: &Shared,
         e: &Evaluated,
         k: usize,
         moved: &[Model],
@@ -398,15 +423,19 @@ impl Problem<'_> {
         scratch: &mut Scratch,
         local: &mut Local,
     ) {
-        let layout = self.layout();
-        let s = self.mass_scale(x);
-        let measured = matches!(self.ground, Ground::Measured(_));
+        let layout = &shared.layout;
         local.cols.clear();
         local.jac.clear();
         forward_kinematics(&e.model, ws, &e.q[k]);
         let pelvis = ws.o_x_i[self.root].trans;
-        let weight = e.model.total_mass() * e.model.gravity.norm();
-        let pass = Pass::new(&e.ground, k, &pelvis, self.height, measured, weight);
+        let pass = Pass::new(
+            &e.ground,
+            k,
+            &pelvis,
+            self.height,
+            shared.measured,
+            shared.weight,
+        );
         let needed = e.ground.wrench[k];
         // trunk: finite differences of the needed wrench
         for (j, m) in moved.iter().enumerate() {
@@ -417,14 +446,14 @@ impl Problem<'_> {
             let d: [f64; 6] = std::array::from_fn(|c| (w[c] - needed[c]) / TRUNK_STEP);
             local.push(j, pass.apply(v3(&d, 3), v3(&d, 0)));
         }
-        self.pelvis_columns(&e.model, ws, &e.ground, k, &pass, local);
+        self.pelvis_columns(shared, &e.model, ws, &e.ground, k, &pass, local);
         if let (Some(at), Some(r)) = (layout.rotation, &self.rotation) {
             let rot = ws.o_x_i[self.root].rot;
             self.rotation_columns(e, k, at, r, &rot, &pelvis, &pass, scratch, local);
         }
         if let Some(at) = layout.mass {
             // the needed wrench is linear in the inertial parameters
-            let d: [f64; 6] = std::array::from_fn(|c| needed[c] / s);
+            let d: [f64; 6] = std::array::from_fn(|c| needed[c] / shared.mass_scale);
             local.push(at, pass.apply(v3(&d, 3), v3(&d, 0)));
         }
     }
@@ -432,8 +461,10 @@ impl Problem<'_> {
     /// The pelvis spline's columns of frame `k`'s Jacobian: a rigid translation adds the force
     /// `M δp̈` at the centre of mass (`ws` at frame `k`); against measured forces, which stay
     /// where they act, the pelvis's move `δp` adds `δp × F` to the residual moment about it.
+    #[allow(clippy::too_many_arguments)]
     fn pelvis_columns(
         &self,
+        shared: &Shared,
         model: &Model,
         ws: &Workspace,
         g: &GroundReactions,
@@ -442,11 +473,9 @@ impl Problem<'_> {
         local: &mut Local,
     ) {
         let nb = self.spline.len();
-        let at = self.layout().translation;
-        let mass = model.total_mass();
+        let (at, mass, measured) = (shared.layout.translation, shared.mass, shared.measured);
         let lever = centre_of_mass(model, ws) - ws.o_x_i[self.root].trans;
         let applied: Vector3<f64> = g.grf[k].iter().sum();
-        let measured = matches!(self.ground, Ground::Measured(_));
         let (i0, b) = self.spline.basis(self.motion.time[k]);
         for (h, axis) in self.horizontal().into_iter().enumerate() {
             for (j, (value, acc)) in b[0].iter().zip(&b[2]).enumerate() {
@@ -671,8 +700,9 @@ mod tests {
             cols: vec![],
             jac: vec![],
         };
+        let shared = problem.shared(&x0, &e0);
         for k in 0..n {
-            problem.frame_jacobian(&x0, &e0, k, &[], &mut ws, &mut scratch, &mut local);
+            problem.frame_jacobian(&shared, &e0, k, &[], &mut ws, &mut scratch, &mut local);
             let (r0, r1) = (
                 problem.weighted(&e0.ground.residual[k]),
                 problem.weighted(&e1.ground.residual[k]),
