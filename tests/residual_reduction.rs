@@ -208,6 +208,41 @@ fn every_shared_walk_and_run_meets_the_thresholds_or_says_by_how_much_it_missed(
     }
 }
 
+/// The shared captured walk and run that reduction brings within Hicks et al.'s thresholds
+/// (Bandai's walk and run, 30 fps) meet them with the ball joints `articula anatomy` uses,
+/// every adjustment within OpenSim's RRA bounds, and say nothing is missing. AV_8Walk and
+/// MakeHuman's walk1 still miss (docs/residual-reduction.md says why, with numbers); the test
+/// above asks them to say by how much.
+#[test]
+#[ignore = "real takes: ARTICULA_REAL_TAKES=../shared/data/bvh cargo test -- --ignored"]
+fn the_shared_bandai_walk_and_run_meet_hicks_thresholds_after_reduction() {
+    for name in [
+        "dataset-1_walk_normal_001.bvh",
+        "dataset-1_run_normal_001.bvh",
+    ] {
+        let take = pipeline::load_take(&common::real_take(name), &opts()).unwrap();
+        let a = anatomy_consistent(&take, true).unwrap();
+        let c = a.consistency.unwrap();
+        let after = c.after.as_ref().unwrap();
+        eprintln!("{name}\n{}", c.text());
+        assert!(
+            !c.before.meets(),
+            "{name}: met before reduction: {:?}",
+            c.before
+        );
+        assert!(after.meets(), "{name}: {}", c.text());
+        assert!(c.why.is_empty(), "{name}: {:?}", c.why);
+        let adj = c.adjustments.as_ref().unwrap();
+        let b = &adj.bounds;
+        assert!(adj.trunk_offset_m.norm() <= b.trunk_com_m + 1e-12, "{name}");
+        assert!(adj.pelvis_peak_m <= b.pelvis_peak_m + 1e-12, "{name}");
+        assert!(adj.pelvis_rms_m <= b.pelvis_rms_m + 1e-12, "{name}");
+        let (peak, rms) = adj.rotation_peak_rms_rad.expect("the ball root is rotated");
+        assert!(peak <= b.rotation_peak_rad + 1e-12, "{name}");
+        assert!(rms <= b.rotation_rms_rad + 1e-12, "{name}");
+    }
+}
+
 use common::workbench;
 
 #[test]
