@@ -45,8 +45,27 @@ pub(crate) fn rnea_terms(
     f_ext: Option<&[ForceVec]>,
     gravity: bool,
 ) {
+    assert_eq!(
+        ws.joint_steps.len(),
+        model.nbodies(),
+        "a workspace of another model"
+    );
+    forward_pass(model, ws, q, v, a, f_ext, gravity);
+    backward_pass(model, ws, v);
+}
+
+/// RNEA's forward pass: writes `ws.joint_rot`, `ws.x_up`, `ws.v`, `ws.a` and each body's own
+/// net force in `ws.f`.
+fn forward_pass(
+    model: &Model,
+    ws: &mut Workspace,
+    q: &[f64],
+    v: Option<&[f64]>,
+    a: Option<&[f64]>,
+    f_ext: Option<&[ForceVec]>,
+    gravity: bool,
+) {
     let n = model.nbodies();
-    assert_eq!(ws.joint_steps.len(), n, "a workspace of another model");
     // the per-body tables cut to the body count once, so that indexing by i needs no checks
     let (parent, idx_q, idx_v) = (&model.parent[..n], &model.idx_q[..n], &model.idx_v[..n]);
     let (placement, inertia) = (&model.placement[..n], &model.inertia[..n]);
@@ -57,7 +76,6 @@ pub(crate) fn rnea_terms(
         v: wv,
         a: wa,
         f: wf,
-        tau,
         ..
     } = ws;
     let (steps, joint_rot, x_up) = (&joint_steps[..n], &mut joint_rot[..n], &mut x_up[..n]);
@@ -114,6 +132,22 @@ pub(crate) fn rnea_terms(
         wa[i] = ai;
         wf[i] = fi;
     }
+}
+
+/// RNEA's backward pass: accumulates `ws.f` into each parent and writes `ws.tau`.
+fn backward_pass(model: &Model, ws: &mut Workspace, v: Option<&[f64]>) {
+    let n = model.nbodies();
+    let (parent, idx_v, placement) = (&model.parent[..n], &model.idx_v[..n], &model.placement[..n]);
+    let Workspace {
+        joint_steps,
+        joint_rot,
+        x_up,
+        f: wf,
+        tau,
+        ..
+    } = ws;
+    let (steps, joint_rot, x_up, wf) =
+        (&joint_steps[..n], &joint_rot[..n], &x_up[..n], &mut wf[..n]);
 
     // backward pass: project each body's force on its joint, pass it on to the parent
     //   τ_i = S_iᵀ f_i + b_i q̇_i,   f_λ += λX_i f_i
