@@ -164,3 +164,66 @@ fn parent_transform_is_placement_times_joint_transform() {
         assert!((got.trans - want.trans).norm() < 1e-15, "body {i}");
     }
 }
+
+/// The demo take's euler model: every rotation channel takes RNEA's axis step (the first of a
+/// joint's triple across its bone, the other two at its origin, without lever terms), and its
+/// torques, with the ws.v / ws.a / ws.f every body gets, equal those of the generic path
+/// (every axis negated) to rounding.
+#[test]
+fn euler_model_takes_the_axis_step_and_agrees_with_the_generic_path() {
+    use articula::dynamics::rnea::JointStep;
+    use articula::pipeline::{self, ModelSource, TakeOptions};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/demo_walk.bvh");
+    let m = pipeline::load_model(&ModelSource::Take(path), &TakeOptions::default()).unwrap();
+    let mut ws = Workspace::new(&m);
+    let (mut at_origin, mut shifted) = (0, 0);
+    for i in 1..m.nbodies() {
+        let step = ws.joint_steps[i];
+        match m.joints[i].revolute_coordinate_axis() {
+            Some(k) => {
+                let moved = m.placement[i].trans != Vector3::zeros();
+                assert_eq!(step, JointStep::Axis { k, shifted: moved }, "body {i}");
+                if moved { shifted += 1 } else { at_origin += 1 }
+            }
+            None => assert_eq!(step, JointStep::General, "body {i}"),
+        }
+    }
+    assert!(
+        at_origin >= 2 * shifted && shifted > 10,
+        "{at_origin} {shifted}"
+    );
+
+    // nq = nv: q, v and a flip sign at the same indices
+    assert_eq!(m.nq, m.nv);
+    let (n, sign) = negated(&m);
+    let mut wn = Workspace::new(&n);
+    assert!(
+        (1..n.nbodies()).all(|i| wn.joint_steps[i] == JointStep::General
+            || n.joints[i].revolute_coordinate_axis().is_some())
+    );
+    let mut rng = SplitMix64(17);
+    for _ in 0..5 {
+        let mut q = vec![0.0; m.nq];
+        let (mut v, mut a) = (vec![0.0; m.nv], vec![0.0; m.nv]);
+        random_configuration(&m, &mut rng, &mut q);
+        random_vector(&mut rng, 2.0, &mut v);
+        random_vector(&mut rng, 2.0, &mut a);
+        let signed = |x: &[f64]| x.iter().zip(&sign).map(|(x, s)| x * s).collect::<Vec<_>>();
+        let tm = rnea(&m, &mut ws, &q, &v, &a, None).as_slice().to_vec();
+        let tn = rnea(&n, &mut wn, &signed(&q), &signed(&v), &signed(&a), None)
+            .as_slice()
+            .to_vec();
+        assert!(rel(&tm, &signed(&tn)) < 1e-12, "rnea");
+        // the body quantities other algorithms read after RNEA are the same vectors
+        for i in 1..m.nbodies() {
+            let d = (ws.f[i].ang - wn.f[i].ang).norm() + (ws.f[i].lin - wn.f[i].lin).norm();
+            let s = 1.0 + ws.f[i].ang.norm() + ws.f[i].lin.norm();
+            assert!(d < 1e-12 * s, "f of body {i}");
+            let d = (ws.a[i].ang - wn.a[i].ang).norm() + (ws.v[i].lin - wn.v[i].lin).norm();
+            assert!(
+                d < 1e-12 * (1.0 + ws.a[i].ang.norm() + ws.v[i].lin.norm()),
+                "v, a of {i}"
+            );
+        }
+    }
+}

@@ -3,8 +3,9 @@
 //! 5(4). The explicit methods are one Runge-Kutta loop over a Butcher tableau kept as data
 //! (MuJoCo's `mj_RungeKutta`).
 //!
-//! Positions live on the configuration manifold: every stage moves `q` with
-//! [`Model::integrate`] (the exponential map, so quaternions stay unit), from the step's start
+//! Positions live on the configuration manifold: every stage moves `q` as
+//! [`Model::integrate`] does (the exponential map, so quaternions stay unit; on the 1-DoF
+//! joints, found once per stepper, a plain sum over runs of coordinates), from the step's start
 //! along a tangent offset `Ω`; stage velocities are mapped into that tangent space by the
 //! inverse of the exponential's differential, `Ω̇ = dexp⁻¹_{−Ω}(v)` — the Runge-Kutta
 //! Munthe-Kaas method (Munthe-Kaas 1998, "Runge-Kutta methods on Lie groups", BIT 38), which
@@ -219,6 +220,70 @@ pub struct Stepper {
     v_new: Vec<f64>,
     err_q: Vec<f64>,
     err_v: Vec<f64>,
+    /// The model's coordinates split by how a stage moves them (set once in `new`).
+    layout: Layout,
+}
+
+/// Where a stage's `q ⊕ Ω` and `Ω̇ = dexp⁻¹_{−Ω}(v)` are plain vector operations: runs of
+/// consecutive 1-DoF joints (revolute, prismatic), on which `q ⊕ Ω = q + Ω` and `Ω̇ = v`
+/// exactly as [`Model::integrate`] and [`tangent_rate`] compute them there, and the bodies whose
+/// joints live on a manifold (spherical, free), which go through those functions' joint code.
+#[derive(Debug, Clone, Default)]
+struct Layout {
+    /// `(first q index, first v index, length)` of each run of 1-DoF coordinates.
+    runs: Vec<(usize, usize, usize)>,
+    /// Bodies with a spherical or free joint.
+    manifold: Vec<usize>,
+}
+
+impl Layout {
+    fn new(model: &Model) -> Self {
+        let mut out = Layout::default();
+        for i in 1..model.nbodies() {
+            let (iq, iv) = (model.idx_q[i], model.idx_v[i]);
+            match model.joints[i] {
+                JointKind::Fixed => {}
+                JointKind::Revolute { .. } | JointKind::Prismatic { .. } => {
+                    match out.runs.last_mut() {
+                        Some((q0, v0, n)) if *q0 + *n == iq && *v0 + *n == iv => *n += 1,
+                        _ => out.runs.push((iq, iv, 1)),
+                    }
+                }
+                JointKind::Spherical | JointKind::Free => out.manifold.push(i),
+            }
+        }
+        out
+    }
+
+    /// `out = q ⊕ Ω` ([`Model::integrate`] with `dt = 1`).
+    fn integrate(&self, model: &Model, q: &[f64], omega: &[f64], out: &mut [f64]) {
+        for &(iq, iv, n) in &self.runs {
+            let (q, o, out) = (&q[iq..iq + n], &omega[iv..iv + n], &mut out[iq..iq + n]);
+            for ((x, q), o) in out.iter_mut().zip(q).zip(o) {
+                *x = q + o;
+            }
+        }
+        for &i in &self.manifold {
+            let j = &model.joints[i];
+            let (iq, iv) = (model.idx_q[i], model.idx_v[i]);
+            j.integrate(
+                &q[iq..iq + j.nq()],
+                &omega[iv..iv + j.nv()],
+                1.0,
+                &mut out[iq..iq + j.nq()],
+            );
+        }
+    }
+
+    /// `out = dexp⁻¹_{−Ω}(v)` ([`tangent_rate`]).
+    fn tangent_rate(&self, model: &Model, omega: &[f64], v: &[f64], out: &mut [f64]) {
+        for &(_, iv, n) in &self.runs {
+            out[iv..iv + n].copy_from_slice(&v[iv..iv + n]);
+        }
+        for &i in &self.manifold {
+            joint_tangent_rate(model, i, omega, v, out);
+        }
+    }
 }
 
 impl Stepper {
@@ -242,6 +307,7 @@ impl Stepper {
             v_new: vec![0.0; nv],
             err_q: vec![0.0; nv],
             err_v: vec![0.0; nv],
+            layout: Layout::new(model),
         }
     }
 
@@ -324,14 +390,18 @@ impl Stepper {
             self.v_stage.copy_from_slice(v);
             for (j, &a) in row.iter().enumerate() {
                 if a != 0.0 {
+                    let ha = h * a;
                     let (kq, kv) = (&self.kq[j * nv..][..nv], &self.kv[j * nv..][..nv]);
-                    for k in 0..nv {
-                        self.omega[k] += h * a * kq[k];
-                        self.v_stage[k] += h * a * kv[k];
+                    for (o, k) in self.omega.iter_mut().zip(kq) {
+                        *o += ha * k;
+                    }
+                    for (x, k) in self.v_stage.iter_mut().zip(kv) {
+                        *x += ha * k;
                     }
                 }
             }
-            model.integrate(q, &self.omega, 1.0, &mut self.q_stage);
+            self.layout
+                .integrate(model, q, &self.omega, &mut self.q_stage);
             // stage derivatives: a_s = f(…), Ω̇_s = dexp⁻¹_{−Ω}(v_s)
             f(
                 t + tab.c[s] * h,
@@ -339,7 +409,7 @@ impl Stepper {
                 &self.v_stage,
                 &mut self.kv[s * nv..][..nv],
             )?;
-            tangent_rate(
+            self.layout.tangent_rate(
                 model,
                 &self.omega,
                 &self.v_stage,
@@ -349,22 +419,31 @@ impl Stepper {
         // solution (and error estimate): Ω = h Σ b_s Ω̇_s, v₁ = v + h Σ b_s a_s
         self.omega.fill(0.0);
         self.v_new.copy_from_slice(v);
-        self.err_q.fill(0.0);
-        self.err_v.fill(0.0);
+        if tab.e.is_some() {
+            self.err_q.fill(0.0);
+            self.err_v.fill(0.0);
+        }
         for (s, &b) in tab.b.iter().enumerate() {
             let (kq, kv) = (&self.kq[s * nv..][..nv], &self.kv[s * nv..][..nv]);
-            for k in 0..nv {
-                self.omega[k] += h * b * kq[k];
-                self.v_new[k] += h * b * kv[k];
+            let hb = h * b;
+            for (o, k) in self.omega.iter_mut().zip(kq) {
+                *o += hb * k;
+            }
+            for (x, k) in self.v_new.iter_mut().zip(kv) {
+                *x += hb * k;
             }
             if let Some(e) = tab.e {
-                for k in 0..nv {
-                    self.err_q[k] += h * e[s] * kq[k];
-                    self.err_v[k] += h * e[s] * kv[k];
+                let he = h * e[s];
+                for (x, k) in self.err_q.iter_mut().zip(kq) {
+                    *x += he * k;
+                }
+                for (x, k) in self.err_v.iter_mut().zip(kv) {
+                    *x += he * k;
                 }
             }
         }
-        model.integrate(q, &self.omega, 1.0, &mut self.q_new);
+        self.layout
+            .integrate(model, q, &self.omega, &mut self.q_new);
         Ok(())
     }
 
@@ -446,36 +525,40 @@ impl Stepper {
 /// §2.3), enough for order 5 since `|Ω|` is one step's rotation.
 pub fn tangent_rate(model: &Model, omega: &[f64], v: &[f64], out: &mut [f64]) {
     for i in 1..model.nbodies() {
-        let iv = model.idx_v[i];
-        match model.joints[i] {
-            JointKind::Revolute { .. } | JointKind::Prismatic { .. } => out[iv] = v[iv],
-            JointKind::Fixed => {}
-            JointKind::Spherical => {
-                let th = Vector3::new(omega[iv], omega[iv + 1], omega[iv + 2]);
-                let w = Vector3::new(v[iv], v[iv + 1], v[iv + 2]);
-                let ad1 = th.cross(&w);
-                let ad2 = th.cross(&ad1);
-                let ad4 = th.cross(&th.cross(&ad2));
-                let r = w + ad1 * 0.5 + ad2 * (1.0 / 12.0) - ad4 * (1.0 / 720.0);
-                out[iv..iv + 3].copy_from_slice(r.as_slice());
-            }
-            JointKind::Free => {
-                // se(3), linear first: ad_(ρ,θ)(u, w) = (θ × u + ρ × w, θ × w)
-                let rho = Vector3::new(omega[iv], omega[iv + 1], omega[iv + 2]);
-                let th = Vector3::new(omega[iv + 3], omega[iv + 4], omega[iv + 5]);
-                let ad =
-                    |u: &Vector3<f64>, w: &Vector3<f64>| (th.cross(u) + rho.cross(w), th.cross(w));
-                let u0 = Vector3::new(v[iv], v[iv + 1], v[iv + 2]);
-                let w0 = Vector3::new(v[iv + 3], v[iv + 4], v[iv + 5]);
-                let (u1, w1) = ad(&u0, &w0);
-                let (u2, w2) = ad(&u1, &w1);
-                let (u3, w3) = ad(&u2, &w2);
-                let (u4, w4) = ad(&u3, &w3);
-                let u = u0 + u1 * 0.5 + u2 * (1.0 / 12.0) - u4 * (1.0 / 720.0);
-                let w = w0 + w1 * 0.5 + w2 * (1.0 / 12.0) - w4 * (1.0 / 720.0);
-                out[iv..iv + 3].copy_from_slice(u.as_slice());
-                out[iv + 3..iv + 6].copy_from_slice(w.as_slice());
-            }
+        joint_tangent_rate(model, i, omega, v, out);
+    }
+}
+
+/// [`tangent_rate`] for the coordinates of joint `i`.
+fn joint_tangent_rate(model: &Model, i: usize, omega: &[f64], v: &[f64], out: &mut [f64]) {
+    let iv = model.idx_v[i];
+    match model.joints[i] {
+        JointKind::Revolute { .. } | JointKind::Prismatic { .. } => out[iv] = v[iv],
+        JointKind::Fixed => {}
+        JointKind::Spherical => {
+            let th = Vector3::new(omega[iv], omega[iv + 1], omega[iv + 2]);
+            let w = Vector3::new(v[iv], v[iv + 1], v[iv + 2]);
+            let ad1 = th.cross(&w);
+            let ad2 = th.cross(&ad1);
+            let ad4 = th.cross(&th.cross(&ad2));
+            let r = w + ad1 * 0.5 + ad2 * (1.0 / 12.0) - ad4 * (1.0 / 720.0);
+            out[iv..iv + 3].copy_from_slice(r.as_slice());
+        }
+        JointKind::Free => {
+            // se(3), linear first: ad_(ρ,θ)(u, w) = (θ × u + ρ × w, θ × w)
+            let rho = Vector3::new(omega[iv], omega[iv + 1], omega[iv + 2]);
+            let th = Vector3::new(omega[iv + 3], omega[iv + 4], omega[iv + 5]);
+            let ad = |u: &Vector3<f64>, w: &Vector3<f64>| (th.cross(u) + rho.cross(w), th.cross(w));
+            let u0 = Vector3::new(v[iv], v[iv + 1], v[iv + 2]);
+            let w0 = Vector3::new(v[iv + 3], v[iv + 4], v[iv + 5]);
+            let (u1, w1) = ad(&u0, &w0);
+            let (u2, w2) = ad(&u1, &w1);
+            let (u3, w3) = ad(&u2, &w2);
+            let (u4, w4) = ad(&u3, &w3);
+            let u = u0 + u1 * 0.5 + u2 * (1.0 / 12.0) - u4 * (1.0 / 720.0);
+            let w = w0 + w1 * 0.5 + w2 * (1.0 / 12.0) - w4 * (1.0 / 720.0);
+            out[iv..iv + 3].copy_from_slice(u.as_slice());
+            out[iv + 3..iv + 6].copy_from_slice(w.as_slice());
         }
     }
 }
@@ -485,6 +568,33 @@ mod tests {
     use super::*;
     use crate::model::ModelBuilder;
     use crate::spatial::{SpatialInertia, SpatialTransform};
+
+    /// The stepper's split of the coordinates moves a stage exactly as `Model::integrate` and
+    /// `tangent_rate` do, bit for bit, on trees with ball and free joints among the revolutes.
+    #[test]
+    fn stage_layout_is_integrate_and_tangent_rate_bit_for_bit() {
+        use crate::dynamics::samples::{
+            SplitMix64, random_configuration, random_tree, random_vector,
+        };
+        for (seed, floating) in [(3, false), (4, true), (5, true)] {
+            let model = random_tree(20, seed, floating);
+            let layout = Layout::new(&model);
+            let mut rng = SplitMix64(seed);
+            let mut q = vec![0.0; model.nq];
+            random_configuration(&model, &mut rng, &mut q);
+            let (mut omega, mut v) = (vec![0.0; model.nv], vec![0.0; model.nv]);
+            random_vector(&mut rng, 0.3, &mut omega);
+            random_vector(&mut rng, 2.0, &mut v);
+            let (mut a, mut b) = (vec![0.0; model.nq], vec![0.0; model.nq]);
+            model.integrate(&q, &omega, 1.0, &mut a);
+            layout.integrate(&model, &q, &omega, &mut b);
+            assert_eq!(a, b, "integrate, seed {seed}");
+            let (mut a, mut b) = (vec![0.0; model.nv], vec![0.0; model.nv]);
+            tangent_rate(&model, &omega, &v, &mut a);
+            layout.tangent_rate(&model, &omega, &v, &mut b);
+            assert_eq!(a, b, "tangent rate, seed {seed}");
+        }
+    }
 
     #[test]
     fn names_round_trip() {

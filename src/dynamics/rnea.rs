@@ -2,8 +2,8 @@
 
 use super::Workspace;
 use crate::model::Model;
-use crate::spatial::{ForceVec, MotionVec};
-use nalgebra::{DVector, Vector3};
+use crate::spatial::{AxisRotation, ForceVec, MotionVec};
+use nalgebra::{DVector, Matrix3, Vector3};
 
 /// Inverse dynamics, recursive Newton-Euler: the generalized forces `τ` that produce the
 /// accelerations `a` at state `(q, v)` (Featherstone 2008, table 5.1; the paper's forward sweep
@@ -12,12 +12,14 @@ use nalgebra::{DVector, Vector3};
 /// body frame, acting on the body).
 ///
 /// `τ = D(q) a + h(q, v) + c(q) + b·v − Σ Jᵢᵀ f_ext,i`. Writes `ws.x_up`, `ws.v`, `ws.a`,
-/// `ws.f`, `ws.tau` and returns `&ws.tau`.
+/// `ws.f`, `ws.tau` (and `ws.joint_rot`) and returns `&ws.tau`.
 ///
-/// Cost: the joint transforms take the fast form of [`Model::parent_transform`] (4
-/// multiplications per rotated vector for a coordinate-axis revolute joint), and bodies without
-/// mass or inertia (the fictitious links of a BVH euler model, two in three bodies) skip the
-/// inertial terms `I a + v ×* I v`.
+/// Cost: a revolute joint about a coordinate axis under an unrotated placement (every rotation
+/// channel of a BVH euler model) takes a step specialised to its axis ([`JointStep::Axis`]: 4
+/// multiplications per rotated vector, no lever terms across the zero-length links of an euler
+/// triple, nothing re-decided per call), and bodies without mass or inertia (the fictitious
+/// links of a BVH euler model, two in three bodies) skip the inertial terms `I a + v ×* I v`.
+/// The numbers are those of the general formulas, operation for operation.
 pub fn rnea<'w>(
     model: &Model,
     ws: &'w mut Workspace,
@@ -32,8 +34,8 @@ pub fn rnea<'w>(
 
 /// The recursive Newton-Euler sweeps with any of the terms switched off: `v = None` is
 /// `v = 0` (and no friction), `a = None` is `a = 0`, `gravity = false` drops `c(q)`. The
-/// bias-term functions ([`super::bias`]) are this with some terms off. Writes `ws.x_up`,
-/// `ws.v`, `ws.a`, `ws.f`, `ws.tau`.
+/// bias-term functions ([`super::bias`]) are this with some terms off. Writes `ws.joint_rot`
+/// and `ws.x_up`, `ws.v`, `ws.a`, `ws.f`, `ws.tau`.
 pub(crate) fn rnea_terms(
     model: &Model,
     ws: &mut Workspace,
@@ -43,9 +45,45 @@ pub(crate) fn rnea_terms(
     f_ext: Option<&[ForceVec]>,
     gravity: bool,
 ) {
+    assert_eq!(
+        ws.joint_steps.len(),
+        model.nbodies(),
+        "a workspace of another model"
+    );
+    forward_pass(model, ws, q, v, a, f_ext, gravity);
+    backward_pass(model, ws, v);
+}
+
+/// RNEA's forward pass: writes `ws.joint_rot`, `ws.x_up`, `ws.v`, `ws.a` and each body's own
+/// net force in `ws.f`.
+fn forward_pass(
+    model: &Model,
+    ws: &mut Workspace,
+    q: &[f64],
+    v: Option<&[f64]>,
+    a: Option<&[f64]>,
+    f_ext: Option<&[ForceVec]>,
+    gravity: bool,
+) {
+    let n = model.nbodies();
+    // the per-body tables cut to the body count once, so that indexing by i needs no checks
+    let (parent, idx_q, idx_v) = (&model.parent[..n], &model.idx_q[..n], &model.idx_v[..n]);
+    let (placement, inertia) = (&model.placement[..n], &model.inertia[..n]);
+    let Workspace {
+        joint_steps,
+        joint_rot,
+        x_up,
+        v: wv,
+        a: wa,
+        f: wf,
+        ..
+    } = ws;
+    let (steps, joint_rot, x_up) = (&joint_steps[..n], &mut joint_rot[..n], &mut x_up[..n]);
+    let (wv, wa, wf) = (&mut wv[..n], &mut wa[..n], &mut wf[..n]);
+
     // the world: at rest, accelerating upward to stand in for gravity
-    ws.v[0] = MotionVec::ZERO;
-    ws.a[0] = if gravity {
+    wv[0] = MotionVec::ZERO;
+    wa[0] = if gravity {
         MotionVec::new(Vector3::zeros(), -model.gravity)
     } else {
         MotionVec::ZERO
@@ -54,28 +92,34 @@ pub(crate) fn rnea_terms(
     // forward pass: velocities, accelerations and the net force each body needs
     //   v_i = iX_λ v_λ + S_i q̇_i,   a_i = iX_λ a_λ + S_i q̈_i + v_i ×ₘ S_i q̇_i
     //   f_i = I_i a_i + v_i ×* I_i v_i − f_ext,i
-    for i in 1..model.nbodies() {
-        let (joint, p) = (&model.joints[i], model.parent[i]);
-        let iv = model.idx_v[i];
-        let x = model.parent_transform(i, q);
-        let mut vi = x.act_inv_motion(&ws.v[p]);
-        let mut ai = x.act_inv_motion(&ws.a[p]);
-        match joint.revolute_coordinate_axis() {
-            // S = e_k (angular): the same sums with S q̇ a single component
-            Some(k) => {
-                let qd = v.map_or(0.0, |v| v[iv]);
-                vi.ang[k] += qd;
-                ai.ang[k] += a.map_or(0.0, |a| a[iv]);
-                ai += vi.cross_axis(k, qd);
+    for i in 1..n {
+        let (p, iv) = (parent[i], idx_v[i]);
+        let (vi, ai) = match steps[i] {
+            JointStep::Axis { k, shifted } => {
+                let rot = AxisRotation::new(k, q[idx_q[i]]);
+                let (qd, qdd) = (v.map_or(0.0, |v| v[iv]), a.map_or(0.0, |a| a[iv]));
+                let t = shifted.then_some(&placement[i].trans);
+                joint_rot[i] = rot;
+                let (vp, ap) = (&wv[p], &wa[p]);
+                match k {
+                    0 => axis_forward::<0>(rot, t, vp, ap, qd, qdd),
+                    1 => axis_forward::<1>(rot, t, vp, ap, qd, qdd),
+                    _ => axis_forward::<2>(rot, t, vp, ap, qd, qdd),
+                }
             }
-            None => {
+            JointStep::General => {
+                let joint = &model.joints[i];
+                let x = model.parent_transform(i, q);
+                let (mut vi, mut ai) = (x.act_inv_motion(&wv[p]), x.act_inv_motion(&wa[p]));
                 let vj = v.map_or(MotionVec::ZERO, |v| joint.motion(&v[iv..iv + joint.nv()]));
                 let aj = a.map_or(MotionVec::ZERO, |a| joint.motion(&a[iv..iv + joint.nv()]));
                 vi += vj;
                 ai += aj + vi.cross_motion(&vj);
+                x_up[i] = x;
+                (vi, ai)
             }
-        }
-        let inertia = &model.inertia[i];
+        };
+        let inertia = &inertia[i];
         let mut fi = if inertia.is_zero() {
             ForceVec::ZERO
         } else {
@@ -84,37 +128,140 @@ pub(crate) fn rnea_terms(
         if let Some(fx) = f_ext {
             fi -= fx[i];
         }
-        ws.x_up[i] = x;
-        ws.v[i] = vi;
-        ws.a[i] = ai;
-        ws.f[i] = fi;
+        wv[i] = vi;
+        wa[i] = ai;
+        wf[i] = fi;
     }
+}
+
+/// RNEA's backward pass: accumulates `ws.f` into each parent and writes `ws.tau`.
+fn backward_pass(model: &Model, ws: &mut Workspace, v: Option<&[f64]>) {
+    let n = model.nbodies();
+    let (parent, idx_v, placement) = (&model.parent[..n], &model.idx_v[..n], &model.placement[..n]);
+    let Workspace {
+        joint_steps,
+        joint_rot,
+        x_up,
+        f: wf,
+        tau,
+        ..
+    } = ws;
+    let (steps, joint_rot, x_up, wf) =
+        (&joint_steps[..n], &joint_rot[..n], &x_up[..n], &mut wf[..n]);
 
     // backward pass: project each body's force on its joint, pass it on to the parent
     //   τ_i = S_iᵀ f_i + b_i q̇_i,   f_λ += λX_i f_i
-    for i in (1..model.nbodies()).rev() {
-        let joint = &model.joints[i];
-        let iv = model.idx_v[i];
-        let nv = joint.nv();
-        let tau = &mut ws.tau.as_mut_slice()[iv..iv + nv];
-        match joint.revolute_coordinate_axis() {
-            Some(k) => tau[0] = ws.f[i].ang[k],
-            None => joint.project_force(&ws.f[i], tau),
-        }
-        if let Some(v) = v {
-            for ((t, b), vk) in tau
-                .iter_mut()
-                .zip(&model.damping[iv..iv + nv])
-                .zip(&v[iv..])
-            {
-                *t += b * vk;
+    let tau = tau.as_mut_slice();
+    for i in (1..n).rev() {
+        let (iv, p, fi) = (idx_v[i], parent[i], wf[i]);
+        let fp = match steps[i] {
+            JointStep::Axis { k, shifted } => {
+                tau[iv] = fi.ang[k] + v.map_or(0.0, |v| model.damping[iv] * v[iv]);
+                let t = shifted.then_some(&placement[i].trans);
+                let rot = joint_rot[i];
+                match k {
+                    0 => axis_backward::<0>(rot, t, &fi),
+                    1 => axis_backward::<1>(rot, t, &fi),
+                    _ => axis_backward::<2>(rot, t, &fi),
+                }
             }
-        }
-        let p = model.parent[i];
+            JointStep::General => {
+                let joint = &model.joints[i];
+                let nv = joint.nv();
+                let tau = &mut tau[iv..iv + nv];
+                joint.project_force(&fi, tau);
+                if let Some(v) = v {
+                    for ((t, b), vk) in tau
+                        .iter_mut()
+                        .zip(&model.damping[iv..iv + nv])
+                        .zip(&v[iv..])
+                    {
+                        *t += b * vk;
+                    }
+                }
+                x_up[i].act_force(&fi)
+            }
+        };
         if p > 0 {
-            let fp = ws.x_up[i].act_force(&ws.f[i]);
-            ws.f[p] += fp;
+            wf[p] += fp;
         }
+    }
+}
+
+/// How RNEA crosses joint i, decided once per model from its joints and placements
+/// ([`joint_steps`]); kept in [`Workspace::joint_steps`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JointStep {
+    /// A revolute joint about coordinate axis `k` whose placement has no rotation: the
+    /// transform is a rotation about `e_k` after the placement's translation, `S = e_k`.
+    /// `shifted` is false when that translation is zero too (the second and third links of a
+    /// BVH euler triple), and the lever terms `r × ·` are skipped: they are exactly zero.
+    Axis { k: usize, shifted: bool },
+    /// Any other joint: [`Model::parent_transform`] and the joint's own `S`.
+    General,
+}
+
+/// [`JointStep`] of every body (entry 0, the world, is `General` and never used).
+pub fn joint_steps(model: &Model) -> Vec<JointStep> {
+    (0..model.nbodies())
+        .map(|i| {
+            let placement = &model.placement[i];
+            match model.joints[i].revolute_coordinate_axis() {
+                Some(k) if i > 0 && placement.rot == Matrix3::identity() => JointStep::Axis {
+                    k,
+                    shifted: placement.trans != Vector3::zeros(),
+                },
+                _ => JointStep::General,
+            }
+        })
+        .collect()
+}
+
+/// The forward-pass step across a revolute joint about coordinate axis `K` (rotation `rot`,
+/// after the translation `trans` when there is one): the same arithmetic as
+/// [`FastTransform::act_inv_motion`](crate::spatial::FastTransform::act_inv_motion) and [`MotionVec::cross_axis`], with the axis a constant
+/// so that no step branches on it.
+///   `v_i = Rᵀ (v_λ − r × ω_λ) + e_K q̇`,   `a_i = Rᵀ (a_λ − r × α_λ) + e_K q̈ + v_i ×ₘ e_K q̇`
+#[inline(always)]
+fn axis_forward<const K: usize>(
+    rot: AxisRotation,
+    trans: Option<&Vector3<f64>>,
+    vp: &MotionVec,
+    ap: &MotionVec,
+    qd: f64,
+    qdd: f64,
+) -> (MotionVec, MotionVec) {
+    let r = AxisRotation { axis: K, ..rot };
+    let lever = |m: &MotionVec| trans.map_or(m.lin, |t| m.lin - t.cross(&m.ang));
+    let mut vi = MotionVec {
+        ang: r.rotate_inv(&vp.ang),
+        lin: r.rotate_inv(&lever(vp)),
+    };
+    let mut ai = MotionVec {
+        ang: r.rotate_inv(&ap.ang),
+        lin: r.rotate_inv(&lever(ap)),
+    };
+    vi.ang[K] += qd;
+    ai.ang[K] += qdd;
+    ai += vi.cross_axis(K, qd);
+    (vi, ai)
+}
+
+/// The backward-pass step across the same joint: the same arithmetic as
+/// [`FastTransform::act_force`](crate::spatial::FastTransform::act_force), the axis a constant.
+///   `f_λ += [R n + r × R f; R f]`
+#[inline(always)]
+fn axis_backward<const K: usize>(
+    rot: AxisRotation,
+    trans: Option<&Vector3<f64>>,
+    f: &ForceVec,
+) -> ForceVec {
+    let r = AxisRotation { axis: K, ..rot };
+    let lin = r.rotate(&f.lin);
+    let ang = r.rotate(&f.ang);
+    ForceVec {
+        ang: trans.map_or(ang, |t| ang + t.cross(&lin)),
+        lin,
     }
 }
 

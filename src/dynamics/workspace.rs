@@ -4,8 +4,9 @@
 
 use super::crba::WorldInertia;
 use super::inertia6::SymInertia6;
+use super::rnea::{JointStep, joint_steps};
 use crate::model::Model;
-use crate::spatial::{FastTransform, ForceVec, MotionVec, SpatialTransform};
+use crate::spatial::{AxisRotation, FastTransform, ForceVec, MotionVec, SpatialTransform};
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 
 /// Marks "no parent degree of freedom" in [`Workspace::dof_parent`].
@@ -18,8 +19,11 @@ pub struct Workspace {
     /// `forward_kinematics` and the energy functions.
     pub li_x_i: Vec<SpatialTransform>,
     /// The same pose in the fast form of `Model::parent_transform` (`nbodies`); written by
-    /// `rnea`.
+    /// `rnea` for the joints of [`JointStep::General`] (the others' is `joint_rot`).
     pub x_up: Vec<FastTransform>,
+    /// The joint rotation of each joint of [`JointStep::Axis`] (`nbodies`, its placement
+    /// being a translation only); written by `rnea`.
+    pub joint_rot: Vec<AxisRotation>,
     /// Pose of body i in the world frame (`nbodies`); written by `forward_kinematics` and the
     /// energy functions (and `aba`); `crba` writes it relative to the origin of the first body
     /// with mass (world axes). Entry 0 stays the identity.
@@ -92,6 +96,9 @@ pub struct Workspace {
     /// expanded parent array λ of Featherstone 2008 §6.5), or [`NO_DOF`] (`nv`); constant, set
     /// by [`Workspace::new`] from the model's topology.
     pub dof_parent: Vec<usize>,
+    /// How `rnea` crosses each joint (`nbodies`); constant, set by [`Workspace::new`] from the
+    /// model's joints and placements (so a workspace serves the model it was made for).
+    pub joint_steps: Vec<JointStep>,
 }
 
 impl Workspace {
@@ -103,6 +110,7 @@ impl Workspace {
             li_x_i: vec![SpatialTransform::IDENTITY; n],
             o_x_i: vec![SpatialTransform::IDENTITY; n],
             x_up: vec![FastTransform::default(); n],
+            joint_rot: vec![AxisRotation::new(0, 0.0); n],
             s_world: vec![MotionVec::ZERO; nv],
             v: vec![MotionVec::ZERO; n],
             a: vec![MotionVec::ZERO; n],
@@ -125,6 +133,7 @@ impl Workspace {
             qdd: DVector::zeros(nv),
             ltdl: DMatrix::zeros(nv, nv),
             dof_parent: dof_parents(model),
+            joint_steps: joint_steps(model),
         }
     }
 }
