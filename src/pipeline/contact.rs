@@ -174,19 +174,29 @@ pub fn estimate_take_ground_reactions_with(
     take: &Take,
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<crate::dynamics::grf::GroundReactions, Error> {
+    estimate_take_ground_reactions_keeping(take, &[], keep_going)
+}
+
+/// [`estimate_take_ground_reactions_with`] that keeps the net moments on `moment_bodies`
+/// ([`GroundReactions::moments`](crate::dynamics::grf::GroundReactions::moments): the
+/// anatomical series read them, `pipeline::anatomy::moment_bodies`).
+pub fn estimate_take_ground_reactions_keeping(
+    take: &Take,
+    moment_bodies: &[usize],
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<crate::dynamics::grf::GroundReactions, Error> {
     use crate::motion::contact::ContactParams;
     let s = &take.states;
     let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)
         .map_err(|e| at_file(&take.path, e))?;
-    crate::dynamics::grf::estimate_ground_reactions_progress(
+    crate::dynamics::grf::estimate_ground_reactions_keeping(
         &take.model,
         &contact_feet(take),
         &s.time,
-        &s.q,
-        &s.v,
-        &s.a,
+        [&s.q, &s.v, &s.a],
         take.up.index(),
         &params,
+        moment_bodies,
         keep_going,
     )
     .map_err(|e| at_file(&take.path, e))
