@@ -472,6 +472,10 @@ pub struct Analysis {
     /// not change, `pipeline::anatomy::Calibration`), reused by an edit whose take has the
     /// same kinematics; `None` otherwise.
     pub calibration: Option<Arc<pipeline::anatomy::Calibration>>,
+    /// What `contact auto` settled on for [`source`](Self::source) and why
+    /// (`pipeline::resolve_contact_after`), reused by an edit of masses alone; `None` when the
+    /// contact was not `auto`.
+    pub contact_auto: Option<(pipeline::Contact, String)>,
 }
 
 /// Why a frame's accelerations and torques are left out of the figures quoted from them.
@@ -748,6 +752,7 @@ impl Engine for Builtin {
         let mut source = None;
         let mut feet = Table::zeros(vec![], 0);
         let mut calibration = None;
+        let mut contact_auto = None;
         let (model, states, scale, grf) = match &take.data {
             TakeData::Bvh(bvh) => {
                 // the pipeline's stages: axes and unit, model, q, unwrap, smooth, differentiate
@@ -765,7 +770,10 @@ impl Engine for Builtin {
                 ctl.set_progress(0.2);
                 ctl.check()?;
                 source = Some(Arc::new(t.clone()));
-                pipeline::resolve_contact(&mut t);
+                // `contact auto` as the last results settled it when only masses changed
+                let settled =
+                    previous.and_then(|p| Some((p.source.as_deref()?, p.contact_auto.as_ref()?)));
+                contact_auto = pipeline::resolve_contact_after(&mut t, settled);
                 let scale = t.scale_to_m;
                 // the frames within the smoothing's reach of the ends, unless `edges include`
                 left_out = vec![None; t.states.len()];
@@ -894,6 +902,7 @@ impl Engine for Builtin {
             feet,
             source,
             calibration: calibration.flatten(),
+            contact_auto,
             reference: Table::zeros(vec![], 0),
         })
     }
@@ -965,6 +974,7 @@ impl Engine for Builtin {
             feet: Table::zeros(vec![], 0),
             source: None,
             calibration: None,
+            contact_auto: None,
             reference,
         })
     }
