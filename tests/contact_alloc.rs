@@ -7,37 +7,14 @@
 //! and of the same take there and back (twice the frames), serial and with two workers. One
 //! test in its own binary, since the count is global.
 
+mod common;
+
 use articula::pipeline::{self, States, TakeOptions};
-use std::alloc::{GlobalAlloc, Layout, System};
+use common::alloc::allocations;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-struct Counting;
-
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn allocations(f: impl FnOnce()) -> usize {
-    let before = ALLOCS.load(Ordering::SeqCst);
-    f();
-    ALLOCS.load(Ordering::SeqCst) - before
-}
+static GLOBAL: common::alloc::Counting = common::alloc::Counting;
 
 /// The take and then its frames backward (the motion stays continuous, so the feet touch the
 /// floor as often again), every `dt` seconds.

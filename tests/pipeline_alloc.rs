@@ -9,43 +9,20 @@
 //! frame. Tests in their own binary, one at a time (`ONE_AT_A_TIME`), since the count is
 //! global (worker threads allocate on their own threads).
 
+mod common;
+
 use articula::io::bvh::{self, Bvh};
 use articula::motion::smooth::SmoothSpec;
 use articula::pipeline::{self, States, TakeOptions};
-use std::alloc::{GlobalAlloc, Layout, System};
+use common::alloc::allocations;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-struct Counting;
-
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: common::alloc::Counting = common::alloc::Counting;
 
 /// Held by each test for its whole run: the count is global, the test harness runs tests on
 /// several threads.
 static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-fn allocations(f: impl FnOnce()) -> usize {
-    let before = ALLOCS.load(Ordering::SeqCst);
-    f();
-    ALLOCS.load(Ordering::SeqCst) - before
-}
 
 /// The states twice as long: the frames, then the same frames again.
 fn doubled(s: &States) -> States {

@@ -52,7 +52,9 @@ fn full_recompute(dir: &std::path::Path, settings: &[&str]) -> Arc<Analysis> {
 #[test]
 fn a_mass_edit_reruns_inverse_dynamics_but_not_the_smoothing_and_equals_a_full_recompute() {
     let dir = tempfile::tempdir().unwrap();
-    for contact in ["set contact none", "set contact feet"] {
+    // `auto` settles on feet for the demo walk; the edit keeps that choice (its stance reads
+    // no mass) rather than finding it again, with the same results and notes
+    for contact in ["set contact none", "set contact feet", "set contact auto"] {
         let mut wb = wb_in(dir.path());
         ok(&mut wb, "load demo:walk");
         ok(&mut wb, contact);
@@ -89,7 +91,14 @@ fn a_mass_edit_reruns_inverse_dynamics_but_not_the_smoothing_and_equals_a_full_r
         );
         assert!(bits(&edited) == bits(&full), "{contact}: not bit-identical");
         assert_eq!(edited.note, full.note);
+        assert_eq!(edited.brief, full.brief);
+        assert_eq!(edited.contact_auto, full.contact_auto);
         assert_eq!(edited.left_out, full.left_out);
+        assert_eq!(
+            edited.contact_auto.is_some(),
+            contact.ends_with("auto"),
+            "{contact}"
+        );
     }
 }
 

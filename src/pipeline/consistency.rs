@@ -3,7 +3,7 @@
 //! the trunk's mass centre and a smooth pelvis offset, as OpenSim's RRA), the adjustments,
 //! and where and why a take misses the thresholds.
 
-use super::{Take, anatomy::find_take_human, contact_feet, estimate_take_ground_reactions};
+use super::{Take, anatomy::find_take_human, contact_feet};
 use crate::dynamics::grf::GroundReactions;
 use crate::dynamics::grf::measured::{FootLoads, apply_ground_reactions};
 use crate::dynamics::residual::{
@@ -134,11 +134,24 @@ pub fn consistent_take(
     reduce: bool,
     measured: Option<&FootLoads>,
 ) -> Result<(Option<Take>, GroundReactions, Consistency), Error> {
+    consistent_take_keeping(take, reduce, measured, &[])
+}
+
+/// [`consistent_take`] whose estimate keeps the net moments on `moment_bodies`
+/// ([`GroundReactions::moments`], for the anatomical series) when the take is not reduced.
+pub fn consistent_take_keeping(
+    take: &Take,
+    reduce: bool,
+    measured: Option<&FootLoads>,
+    moment_bodies: &[usize],
+) -> Result<(Option<Take>, GroundReactions, Consistency), Error> {
     let s = &take.states;
     let up = take.up.index();
+    // the moments of the take as it is are read only when it stays as it is
+    let keep = if reduce { &[][..] } else { moment_bodies };
     let before = match measured {
         Some(loads) => apply_ground_reactions(&take.model, loads, &s.time, &s.q, &s.v, &s.a, up)?,
-        None => estimate_take_ground_reactions(take)?,
+        None => super::contact::estimate_take_ground_reactions_keeping(take, keep, &mut |_| true)?,
     };
     let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)?;
     let counted = counted_frames(s.len(), super::edge_frames(take));

@@ -117,6 +117,45 @@ pub fn resolve_contact(take: &mut Take) {
     take.notes.push(format!("contact auto: {contact}: {why}"));
 }
 
+/// [`resolve_contact`] after `previous`, a take whose `auto` was settled as `choice`: when
+/// [`same_motion`] says the two differ at most in their masses (a workbench mass edit), its
+/// choice is taken as it is (the stance it found reads no mass), else the stance is found
+/// again. Returns the choice `auto` settled on (`None`: the take's contact was not `auto`).
+pub fn resolve_contact_after(
+    take: &mut Take,
+    previous: Option<(&Take, &(Contact, String))>,
+) -> Option<(Contact, String)> {
+    if take.options.contact != Contact::Auto {
+        return None;
+    }
+    let (contact, why) = match previous.filter(|(p, _)| same_motion(p, take)) {
+        Some((_, choice)) => choice.clone(),
+        None => contact_choice(take),
+    };
+    take.options.contact = contact;
+    take.notes.push(format!("contact auto: {contact}: {why}"));
+    Some((contact, why))
+}
+
+/// True when `a` and `b` have the same motion, skeleton and model kinematics (tree, joints,
+/// placements, map, up axis, unit, smoothing, landmarks, times and configurations): all that
+/// the contact phases and the anatomical frames read. Masses and inertias may differ.
+pub fn same_motion(a: &Take, b: &Take) -> bool {
+    let (ma, mb) = (&a.model, &b.model);
+    ma.parent == mb.parent
+        && ma.joints == mb.joints
+        && ma.placement == mb.placement
+        && ma.gravity == mb.gravity
+        && a.map == b.map
+        && a.up == b.up
+        && a.scale_to_m == b.scale_to_m
+        && a.smooth == b.smooth
+        && a.human == b.human
+        && a.states.time == b.states.time
+        && a.states.q == b.states.q
+        && a.bvh == b.bvh
+}
+
 /// Frames at each end of a take whose estimated accelerations are not trustworthy: those
 /// within the estimator's reach of its first or last frame
 /// ([`acceleration_spread_s`](crate::motion::contact::acceleration_spread_s) of the take's
@@ -174,19 +213,29 @@ pub fn estimate_take_ground_reactions_with(
     take: &Take,
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<crate::dynamics::grf::GroundReactions, Error> {
+    estimate_take_ground_reactions_keeping(take, &[], keep_going)
+}
+
+/// [`estimate_take_ground_reactions_with`] that keeps the net moments on `moment_bodies`
+/// ([`GroundReactions::moments`](crate::dynamics::grf::GroundReactions::moments): the
+/// anatomical series read them, `pipeline::anatomy::moment_bodies`).
+pub fn estimate_take_ground_reactions_keeping(
+    take: &Take,
+    moment_bodies: &[usize],
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<crate::dynamics::grf::GroundReactions, Error> {
     use crate::motion::contact::ContactParams;
     let s = &take.states;
     let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)
         .map_err(|e| at_file(&take.path, e))?;
-    crate::dynamics::grf::estimate_ground_reactions_progress(
+    crate::dynamics::grf::estimate_ground_reactions_keeping(
         &take.model,
         &contact_feet(take),
         &s.time,
-        &s.q,
-        &s.v,
-        &s.a,
+        [&s.q, &s.v, &s.a],
         take.up.index(),
         &params,
+        moment_bodies,
         keep_going,
     )
     .map_err(|e| at_file(&take.path, e))

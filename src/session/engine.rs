@@ -359,13 +359,8 @@ fn contact_brief(q: &crate::dynamics::grf::GroundQuality, meets: bool) -> String
 /// The anatomical angles (rad) and moments (N·m) of a human take as a table
 /// ([`Analysis::anatomy`]); empty for a take that is not a human's, or whose segments have no
 /// frame somewhere (the inverse dynamics stands without them).
-fn anatomy_table(t: &pipeline::Take, g: Option<&crate::dynamics::grf::GroundReactions>) -> Table {
-    let Ok(a) = t
-        .human
-        .as_ref()
-        .map_err(|_| ())
-        .and_then(|_| pipeline::anatomy::anatomy_with(t, g).map_err(|_| ()))
-    else {
+fn anatomy_table(a: Result<pipeline::anatomy::Anatomy, Error>) -> Table {
+    let Ok(a) = a else {
         return Table::zeros(vec![], 0);
     };
     let keep: Vec<(usize, String, f64)> = a
@@ -473,6 +468,14 @@ pub struct Analysis {
     /// states, before contact), so that an edit that keeps its states reuses them
     /// ([`pipeline::take_from_bvh_reusing`]); `None` for a robot or a simulation.
     pub source: Option<Arc<pipeline::Take>>,
+    /// A human take's anatomical calibration (segment frames and kept poses: what masses do
+    /// not change, `pipeline::anatomy::Calibration`), reused by an edit whose take has the
+    /// same kinematics; `None` otherwise.
+    pub calibration: Option<Arc<pipeline::anatomy::Calibration>>,
+    /// What `contact auto` settled on for [`source`](Self::source) and why
+    /// (`pipeline::resolve_contact_after`), reused by an edit of masses alone; `None` when the
+    /// contact was not `auto`.
+    pub contact_auto: Option<(pipeline::Contact, String)>,
 }
 
 /// Why a frame's accelerations and torques are left out of the figures quoted from them.
@@ -748,6 +751,8 @@ impl Engine for Builtin {
         let mut brief = String::new();
         let mut source = None;
         let mut feet = Table::zeros(vec![], 0);
+        let mut calibration = None;
+        let mut contact_auto = None;
         let (model, states, scale, grf) = match &take.data {
             TakeData::Bvh(bvh) => {
                 // the pipeline's stages: axes and unit, model, q, unwrap, smooth, differentiate
@@ -765,7 +770,10 @@ impl Engine for Builtin {
                 ctl.set_progress(0.2);
                 ctl.check()?;
                 source = Some(Arc::new(t.clone()));
-                pipeline::resolve_contact(&mut t);
+                // `contact auto` as the last results settled it when only masses changed
+                let settled =
+                    previous.and_then(|p| Some((p.source.as_deref()?, p.contact_auto.as_ref()?)));
+                contact_auto = pipeline::resolve_contact_after(&mut t, settled);
                 let scale = t.scale_to_m;
                 // the frames within the smoothing's reach of the ends, unless `edges include`
                 left_out = vec![None; t.states.len()];
@@ -780,10 +788,16 @@ impl Engine for Builtin {
                 // with `contact feet`: the torques with the estimated ground reactions
                 // (and how far the feet could give the ground force the motion needs), of the
                 // take made consistent unless `consistent off` (residual reduction)
+                // the bodies whose net moments the anatomical series read: the estimate keeps
+                // them from its own RNEA with the ground reactions
+                let bodies = match &t.human {
+                    Ok(_) => pipeline::anatomy::moment_bodies(&t),
+                    Err(_) => vec![],
+                };
                 let (t, g) = if t.options.contact == pipeline::Contact::Feet {
                     let reduce = params.consistent.unwrap_or(true);
                     let (adjusted, g, c) =
-                        pipeline::consistency::consistent_take(&t, reduce, None)?;
+                        pipeline::consistency::consistent_take_keeping(&t, reduce, None, &bodies)?;
                     for (k, b) in c.beyond.iter().enumerate() {
                         if *b && k < left_out.len() {
                             left_out[k] = Some(LeftOut::Beyond);
@@ -804,14 +818,43 @@ impl Engine for Builtin {
                     (t, None)
                 };
                 ctl.check()?;
-                anatomy = anatomy_table(&t, g.as_ref());
+                // the anatomical series: the calibration of the last results when this take's
+                // kinematics are theirs (a mass edit), the moments from this run's RNEA
+                calibration = t.human.is_ok().then(|| {
+                    previous
+                        .and_then(|p| p.calibration.clone())
+                        .filter(|c| c.fits(&t))
+                        .or_else(|| pipeline::anatomy::Calibration::new(&t).ok().map(Arc::new))
+                });
+                let calibration = calibration.as_ref().and_then(Option::as_ref);
+                let tau = match (&g, calibration) {
+                    (Some(g), Some(cal)) => {
+                        let moments = cal.net_moments(&t, Some(g));
+                        anatomy = anatomy_table(cal.series(&t, &moments, Some(g)));
+                        None
+                    }
+                    // without contact, one RNEA per frame gives the torques and the moments
+                    (None, Some(cal)) => {
+                        let (tau, moments) = pipeline::anatomy::inverse_dynamics_and_moments(
+                            &t.model,
+                            &t.states,
+                            cal.bodies(),
+                            &mut ctl.stage(0.2, 1.0),
+                        )
+                        .ok_or_else(cancelled)?;
+                        ctl.done(Stage::InverseDynamics);
+                        anatomy = anatomy_table(cal.series(&t, &moments, None));
+                        Some(tau)
+                    }
+                    (_, None) => None,
+                };
                 if !anatomy.names.is_empty()
                     && let Ok(h) = &t.human
                 {
                     anatomy_joints = pipeline::anatomy::anatomical_joints(h, &t.bvh);
                 }
                 ctl.check()?;
-                let grf = g.map(|g| g.tau);
+                let grf = g.map(|g| g.tau).or(tau);
                 (Arc::new(t.model), Arc::new(t.states), scale, grf)
             }
             TakeData::Robot(r) => {
@@ -858,6 +901,8 @@ impl Engine for Builtin {
             anatomy_joints,
             feet,
             source,
+            calibration: calibration.flatten(),
+            contact_auto,
             reference: Table::zeros(vec![], 0),
         })
     }
@@ -928,6 +973,8 @@ impl Engine for Builtin {
             anatomy_joints: vec![],
             feet: Table::zeros(vec![], 0),
             source: None,
+            calibration: None,
+            contact_auto: None,
             reference,
         })
     }

@@ -1,6 +1,7 @@
 //! Shared by the integration tests (owned by the lead; add helpers in your own test files).
 #![allow(dead_code)]
 
+pub mod alloc;
 pub mod cli;
 pub mod tui;
 pub mod variants;

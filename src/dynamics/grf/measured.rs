@@ -89,6 +89,8 @@ pub fn apply_ground_reactions(
         com: vec![Vector3::zeros(); n],
         cop_gap: vec![0.0; n],
         tau: vec![vec![0.0; model.nv]; n],
+        moment_bodies: vec![],
+        moments: vec![],
     };
     let mut ws = Workspace::new(model);
     let mut f_ext = vec![ForceVec::ZERO; model.nbodies()];

@@ -123,6 +123,13 @@ pub struct GroundReactions {
     pub cop_gap: Vec<f64>,
     /// `[frame][nv]`: generalized forces with the ground reactions applied (N·m, N).
     pub tau: Vec<Vec<f64>>,
+    /// The bodies whose net moment with the ground reactions was kept (asked of
+    /// [`estimate_ground_reactions_keeping`]; empty otherwise), sorted, each once.
+    pub moment_bodies: Vec<usize>,
+    /// `[frame * moment_bodies.len() + j]`: the net moment `f.ang` of RNEA with the ground
+    /// reactions on body `moment_bodies[j]` (N·m, the body's frame, as `ws.f` holds it): what
+    /// the joint moments of `pipeline::anatomy` read, from the estimate's own pass.
+    pub moments: Vec<Vector3<f64>>,
 }
 
 impl GroundReactions {
@@ -317,6 +324,24 @@ pub fn estimate_ground_reactions_progress(
     params: &ContactParams,
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<GroundReactions, Error> {
+    estimate_ground_reactions_keeping(model, feet, time, [q, v, a], up, params, &[], keep_going)
+}
+
+/// [`estimate_ground_reactions_progress`] that also keeps the net moments of RNEA with the
+/// ground reactions on `moment_bodies` (sorted, each once) at every frame
+/// ([`GroundReactions::moments`]), from the pass that computes the torques: the joint moments
+/// need no RNEA of their own.
+#[allow(clippy::too_many_arguments)]
+pub fn estimate_ground_reactions_keeping(
+    model: &Model,
+    feet: &[Foot],
+    time: &[f64],
+    [q, v, a]: [&[Vec<f64>]; 3],
+    up: usize,
+    params: &ContactParams,
+    moment_bodies: &[usize],
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<GroundReactions, Error> {
     let n = time.len();
     check_inputs(model, time, q, v, a, up)?;
     let root = floating_root(model).ok_or_else(|| {
@@ -377,6 +402,8 @@ pub fn estimate_ground_reactions_progress(
         com,
         cop_gap: vec![0.0; n],
         tau: vec![vec![0.0; model.nv]; n],
+        moment_bodies: moment_bodies.to_vec(),
+        moments: vec![Vector3::zeros(); n * moment_bodies.len()],
     };
     // pass 2 (serial: a foot's load carries from frame to frame): the feet's loads
     let wrenches = assign_loads(
@@ -388,6 +415,7 @@ pub fn estimate_ground_reactions_progress(
         bodies,
         tau,
         residual,
+        moments,
         ..
     } = &mut out;
     let finished = passes::with_ground_reactions(
@@ -397,7 +425,7 @@ pub fn estimate_ground_reactions_progress(
         bodies,
         &wrenches,
         [q, v, a],
-        (tau, residual),
+        (tau, residual, (moment_bodies, moments)),
         &mut |k| keep_going(0.5 + 0.5 * k as f64 / n as f64),
     );
     if !finished {

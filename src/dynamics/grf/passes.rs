@@ -154,10 +154,22 @@ pub(super) fn needed_wrenches(
     (reached == n).then_some((needed, com, Poses { bodies, at }))
 }
 
+/// Pass 3's outputs: `tau`, `residual` and the kept moments with their bodies.
+type MomentsOut<'a> = (
+    &'a mut [Vec<f64>],
+    &'a mut [[f64; 6]],
+    (&'a [usize], &'a mut [Vector3<f64>]),
+);
+
+/// One frame of pass 3's outputs.
+type Frame3<'a> = (&'a mut Vec<f64>, &'a mut [f64; 6], &'a mut [Vector3<f64>]);
+
 /// Pass 3: at every frame, RNEA with the feet's wrenches `wrenches` (`[frame * feet + j]`,
 /// world axes about the world origin, acting on `bodies[j]`): the generalized forces into
-/// `tau` and what the root still supplies, about the root's origin, into `residual`. Frames
-/// in parallel as in [`needed_wrenches`]. False when stopped.
+/// `tau`, what the root still supplies, about the root's origin, into `residual`, and the
+/// net moment `f.ang` (the body's frame) of each of `moment_bodies` into `moments`
+/// (`[frame * moment_bodies.len() + j]`). Frames in parallel as in [`needed_wrenches`].
+/// False when stopped.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn with_ground_reactions(
     model: &Model,
@@ -166,13 +178,24 @@ pub(super) fn with_ground_reactions(
     bodies: &[usize],
     wrenches: &[ForceVec],
     [q, v, a]: [&[Vec<f64>]; 3],
-    (tau, residual): (&mut [Vec<f64>], &mut [[f64; 6]]),
+    (tau, residual, (moment_bodies, moments)): MomentsOut,
     report: &mut dyn FnMut(usize) -> bool,
 ) -> bool {
     let n = tau.len();
     let nf = bodies.len();
-    let mut frames: Vec<(&mut Vec<f64>, &mut [f64; 6])> =
-        tau.iter_mut().zip(residual.iter_mut()).collect();
+    let nm = moment_bodies.len();
+    let mut frames: Vec<Frame3> = if nm == 0 {
+        tau.iter_mut()
+            .zip(residual.iter_mut())
+            .map(|(t, r)| (t, r, &mut [][..]))
+            .collect()
+    } else {
+        tau.iter_mut()
+            .zip(residual.iter_mut())
+            .zip(moments.chunks_mut(nm))
+            .map(|((t, r), m)| (t, r, m))
+            .collect()
+    };
     let mut scratch =
         crate::par::scratch(|| (Workspace::new(model), vec![ForceVec::ZERO; model.nbodies()]));
     let reached = crate::par::rounds(
@@ -180,7 +203,7 @@ pub(super) fn with_ground_reactions(
         PROGRESS_EVERY,
         &mut scratch,
         |(ws, f_ext), first, block| {
-            for (i, (tau, residual)) in block.iter_mut().enumerate() {
+            for (i, (tau, residual, m)) in block.iter_mut().enumerate() {
                 let k = first + i;
                 poses.restore(k, &mut ws.o_x_i);
                 // the ground's loads, each in the frame of the body it acts on
@@ -192,6 +215,9 @@ pub(super) fn with_ground_reactions(
                 let t = rnea(model, ws, &q[k], &v[k], &a[k], Some(f_ext));
                 tau.copy_from_slice(t.as_slice());
                 **residual = about(&root_wrench(model, ws), &ws.o_x_i[root].trans);
+                for (m, &b) in m.iter_mut().zip(moment_bodies) {
+                    *m = ws.f[b].ang;
+                }
             }
         },
         report,

@@ -19,21 +19,22 @@
 //! `contact` is `feet`) at the joint centre, projected on the joint's axes.
 
 mod gait;
+mod series;
 
 pub use gait::{KneeCycles, knee_cycles, summary};
+pub use series::{Calibration, inverse_dynamics_and_moments, moment_bodies};
 
 use super::{Take, ground_reactions};
+use crate::dynamics::Workspace;
 use crate::dynamics::anatomy::{
     self as jcs, ANKLE, AXES, ELBOW, HIP, JointKind, KNEE, LUMBAR, PELVIS, SHOULDER, frame_from_yz,
     frame_from_zx, functional_axis,
 };
 use crate::dynamics::grf::GroundReactions;
-use crate::dynamics::{self, Workspace};
 use crate::error::Error;
 use crate::io::bvh::{self, Bvh, ResolvedPosition, UpAxis};
 use crate::model::anthropometry::SegmentOf;
 use crate::model::skeleton::{Human, Pose, Topology, find_human, segment_classes};
-use crate::spatial::ForceVec;
 use nalgebra::{Matrix3, Vector3};
 
 /// Angles (deg), moments (N·m) and moments per body mass (N·m/kg) per frame.
@@ -625,138 +626,34 @@ pub fn anatomy(take: &Take) -> Result<Anatomy, Error> {
     anatomy_with(take, grf.as_ref())
 }
 
-/// [`anatomy`] with the ground reactions already estimated (`None`: no contact).
+/// [`anatomy`] with the ground reactions already estimated (`None`: no contact): the
+/// calibration ([`Calibration`]), the net moments by RNEA with the ground reactions, the
+/// series.
 pub fn anatomy_with(take: &Take, grf: Option<&GroundReactions>) -> Result<Anatomy, Error> {
-    let human = find_take_human(take)?;
-    let model = &take.model;
-    let s = &take.states;
-    let n = s.len();
-    let mut ws = Workspace::new(model);
-    // the world poses the moments read later (each mapped joint's body, the feet's), kept
-    // from this one kinematics pass
-    let mut kept: Vec<usize> = take.map.joints.iter().map(|jm| jm.body).collect();
-    kept.extend(grf.iter().flat_map(|g| g.bodies.iter().copied()));
-    kept.sort_unstable();
-    kept.dedup();
-    let mut poses = Vec::with_capacity(n * kept.len());
-    let frames: Vec<Posed> = (0..n)
-        .map(|k| {
-            dynamics::forward_kinematics(model, &mut ws, &s.q[k]);
-            poses.extend(kept.iter().map(|&b| ws.o_x_i[b]));
-            posed(take, &ws)
-        })
-        .collect();
-    let mut notes = vec![];
-    if !human.sides_from_names {
-        notes.push(
-            "left and right were told from the geometry (forward × up), not the names".into(),
-        );
-    }
-    let joints = joints_of(take, &human, &frames, &mut notes);
-    let up = Vector3::ith(take.up.index(), 1.0);
-    let mass = model.total_mass();
-
-    let mut names = vec![];
-    for j in &joints {
-        for what in ["angle", "moment", "moment_per_kg"] {
-            if what != "angle" && j.moment_at.is_none() {
-                continue;
-            }
-            for axis in AXES {
-                names.push(format!("{}{}:{axis}:{what}", j.kind.name, j.suffix));
-            }
-        }
-    }
-    // the angles and moments of every frame (frames in parallel, each worker with its own
-    // workspace: `crate::par`), a row of `names` per frame
-    let ncol = names.len();
-    let mut values = vec![0.0; n * ncol];
-    let mut missing = vec![false; n];
-    if ncol > 0 {
-        let mut rows: Vec<(&mut [f64], &mut bool)> =
-            values.chunks_mut(ncol).zip(missing.iter_mut()).collect();
-        let mut scratch =
-            crate::par::scratch(|| (Workspace::new(model), vec![ForceVec::ZERO; model.nbodies()]));
-        let frame = |ws: &mut Workspace, f_ext: &mut [ForceVec], k: usize, row: &mut [f64]| {
-            for (x, &b) in poses[k * kept.len()..].iter().zip(&kept) {
-                ws.o_x_i[b] = *x;
-            }
-            let fx = grf.map(|g| {
-                g.external_forces(k, &ws.o_x_i, f_ext);
-                &*f_ext
-            });
-            dynamics::rnea(model, ws, &s.q[k], &s.v[k], &s.a[k], fx);
-            frame_row(take, &joints, &frames[k], &up, mass, ws, row)
-        };
-        crate::par::for_each_block(&mut rows, 64, &mut scratch, |(ws, f_ext), first, block| {
-            for (i, (row, missing)) in block.iter_mut().enumerate() {
-                **missing = frame(ws, f_ext, first + i, row).is_none();
-            }
-        });
-    }
-    if let Some(k) = missing.iter().position(|m| *m) {
-        let j = joints
-            .iter()
-            .find(|j| {
-                j.proximal.at(&frames[k], &up).is_none() || j.distal.at(&frames[k], &up).is_none()
-            })
-            .unwrap_or(&joints[0]);
-        return Err(Error::Numerical(format!(
-            "{}: frame {k}: the {}{} joint's segments have no frame (a bone of zero \
-             length or parallel to its lateral axis)",
-            take.path.display(),
-            j.kind.name,
-            j.suffix
-        )));
-    }
-    let mut columns: Vec<Vec<f64>> = (0..ncol)
-        .map(|c| (0..n).map(|k| values[k * ncol + c]).collect())
-        .collect();
-    for (name, col) in names.iter().zip(columns.iter_mut()) {
-        if name.ends_with(":angle") {
-            unwrap_degrees(col);
-        }
-    }
-    let contact = grf.map_or(vec![], |g| {
-        g.feet
-            .iter()
-            .enumerate()
-            .map(|(j, f)| (f.clone(), g.contact.iter().map(|c| c[j]).collect()))
-            .collect()
-    });
-    Ok(Anatomy {
-        time: s.time.clone(),
-        names,
-        columns,
-        mass_kg: mass,
-        notes,
-        contact,
-        consistency: None,
-        edge: super::edge_frames(take),
-        include_edges: false,
-    })
+    let cal = Calibration::new(take)?;
+    let moments = cal.net_moments(take, grf);
+    cal.series(take, &moments, grf)
 }
 
 /// One frame's row of [`anatomy_with`]'s columns into `row`: per joint its angles (deg) and,
 /// where it has a moment, the moment in its joint coordinate system (N·m) and per kg, from
-/// the net forces `ws.f` of RNEA and the world poses `ws.o_x_i`. `None` when a joint's
-/// segments have no frame.
+/// `world(body)`, the net moment of RNEA on a model body in world axes (N·m). `None` when a
+/// joint's segments have no frame.
 fn frame_row(
     take: &Take,
     joints: &[Joint],
     p: &Posed,
     up: &Vector3<f64>,
     mass: f64,
-    ws: &Workspace,
+    world: &dyn Fn(usize) -> Vector3<f64>,
     row: &mut [f64],
 ) -> Option<()> {
     let mut c = 0;
     for j in joints {
         let (fp, fd) = (j.proximal.at(p, up)?, j.distal.at(p, up)?);
-        let m = j.moment_at.map_or(Vector3::zeros(), |b| {
-            let jm = &take.map.joints[b];
-            ws.o_x_i[jm.body].rot * ws.f[jm.body].ang
-        });
+        let m = j
+            .moment_at
+            .map_or(Vector3::zeros(), |b| world(take.map.joints[b].body));
         let (ang, mom) = jcs::joint_angles_moments(j.kind, j.suffix != "_l", &fp, &fd, &m);
         for a in ang {
             row[c] = a.to_degrees();
