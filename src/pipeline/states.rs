@@ -324,11 +324,15 @@ pub fn unwrap_and_smooth_with(
     Ok(())
 }
 
-/// A joint's coordinates (columns side by side) to smooth.
+/// Coordinates (columns side by side) to smooth: one ball or free joint's, or up to four
+/// consecutive scalar coordinates (`kind` `None`), which the filter runs side by side.
 struct JointColumns<'a> {
-    kind: JointKind,
+    kind: Option<JointKind>,
     cols: &'a mut [f64],
 }
+
+/// Scalar coordinates smoothed side by side in one group.
+const SIDE_BY_SIDE: usize = 4;
 
 /// What one worker smooths with: its filter's buffers and a quaternion trajectory.
 struct SmoothScratch {
@@ -350,22 +354,30 @@ fn smooth_columns(
         return Ok(());
     }
     let smoother = Smoother::new(*smooth, dt)?;
-    // each joint's columns, split off in coordinate order (idx_q grows with the body index)
-    let nb = model.nbodies();
-    let mut joints = Vec::with_capacity(nb - 1);
+    // the groups of columns: consecutive scalar coordinates up to four together, each ball
+    // or free joint alone (coordinate order: idx_q grows with the body index)
+    let mut groups: Vec<(usize, usize, Option<JointKind>)> = vec![];
+    for i in 1..model.nbodies() {
+        let (iq, nq, kind) = (model.idx_q[i], model.joints[i].nq(), model.joints[i]);
+        match kind {
+            JointKind::Fixed => {}
+            JointKind::Revolute { .. } | JointKind::Prismatic { .. } => match groups.last_mut() {
+                Some((at, m, None)) if *at + *m == iq && *m < SIDE_BY_SIDE => *m += 1,
+                _ => groups.push((iq, nq, None)),
+            },
+            JointKind::Spherical | JointKind::Free => groups.push((iq, nq, Some(kind))),
+        }
+    }
+    let mut joints = Vec::with_capacity(groups.len());
     let mut rest: &mut [f64] = &mut cols.data;
     let mut at = 0;
-    for i in 1..nb {
-        let (iq, nq) = (model.idx_q[i], model.joints[i].nq());
+    for (iq, m, kind) in groups {
         debug_assert!(iq >= at, "coordinates in body order");
         let (_, tail) = std::mem::take(&mut rest).split_at_mut((iq - at) * n);
-        let (mine, tail) = tail.split_at_mut(nq * n);
-        joints.push(JointColumns {
-            kind: model.joints[i],
-            cols: mine,
-        });
+        let (mine, tail) = tail.split_at_mut(m * n);
+        joints.push(JointColumns { kind, cols: mine });
         rest = tail;
-        at = iq + nq;
+        at = iq + m;
     }
     let mut scratch = par::scratch(|| {
         let mut smoother = smoother.clone();
@@ -393,21 +405,19 @@ fn smooth_columns(
     Ok(())
 }
 
-/// One joint of [`smooth_columns`].
+/// One group of [`smooth_columns`].
 fn smooth_joint(s: &mut SmoothScratch, j: &mut JointColumns, n: usize) {
     let quat_at = match j.kind {
-        JointKind::Revolute { .. } | JointKind::Prismatic { .. } => {
-            s.smoother.smooth(&mut j.cols[..n]);
+        None => {
+            s.smoother.smooth_side_by_side(j.cols, n);
             return;
         }
-        JointKind::Free => {
-            for c in j.cols[..3 * n].chunks_mut(n) {
-                s.smoother.smooth(c);
-            }
+        Some(JointKind::Free) => {
+            s.smoother.smooth_side_by_side(&mut j.cols[..3 * n], n);
             3 * n
         }
-        JointKind::Spherical => 0,
-        JointKind::Fixed => return,
+        Some(JointKind::Spherical) => 0,
+        Some(_) => return,
     };
     // quaternions [x, y, z, w] on the rotation manifold
     let c = &mut j.cols[quat_at..quat_at + 4 * n];
