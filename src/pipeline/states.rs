@@ -304,8 +304,8 @@ pub fn unwrap_and_smooth(
     unwrap_and_smooth_with(model, q, dt, smooth, &mut |_| true)
 }
 
-/// [`unwrap_and_smooth`] that reports its progress (0‥1) to `keep_going` once per joint's
-/// coordinates and stops with [`Error::Cancelled`] when it returns false (`q` is then partly
+/// [`unwrap_and_smooth`] that reports its progress (0‥1) to `keep_going` once per ball or free
+/// joint and per group of up to four scalar coordinates (smoothed side by side) and stops with [`Error::Cancelled`] when it returns false (`q` is then partly
 /// smoothed: the caller drops it).
 pub fn unwrap_and_smooth_with(
     model: &Model,
@@ -340,8 +340,9 @@ struct SmoothScratch {
     quats: Vec<UnitQuaternion<f64>>,
 }
 
-/// Smooths every joint's coordinates, joints in parallel; `keep_going` is told once per joint
-/// (in joint order) and stops the work with [`Error::Cancelled`].
+/// Smooths every joint's coordinates, groups in parallel (a ball or free joint alone, up to
+/// four consecutive scalar coordinates together); `keep_going` is told once per group (in
+/// coordinate order) and stops the work with [`Error::Cancelled`].
 fn smooth_columns(
     model: &Model,
     cols: &mut Columns,
