@@ -177,3 +177,50 @@ fn ball_configurations_convert_back_to_the_same_frames() {
         }
     }
 }
+
+/// The configurations by column (`q_columns`, what the pipeline reads) are `frame_to_q` of
+/// every frame, bit for bit, with each quaternion turned into the previous frame's
+/// hemisphere: both joint models, a locked joint, and a take longer than one block of frames.
+#[test]
+fn q_columns_are_frame_to_q_bit_for_bit() {
+    use articula::motion::take::q_columns;
+    let take = walk(&WalkParams::default());
+    assert!(
+        take.frames > 64,
+        "{} frames: more than one block",
+        take.frames
+    );
+    for jm in [JointModel::Euler, JointModel::Ball] {
+        for lock in [vec![], vec!["LeftArm".to_string()]] {
+            let mut opts = walk_options(&take, jm);
+            opts.lock = lock.clone();
+            let (model, map) = build_bvh_model(&take, &opts).unwrap();
+            let cols = q_columns(&take, &model, &map);
+            let n = take.frames;
+            let mut prev: Option<Vec<f64>> = None;
+            for k in 0..n {
+                let mut q = vec![0.0; model.nq];
+                frame_to_q(&take, &map, &model, take.frame(k), &mut q);
+                if let Some(p) = &prev {
+                    for j in &map.joints {
+                        if let Some(iq) = j.quat_q {
+                            let dot: f64 = (0..4).map(|c| p[iq + c] * q[iq + c]).sum();
+                            if dot < 0.0 {
+                                q[iq..iq + 4].iter_mut().for_each(|x| *x = -*x);
+                            }
+                        }
+                    }
+                }
+                for (j, x) in q.iter().enumerate() {
+                    assert_eq!(
+                        cols[j * n + k].to_bits(),
+                        x.to_bits(),
+                        "{jm} {lock:?}: frame {k}, {}",
+                        model.q_names[j]
+                    );
+                }
+                prev = Some(q);
+            }
+        }
+    }
+}

@@ -208,3 +208,155 @@ fn round_turns_is_round_bit_for_bit() {
     }
     assert!(round_turns(f64::NAN).is_nan());
 }
+
+/// The re-pick that skips the matrix (`repick_fast`: away from the lock, and with every angle
+/// within 45° of the previous one, no `nearest_branch` search either) is `repick` with the
+/// frame's matrix, bit for bit: over random triples on both branches, wrapped by whole
+/// turns, middle angles from far to exactly at the lock, previous triples near either branch
+/// and far from both.
+#[test]
+fn repick_fast_is_repick_bit_for_bit() {
+    use articula::motion::unwrap::{repick, repick_fast};
+    use articula::rotation::{EulerOrder, euler_to_matrix};
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
+    let mut uniform = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut fast_paths = 0;
+    for order in EulerOrder::ALL {
+        for n in 0..30_000 {
+            let a1 = (uniform() - 0.5) * 6.0 * PI;
+            let a3 = (uniform() - 0.5) * 6.0 * PI;
+            // middle angles down to the lock itself, on both sides, and whole turns away
+            let off = [1.0, 1e-2, 1e-4, 3e-5, 2e-5, 1e-5, 1e-7, 0.0][n % 8] * uniform();
+            let side = if n % 16 < 8 { 1.0 } else { -1.0 };
+            let a2 = side * (FRAC_PI_2 - off) + [0.0, PI, -2.0 * PI][n % 3];
+            let x = [a1, a2, a3];
+            let base = if n % 2 == 0 {
+                x
+            } else {
+                [a1 + PI, PI - a2, a3 + PI]
+            };
+            // previous triples from a hair to 3 rad away, or exactly x, or x with a −0
+            let spread = [1e-9, 0.1, 1.5, 6.0][(n / 2) % 4];
+            let mut prev = base.map(|a| {
+                a + 2.0 * PI * ((uniform() * 3.0).floor() - 1.0) * f64::from(n % 5 == 0)
+                    + (uniform() - 0.5) * spread
+            });
+            if n % 97 == 0 {
+                prev = x;
+            }
+            let x = if n % 89 == 0 { [-0.0, a2, 0.0] } else { x };
+            let want = repick(order, &euler_to_matrix(order, x), x, prev);
+            let got = repick_fast(order, x, prev);
+            assert_eq!(
+                got.map(f64::to_bits),
+                want.map(f64::to_bits),
+                "{order}: x {x:?} prev {prev:?}: {got:?} vs {want:?}"
+            );
+            if (0..3).all(|i| (x[i] - prev[i]).abs() < 0.7) {
+                fast_paths += 1;
+            }
+        }
+    }
+    assert!(fast_paths > 10_000, "{fast_paths}");
+}
+
+/// The re-pick and scan on columns (what the pipeline runs, with the rotation's step computed
+/// only where it can matter) gives what the frame-by-frame loop with both matrices at every
+/// frame gives: the same triples bit for bit, the same passage and jump, on random walks
+/// through gimbal lock, branch flips, wrapped turns and glitches.
+#[test]
+fn columns_repick_and_scan_equal_the_matrix_at_every_frame() {
+    use articula::motion::unwrap::{
+        GimbalPassage, TripleScan, make_euler_columns_continuous_and_scan, repick,
+    };
+    use articula::rotation::{EulerOrder, euler_to_matrix};
+    use std::f64::consts::PI;
+    // the loop as it was: the matrix of every frame as given, the rotation's step at each
+    fn reference(order: EulerOrder, frames: &mut [[f64; 3]]) -> TripleScan {
+        let mut out = TripleScan::default();
+        let mut prev = euler_to_matrix(order, frames[0]);
+        for k in 1..frames.len() {
+            let r = euler_to_matrix(order, frames[k]);
+            frames[k] = repick(order, &r, frames[k], frames[k - 1]);
+            let (a, b) = (frames[k - 1], frames[k]);
+            let cos = ((prev.transpose() * r).trace() - 1.0) / 2.0;
+            let rotation_step = cos.clamp(-1.0, 1.0).acos();
+            let step = (0..3).map(|i| (b[i] - a[i]).abs()).fold(0.0, f64::max);
+            if step > PI / 6.0
+                && step > 5.0 * rotation_step
+                && out
+                    .passage
+                    .is_none_or(|w| step / rotation_step > w.coordinate_step / w.rotation_step)
+            {
+                out.passage = Some(GimbalPassage {
+                    frame: k - 1,
+                    coordinate_step: step,
+                    rotation_step,
+                });
+            }
+            if rotation_step > PI / 2.0 && out.jump.is_none_or(|(_, a)| rotation_step > a) {
+                out.jump = Some((k - 1, rotation_step));
+            }
+            prev = r;
+        }
+        out
+    }
+    let mut state: u64 = 0x2545_f491_4f6c_dd1d;
+    let mut uniform = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (mut passages, mut jumps) = (0, 0);
+    for (w, order) in EulerOrder::ALL.into_iter().cycle().take(60).enumerate() {
+        // a random walk whose middle angle wanders across ±90°, stored wrapped to ±180°,
+        // with steps from small to glitch-sized
+        let step = [0.02, 0.2, 0.6][w % 3];
+        // every other walk sweeps its outer angles against each other near the lock (a
+        // passage: they turn 40° a frame while the rotation barely moves)
+        let sweep = w % 2 == 0;
+        let mut a = [0.0, if sweep { 1.55 } else { 1.2 }, 0.0];
+        let raw: Vec<[f64; 3]> = (0..400)
+            .map(|k| {
+                for x in &mut a {
+                    *x += (uniform() - 0.5) * step;
+                }
+                if sweep {
+                    a[0] += 0.7;
+                    a[2] -= 0.7;
+                    a[1] = 1.55 + (uniform() - 0.5) * 0.02;
+                }
+                let glitch = if k % 137 == 50 { 2.2 } else { 0.0 };
+                [a[0] + glitch, a[1], a[2]].map(|x| x - 2.0 * PI * (x / (2.0 * PI)).round())
+            })
+            .collect();
+        let mut want = raw.clone();
+        let scan_want = reference(order, &mut want);
+        let mut cols: [Vec<f64>; 3] = [0, 1, 2].map(|i| raw.iter().map(|t| t[i]).collect());
+        let [c0, c1, c2] = &mut cols;
+        let scan = make_euler_columns_continuous_and_scan(order, [c0, c1, c2]);
+        for (k, t) in want.iter().enumerate() {
+            let got = [cols[0][k], cols[1][k], cols[2][k]];
+            assert_eq!(
+                got.map(f64::to_bits),
+                t.map(f64::to_bits),
+                "{order} walk {w} frame {k}"
+            );
+        }
+        assert_eq!(scan, scan_want, "{order} walk {w}");
+        passages += usize::from(scan.passage.is_some());
+        jumps += usize::from(scan.jump.is_some());
+    }
+    // the walks hold both kinds of event
+    assert!(
+        passages > 5 && jumps > 5,
+        "{passages} passages, {jumps} jumps"
+    );
+}

@@ -1,6 +1,7 @@
 //! The pipeline's per-frame loops allocate nothing but their outputs: reading the BVH text
 //! (per file, whatever the take's length), the Euler re-pick, unwrapping and smoothing
-//! (per joint), derivatives (one v and one a row per frame) and
+//! (per joint), derivatives (one v and one a row per frame), the whole way from a take's
+//! frames to its states (one q, v and a row per frame) and
 //! inverse dynamics (one torque row per frame; each worker's `Workspace` made once, not per
 //! frame or per block). Checked by counting the allocations of a take and of the same take
 //! twice as long, serial and with two worker threads: the difference is the output rows
@@ -148,6 +149,16 @@ fn per_frame_loops_allocate_only_their_outputs_serial_and_in_parallel() {
                     |s: &States| allocations(|| drop(pipeline::derivatives(model, &s.q, dt)));
                 let (a, b) = (count(&short), count(&long));
                 within(b.abs_diff(a), 2 * n, "derivatives");
+
+                // the take's states from its frames (channels → q, re-pick, unwrap, smoothing,
+                // derivatives): a q, a v and an a row per frame
+                let count = |bvh: &Bvh| {
+                    allocations(|| {
+                        drop(pipeline::take_states(bvh, model, &take.map, &smooth).unwrap());
+                    })
+                };
+                let (a, b) = (count(&take.bvh), count(&doubled_bvh(&take.bvh)));
+                within(b.abs_diff(a), 3 * take.bvh.frames, "take states");
 
                 // inverse dynamics: a torque row per frame
                 let count = |s: &States| allocations(|| drop(pipeline::inverse_dynamics(model, s)));

@@ -175,36 +175,47 @@ struct Section {
 impl Section {
     /// Filters `x` in place, forward, starting from the steady state of a constant `x[0]`.
     fn run_forward(&self, x: &mut [f64]) {
-        let [b0, b1, b2] = self.b;
-        let [_, a1, a2] = self.a;
-        let x0 = x[0];
-        // steady state for a constant input (DC gain 1): z2 = (b2 − a2)x0, z1 = (b1 − a1)x0 + z2
-        let mut z2 = (b2 - a2) * x0;
-        let mut z1 = (b1 - a1) * x0 + z2;
-        for xi in x.iter_mut() {
-            let u = *xi;
-            let y = b0 * u + z1;
-            z1 = b1 * u - a1 * y + z2;
-            z2 = b2 * u - a2 * y;
-            *xi = y;
-        }
+        self.run(x.as_chunks_mut::<1>().0, false);
     }
     /// Same, backward in time.
     fn run_backward(&self, x: &mut [f64]) {
+        self.run(x.as_chunks_mut::<1>().0, true);
+    }
+    /// Filters `L` signals side by side (sample `k` of signal `l` is `x[k][l]`), forward or
+    /// backward in time, each starting from the steady state of a constant first sample: per
+    /// signal the very operations of one signal alone, so the same bits, with `L` independent
+    /// recurrences for the processor to overlap.
+    fn run<const L: usize>(&self, x: &mut [[f64; L]], backward: bool) {
         let [b0, b1, b2] = self.b;
         let [_, a1, a2] = self.a;
-        let x0 = x[x.len() - 1];
-        let mut z2 = (b2 - a2) * x0;
-        let mut z1 = (b1 - a1) * x0 + z2;
-        for xi in x.iter_mut().rev() {
-            let u = *xi;
-            let y = b0 * u + z1;
-            z1 = b1 * u - a1 * y + z2;
-            z2 = b2 * u - a2 * y;
-            *xi = y;
+        let Some(&x0) = (if backward { x.last() } else { x.first() }) else {
+            return;
+        };
+        // steady state for a constant input (DC gain 1): z2 = (b2 − a2)x0, z1 = (b1 − a1)x0 + z2
+        let mut z2 = x0.map(|u| (b2 - a2) * u);
+        let mut z1 = [0.0; L];
+        for l in 0..L {
+            z1[l] = (b1 - a1) * x0[l] + z2[l];
+        }
+        let mut step = |xi: &mut [f64; L]| {
+            for l in 0..L {
+                let u = xi[l];
+                let y = b0 * u + z1[l];
+                z1[l] = b1 * u - a1 * y + z2[l];
+                z2[l] = b2 * u - a2 * y;
+                xi[l] = y;
+            }
+        };
+        if backward {
+            x.iter_mut().rev().for_each(&mut step);
+        } else {
+            x.iter_mut().for_each(&mut step);
         }
     }
 }
+
+/// How many columns [`Smoother::smooth_side_by_side`] filters at once.
+const LANES: usize = 4;
 
 /// The filter a spec becomes once the frame time is known.
 #[derive(Debug, Clone)]
@@ -240,6 +251,9 @@ pub struct Smoother {
     /// Smoothed quaternion components `[w, x, y, z]` (`n` each), written by
     /// `smooth_quaternions`.
     comp: [Vec<f64>; 4],
+    /// Padded signals side by side (`n + 2·pad` samples of [`LANES`]), written by
+    /// `smooth_side_by_side`.
+    lanes: Vec<[f64; LANES]>,
 }
 
 impl Smoother {
@@ -298,6 +312,7 @@ impl Smoother {
             buf: Vec::new(),
             qbuf: Vec::new(),
             comp: Default::default(),
+            lanes: Vec::new(),
         })
     }
 
@@ -325,6 +340,7 @@ impl Smoother {
         for c in &mut self.comp {
             c.reserve(frames.saturating_sub(c.len()));
         }
+        self.lanes.reserve(len.saturating_sub(self.lanes.len()));
     }
 
     /// The exact magnitude response of this discrete filter at `f_hz` (the gain it applies to a
@@ -362,6 +378,48 @@ impl Smoother {
         self.buf.clear();
         pad_odd(x, p, &mut self.buf);
         filter_padded(&self.method, p, &mut self.buf, x);
+    }
+
+    /// Smooths the columns of `cols` (`n` samples each, one after the other) in place: what
+    /// [`Smoother::smooth`] gives each, bit for bit. The Butterworth filters up to [`LANES`]
+    /// columns at once, side by side (its recurrence is a chain of dependent multiplications
+    /// and additions per sample: several columns keep the processor busy while one waits);
+    /// the Gaussian goes column by column. Allocates nothing once the buffers are large enough.
+    pub fn smooth_side_by_side(&mut self, cols: &mut [f64], n: usize) {
+        if n < 2 || !matches!(self.method, Method::Iir { .. }) {
+            for c in cols.chunks_mut(n.max(1)) {
+                self.smooth(c);
+            }
+            return;
+        }
+        let p = self.pad;
+        let Method::Iir { sections, .. } = &self.method else {
+            return;
+        };
+        for group in cols.chunks_mut(LANES * n) {
+            // the padded signals side by side (lanes past the group's columns stay zero)
+            self.lanes.clear();
+            self.lanes.resize(n + 2 * p, [0.0; LANES]);
+            for (l, x) in group.chunks(n).enumerate() {
+                self.buf.clear();
+                pad_odd(x, p, &mut self.buf);
+                for (dst, v) in self.lanes.iter_mut().zip(&self.buf) {
+                    dst[l] = *v;
+                }
+            }
+            // forward pass through the cascade, then backward, as `filter_padded`
+            for s in sections {
+                s.run(&mut self.lanes, false);
+            }
+            for s in sections {
+                s.run(&mut self.lanes, true);
+            }
+            for (l, x) in group.chunks_mut(n).enumerate() {
+                for (o, v) in x.iter_mut().zip(&self.lanes[p..p + n]) {
+                    *o = v[l];
+                }
+            }
+        }
     }
 
     /// Smooths a ball-joint trajectory in place: components of the hemisphere-aligned

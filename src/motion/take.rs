@@ -29,28 +29,88 @@ pub struct Trajectory {
 impl Trajectory {
     /// The take's frames as configurations of `model`, with quaternions kept in one hemisphere
     /// from frame to frame (q and −q are the same rotation; a sign flip would look like a jump).
+    /// [`q_columns`] by frame.
     pub fn from_bvh(bvh: &Bvh, model: &Model, map: &BvhMap) -> Trajectory {
-        let mut q: Vec<Vec<f64>> = Vec::with_capacity(bvh.frames);
-        for k in 0..bvh.frames {
-            let mut row = vec![0.0; model.nq];
-            frame_to_q(bvh, map, model, bvh.frame(k), &mut row);
-            if let Some(prev) = q.last() {
-                for j in &map.joints {
-                    if let Some(iq) = j.quat_q {
-                        let dot: f64 = (0..4).map(|c| prev[iq + c] * row[iq + c]).sum();
-                        if dot < 0.0 {
-                            row[iq..iq + 4].iter_mut().for_each(|x| *x = -*x);
-                        }
-                    }
-                }
-            }
-            q.push(row);
-        }
+        let n = bvh.frames;
+        let cols = q_columns(bvh, model, map);
+        let q = (0..n)
+            .map(|k| (0..model.nq).map(|j| cols[j * n + k]).collect())
+            .collect();
         Trajectory {
-            time: (0..bvh.frames).map(|k| bvh.time(k)).collect(),
+            time: (0..n).map(|k| bvh.time(k)).collect(),
             q,
         }
     }
+}
+
+/// Frames per block of [`q_columns`]: the block's rows stay in the cache while every channel
+/// is copied out of them.
+const BLOCK_FRAMES: usize = 64;
+
+/// The take's frames as configurations of `model`, stored by coordinate: coordinate `j` of
+/// frame `k` is `[j·frames + k]` (`nq × frames` values). Each frame is [`frame_to_q`] of its
+/// row, bit for bit, with each quaternion turned into the hemisphere of the previous frame's.
+/// The scalar channels are copied column by column over blocks of frames; the quaternions
+/// are made frame by frame.
+pub fn q_columns(bvh: &Bvh, model: &Model, map: &BvhMap) -> Vec<f64> {
+    let (n, nq, cc) = (bvh.frames, model.nq, bvh.channel_count);
+    debug_assert_eq!(bvh.motion.len(), n * cc);
+    let mut cols = vec![0.0; nq * n];
+    if n == 0 {
+        return cols;
+    }
+    // locked and unmapped coordinates: rest
+    let mut rest = vec![0.0; nq];
+    for i in 1..model.nbodies() {
+        let joint = &model.joints[i];
+        let iq = model.idx_q[i];
+        joint.neutral(&mut rest[iq..iq + joint.nq()]);
+    }
+    for (col, &r) in cols.chunks_mut(n).zip(&rest) {
+        col.fill(r);
+    }
+    // channels: degrees → rad, lengths → m from the rest value
+    for first in (0..n).step_by(BLOCK_FRAMES) {
+        let last = (first + BLOCK_FRAMES).min(n);
+        let rows = &bvh.motion[first * cc..last * cc];
+        for c in map.joints.iter().flat_map(|j| &j.channels) {
+            let Some(k) = c.q else { continue };
+            let col = &mut cols[k * n + first..k * n + last];
+            let values = rows[c.column..].iter().step_by(cc);
+            if c.channel.is_rotation() {
+                for (x, v) in col.iter_mut().zip(values) {
+                    *x = v.to_radians();
+                }
+            } else {
+                for (x, v) in col.iter_mut().zip(values) {
+                    *x = (v - c.rest) * map.scale_to_m;
+                }
+            }
+        }
+    }
+    // quaternions [x, y, z, w], each in the previous frame's hemisphere
+    for (j, bj) in map.joints.iter().zip(&bvh.joints) {
+        let Some(k) = j.quat_q else { continue };
+        let mut prev: Option<[f64; 4]> = None;
+        for f in 0..n {
+            let r = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
+                joint_rotation(bj, bvh.frame(f)),
+            ));
+            let mut x = [0.0; 4];
+            quat_to_xyzw(&r, &mut x);
+            if let Some(p) = prev {
+                let dot: f64 = (0..4).map(|c| p[c] * x[c]).sum();
+                if dot < 0.0 {
+                    x.iter_mut().for_each(|x| *x = -*x);
+                }
+            }
+            for (c, xc) in x.iter().enumerate() {
+                cols[(k + c) * n + f] = *xc;
+            }
+            prev = Some(x);
+        }
+    }
+    cols
 }
 
 /// The configuration of `model` at one BVH frame row (`bvh.channel_count` raw values) into

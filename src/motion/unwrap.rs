@@ -126,30 +126,153 @@ pub fn scan_triples(order: EulerOrder, frames: &[[f64; 3]]) -> TripleScan {
     out
 }
 
-/// [`make_euler_continuous`] and [`scan_triples`] in one pass: each frame's rotation matrix is
-/// made once (from the frame as given) and serves both the re-pick ([`repick`]) and the scan.
-/// Allocates nothing.
+/// [`make_euler_continuous`] and [`scan_triples`] in one pass, what the pipeline runs (on
+/// columns: [`make_euler_columns_continuous_and_scan`]). Allocates nothing.
 pub fn make_euler_continuous_and_scan(order: EulerOrder, frames: &mut [[f64; 3]]) -> TripleScan {
+    continuous_and_scan(order, frames)
+}
+
+/// [`make_euler_continuous_and_scan`] on a joint's three angle columns (frame `k`'s triple is
+/// `[c0[k], c1[k], c2[k]]`, all of one length), as the pipeline stores coordinates: the
+/// same triples and the same scan, bit for bit. Allocates nothing.
+pub fn make_euler_columns_continuous_and_scan(
+    order: EulerOrder,
+    cols: [&mut [f64]; 3],
+) -> TripleScan {
+    let [c0, c1, c2] = cols;
+    let n = c0.len().min(c1.len()).min(c2.len());
+    let mut columns = [&mut c0[..n], &mut c1[..n], &mut c2[..n]];
+    continuous_and_scan(order, &mut columns)
+}
+
+/// Frames of Euler triples, however they are stored.
+trait Triples {
+    fn len(&self) -> usize;
+    fn get(&self, k: usize) -> [f64; 3];
+    fn set(&mut self, k: usize, x: [f64; 3]);
+}
+
+impl Triples for [[f64; 3]] {
+    fn len(&self) -> usize {
+        <[[f64; 3]]>::len(self)
+    }
+    #[inline]
+    fn get(&self, k: usize) -> [f64; 3] {
+        self[k]
+    }
+    #[inline]
+    fn set(&mut self, k: usize, x: [f64; 3]) {
+        self[k] = x;
+    }
+}
+
+impl Triples for [&mut [f64]; 3] {
+    fn len(&self) -> usize {
+        self[0].len()
+    }
+    #[inline]
+    fn get(&self, k: usize) -> [f64; 3] {
+        [self[0][k], self[1][k], self[2][k]]
+    }
+    #[inline]
+    fn set(&mut self, k: usize, x: [f64; 3]) {
+        (self[0][k], self[1][k], self[2][k]) = (x[0], x[1], x[2]);
+    }
+}
+
+/// The one loop of the re-pick and scan. Per frame, in the common case (middle angle away
+/// from gimbal lock, every angle within 45° of the previous frame's, the rotation's step too
+/// small to be a passage or a jump) it is a few additions: no rotation matrix, no trig.
+/// Otherwise it computes exactly what the trip through the matrices computes:
+/// - the re-pick ([`repick_fast`]) goes through the matrix only near the lock, where
+///   [`repick`] does;
+/// - the scan needs the rotation's own step (`acos` of the relative rotation's trace) only
+///   where an angle moved more than 30° (a passage needs that) or the angles moved more than
+///   90° in all (a jump needs the rotation to turn that much, and a rotation
+///   `R_i(a1)R_j(a2)R_k(a3)` turns at most `|Δa1| + |Δa2| + |Δa3|`: the geodesic distance on
+///   SO(3) is invariant and obeys the triangle inequality); the matrices are made from the
+///   frames as given, as before.
+fn continuous_and_scan<T: Triples + ?Sized>(order: EulerOrder, frames: &mut T) -> TripleScan {
+    // margin for the rounding of the trace and acos against the bound (rad)
+    const BOUND_MARGIN: f64 = 1e-6;
     let mut out = TripleScan::default();
-    let Some(first) = frames.first() else {
+    if frames.len() == 0 {
         return out;
-    };
-    let mut prev = euler_to_matrix(order, *first);
+    }
+    // frame k − 1 as given (its matrix is what the scan compares) and as re-picked
+    let mut given_prev = frames.get(0);
+    let mut prev = given_prev;
     for k in 1..frames.len() {
-        let r = euler_to_matrix(order, frames[k]);
-        frames[k] = repick(order, &r, frames[k], frames[k - 1]);
-        out.step(k, &prev, &r, frames[k - 1], frames[k]);
-        prev = r;
+        let given = frames.get(k);
+        let x = repick_fast(order, given, prev);
+        frames.set(k, x);
+        let d = [
+            (x[0] - prev[0]).abs(),
+            (x[1] - prev[1]).abs(),
+            (x[2] - prev[2]).abs(),
+        ];
+        let step = d[0].max(d[1]).max(d[2]);
+        if step > TripleScan::MIN_STEP || d[0] + d[1] + d[2] > TripleScan::JUMP - BOUND_MARGIN {
+            let (r0, r1) = (
+                euler_to_matrix(order, given_prev),
+                euler_to_matrix(order, given),
+            );
+            out.step(k, &r0, &r1, prev, x);
+        }
+        (given_prev, prev) = (given, x);
     }
     out
 }
 
+/// [`repick`] of the triple `x` without its rotation matrix where it is not needed: away
+/// from gimbal lock ([`lock_distance`] over twice [`LOCK_COS`], where the matrix's
+/// `|cos a2|` is surely at least `LOCK_COS`) [`nearest_branch`], and when every angle lies
+/// within 45° of `previous` the triple itself, each angle plus a zero signed as
+/// `nearest_branch`'s zero turns are (its other branch then lies more than 135° away in two
+/// angles): the same bits as [`repick`]. Elsewhere [`repick`] with the matrix.
+#[inline]
+pub fn repick_fast(order: EulerOrder, x: [f64; 3], previous: [f64; 3]) -> [f64; 3] {
+    let far = lock_distance(x[1]).is_some_and(|e| e > 2.0 * LOCK_COS);
+    if !far {
+        return repick(order, &euler_to_matrix(order, x), x, previous);
+    }
+    const CLOSE: f64 = std::f64::consts::FRAC_PI_4;
+    if (0..3).all(|n| (x[n] - previous[n]).abs() < CLOSE) {
+        // nearest_turn: x + round_turns((p − x)/2π)·2π, with round_turns = ±0 here
+        return [0, 1, 2].map(|n| x[n] + 0.0f64.copysign(previous[n] - x[n]));
+    }
+    nearest_branch(x, previous)
+}
+
+/// How far (rad) the middle angle `a2` lies from gimbal lock, the nearest odd multiple of
+/// π/2: `|cos a2| = sin(distance)`. `None` for `|a2| > 1e6` rad, where the reduction would
+/// lose the digits that matter (and for NaN). Agrees with `acos(|cos a2|)` to about
+/// `1e-16·|a2|`.
+#[inline]
+pub fn lock_distance(a2: f64) -> Option<f64> {
+    use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, PI};
+    if a2.abs() > 1e6 || a2.is_nan() {
+        return None;
+    }
+    let d = a2 - FRAC_PI_2;
+    let t = d * FRAC_1_PI;
+    // nearest integer (half away from zero; where rounding could pick the other neighbour, t
+    // is a half and a2 is π/2 from the lock either way)
+    let k = (t + 0.5f64.copysign(t)) as i64 as f64;
+    Some((d - k * PI).abs())
+}
+
 impl TripleScan {
+    /// An angle's step (rad) above which a step may be a passage near gimbal lock.
+    const MIN_STEP: f64 = std::f64::consts::PI / 6.0;
+    /// The rotation's step (rad) above which a step is a jump.
+    const JUMP: f64 = std::f64::consts::FRAC_PI_2;
+
     /// The step from frame `k − 1` (rotation `prev`, angles `a`) to frame `k` (`r`, `b`).
     fn step(&mut self, k: usize, prev: &Matrix3<f64>, r: &Matrix3<f64>, a: [f64; 3], b: [f64; 3]) {
-        const MIN_STEP: f64 = std::f64::consts::PI / 6.0;
+        const MIN_STEP: f64 = TripleScan::MIN_STEP;
         const MIN_RATIO: f64 = 5.0;
-        const JUMP: f64 = std::f64::consts::FRAC_PI_2;
+        const JUMP: f64 = TripleScan::JUMP;
         let cos = ((prev.transpose() * r).trace() - 1.0) / 2.0;
         let rotation_step = cos.clamp(-1.0, 1.0).acos();
         let step = (0..3).map(|i| (b[i] - a[i]).abs()).fold(0.0, f64::max);

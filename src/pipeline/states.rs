@@ -49,28 +49,29 @@ pub fn take_states_marked(
     keep_going: &mut dyn FnMut(f64) -> bool,
     done: &mut dyn FnMut(Stage),
 ) -> Result<(States, Vec<String>), Error> {
-    let traj = crate::motion::take::Trajectory::from_bvh(bvh, model, map);
+    let n = bvh.frames;
+    let mut cols = Columns {
+        frames: n,
+        data: crate::motion::take::q_columns(bvh, model, map),
+    };
     done(Stage::Coordinates);
     let dt = bvh.frame_time;
-    let mut q = traj.q;
-    let mut cols = Columns::of_rows(&q, model.nq);
     let notes = euler_continuity(bvh, map, &mut cols);
     unwrap_revolute(model, &mut cols);
     done(Stage::Unwrap);
     smooth_columns(model, &mut cols, dt, smooth, &mut |f| keep_going(0.9 * f))?;
-    cols.to_rows(&mut q);
     done(Stage::Smooth);
     if !keep_going(0.9) {
         return Err(Error::Cancelled);
     }
-    let (v, a) = derivatives(model, &q, dt);
-    done(Stage::Derivatives);
+    let (v, a) = derivative_columns(model, &cols, dt);
     let states = States {
-        time: traj.time,
-        q,
-        v,
-        a,
+        time: (0..n).map(|k| bvh.time(k)).collect(),
+        q: cols.rows(),
+        v: v.rows(),
+        a: a.rows(),
     };
+    done(Stage::Derivatives);
     Ok((states, notes))
 }
 
@@ -105,18 +106,38 @@ impl Columns {
         Self { frames, data }
     }
 
-    /// Writes the columns back into `rows`, in parallel over frames.
+    /// Writes the columns back into `rows`, in parallel over frames; within a worker's frames,
+    /// a few dozen rows at a time, column by column (each column read in one run while those
+    /// rows stay in the cache).
     fn to_rows(&self, rows: &mut [Vec<f64>]) {
+        const ROWS_AT_ONCE: usize = 32;
         let (n, data) = (self.frames, &self.data);
         let block = par::even_block(rows.len());
         for_each_block(rows, block, &mut par::scratch(|| ()), |_, first, chunk| {
-            for (i, row) in chunk.iter_mut().enumerate() {
-                let k = first + i;
-                for (j, x) in row.iter_mut().enumerate() {
-                    *x = data[j * n + k];
+            for (b, some) in chunk.chunks_mut(ROWS_AT_ONCE).enumerate() {
+                let k0 = first + b * ROWS_AT_ONCE;
+                let width = some.first().map_or(0, Vec::len);
+                for j in 0..width {
+                    let col = &data[j * n + k0..j * n + k0 + some.len()];
+                    for (row, x) in some.iter_mut().zip(col) {
+                        row[j] = *x;
+                    }
                 }
             }
         });
+    }
+
+    /// The rows (`frames × columns`), made in parallel over frames.
+    fn rows(&self) -> Vec<Vec<f64>> {
+        let width = self.data.len().checked_div(self.frames).unwrap_or(0);
+        let mut rows = vec![vec![0.0; width]; self.frames];
+        self.to_rows(&mut rows);
+        rows
+    }
+
+    /// Column `j`.
+    fn col(&self, j: usize) -> &[f64] {
+        &self.data[j * self.frames..(j + 1) * self.frames]
     }
 
     /// One mutable slice per column.
@@ -186,39 +207,34 @@ fn euler_continuity(bvh: &Bvh, map: &BvhMap, cols: &mut Columns) -> Vec<String> 
             notes: vec![],
         });
     }
-    let mut scratch = par::scratch(|| Vec::<[f64; 3]>::with_capacity(n));
-    for_each_block(&mut triples, 1, &mut scratch, |frames, _, block| {
+    for_each_block(&mut triples, 1, &mut par::scratch(|| ()), |_, _, block| {
         for t in block {
-            continuous_triple(bvh, t, frames);
+            continuous_triple(bvh, t, n);
         }
     });
     triples.into_iter().flat_map(|t| t.notes).collect()
 }
 
-/// One joint of [`euler_continuity`]: re-picks its triples and notes its passages and jumps.
-fn continuous_triple(bvh: &Bvh, t: &mut Triple, frames: &mut Vec<[f64; 3]>) {
+/// One joint of [`euler_continuity`] (`n` frames): re-picks its triples and notes its
+/// passages and jumps.
+fn continuous_triple(bvh: &Bvh, t: &mut Triple, n: usize) {
     let [c0, c1, c2] = &mut t.cols;
     let order = t.order;
     let name = &bvh.joints[t.joint].name;
-    frames.clear();
-    frames.extend((0..c0.len()).map(|k| [c0[k], c1[k], c2[k]]));
-    let scan = crate::motion::unwrap::make_euler_continuous_and_scan(order, frames);
-    for (k, f) in frames.iter().enumerate() {
-        (c0[k], c1[k], c2[k]) = (f[0], f[1], f[2]);
-    }
+    let scan = crate::motion::unwrap::make_euler_columns_continuous_and_scan(
+        order,
+        [&mut c0[..], &mut c1[..], &mut c2[..]],
+    );
     // sitting near the lock (not passing through it) makes D(q) nearly singular all along
-    let near = frames
-        .iter()
-        .filter(|f| f[1].cos().abs() < NEAR_LOCK.sin())
-        .count();
-    if scan.passage.is_none() && near * 100 >= frames.len() {
+    let near = c1.iter().filter(|&&a2| near_lock(a2)).count();
+    if scan.passage.is_none() && near * 100 >= n {
         t.notes.push(format!(
             "`{name}` sits within {:.0}° of gimbal lock in {:.0} % of the frames (its middle \
              {order} angle near ±90°): the euler model's mass matrix is nearly singular \
              there and `simulate` may fail; use the ball joint model (`--joints ball`, `set \
              joints ball`)",
             NEAR_LOCK.to_degrees(),
-            100.0 * near as f64 / frames.len() as f64
+            100.0 * near as f64 / n as f64
         ));
     }
     if let Some(p) = scan.passage {
@@ -244,6 +260,17 @@ fn continuous_triple(bvh: &Bvh, t: &mut Triple, frames: &mut Vec<[f64; 3]>) {
             frame + 1,
             angle.to_degrees() / bvh.frame_time
         ));
+    }
+}
+
+/// `|cos a2| < sin(NEAR_LOCK)`: the middle angle `a2` within [`NEAR_LOCK`] of gimbal lock.
+/// Decided by the angle's distance from the lock
+/// ([`lock_distance`](crate::motion::unwrap::lock_distance)) without a cosine, unless that
+/// lies within 1e-9 rad of `NEAR_LOCK`, where the cosine decides as it always has.
+fn near_lock(a2: f64) -> bool {
+    match crate::motion::unwrap::lock_distance(a2) {
+        Some(e) if (e - NEAR_LOCK).abs() > 1e-9 => e < NEAR_LOCK,
+        _ => a2.cos().abs() < NEAR_LOCK.sin(),
     }
 }
 
@@ -277,8 +304,8 @@ pub fn unwrap_and_smooth(
     unwrap_and_smooth_with(model, q, dt, smooth, &mut |_| true)
 }
 
-/// [`unwrap_and_smooth`] that reports its progress (0‥1) to `keep_going` once per joint's
-/// coordinates and stops with [`Error::Cancelled`] when it returns false (`q` is then partly
+/// [`unwrap_and_smooth`] that reports its progress (0‥1) to `keep_going` once per ball or free
+/// joint and per group of up to four scalar coordinates (smoothed side by side) and stops with [`Error::Cancelled`] when it returns false (`q` is then partly
 /// smoothed: the caller drops it).
 pub fn unwrap_and_smooth_with(
     model: &Model,
@@ -297,11 +324,15 @@ pub fn unwrap_and_smooth_with(
     Ok(())
 }
 
-/// A joint's coordinates (columns side by side) to smooth.
+/// Coordinates (columns side by side) to smooth: one ball or free joint's, or up to four
+/// consecutive scalar coordinates (`kind` `None`), which the filter runs side by side.
 struct JointColumns<'a> {
-    kind: JointKind,
+    kind: Option<JointKind>,
     cols: &'a mut [f64],
 }
+
+/// Scalar coordinates smoothed side by side in one group.
+const SIDE_BY_SIDE: usize = 4;
 
 /// What one worker smooths with: its filter's buffers and a quaternion trajectory.
 struct SmoothScratch {
@@ -309,8 +340,9 @@ struct SmoothScratch {
     quats: Vec<UnitQuaternion<f64>>,
 }
 
-/// Smooths every joint's coordinates, joints in parallel; `keep_going` is told once per joint
-/// (in joint order) and stops the work with [`Error::Cancelled`].
+/// Smooths every joint's coordinates, groups in parallel (a ball or free joint alone, up to
+/// four consecutive scalar coordinates together); `keep_going` is told once per group (in
+/// coordinate order) and stops the work with [`Error::Cancelled`].
 fn smooth_columns(
     model: &Model,
     cols: &mut Columns,
@@ -323,22 +355,30 @@ fn smooth_columns(
         return Ok(());
     }
     let smoother = Smoother::new(*smooth, dt)?;
-    // each joint's columns, split off in coordinate order (idx_q grows with the body index)
-    let nb = model.nbodies();
-    let mut joints = Vec::with_capacity(nb - 1);
+    // the groups of columns: consecutive scalar coordinates up to four together, each ball
+    // or free joint alone (coordinate order: idx_q grows with the body index)
+    let mut groups: Vec<(usize, usize, Option<JointKind>)> = vec![];
+    for i in 1..model.nbodies() {
+        let (iq, nq, kind) = (model.idx_q[i], model.joints[i].nq(), model.joints[i]);
+        match kind {
+            JointKind::Fixed => {}
+            JointKind::Revolute { .. } | JointKind::Prismatic { .. } => match groups.last_mut() {
+                Some((at, m, None)) if *at + *m == iq && *m < SIDE_BY_SIDE => *m += 1,
+                _ => groups.push((iq, nq, None)),
+            },
+            JointKind::Spherical | JointKind::Free => groups.push((iq, nq, Some(kind))),
+        }
+    }
+    let mut joints = Vec::with_capacity(groups.len());
     let mut rest: &mut [f64] = &mut cols.data;
     let mut at = 0;
-    for i in 1..nb {
-        let (iq, nq) = (model.idx_q[i], model.joints[i].nq());
+    for (iq, m, kind) in groups {
         debug_assert!(iq >= at, "coordinates in body order");
         let (_, tail) = std::mem::take(&mut rest).split_at_mut((iq - at) * n);
-        let (mine, tail) = tail.split_at_mut(nq * n);
-        joints.push(JointColumns {
-            kind: model.joints[i],
-            cols: mine,
-        });
+        let (mine, tail) = tail.split_at_mut(m * n);
+        joints.push(JointColumns { kind, cols: mine });
         rest = tail;
-        at = iq + nq;
+        at = iq + m;
     }
     let mut scratch = par::scratch(|| {
         let mut smoother = smoother.clone();
@@ -366,21 +406,19 @@ fn smooth_columns(
     Ok(())
 }
 
-/// One joint of [`smooth_columns`].
+/// One group of [`smooth_columns`].
 fn smooth_joint(s: &mut SmoothScratch, j: &mut JointColumns, n: usize) {
     let quat_at = match j.kind {
-        JointKind::Revolute { .. } | JointKind::Prismatic { .. } => {
-            s.smoother.smooth(&mut j.cols[..n]);
+        None => {
+            s.smoother.smooth_side_by_side(j.cols, n);
             return;
         }
-        JointKind::Free => {
-            for c in j.cols[..3 * n].chunks_mut(n) {
-                s.smoother.smooth(c);
-            }
+        Some(JointKind::Free) => {
+            s.smoother.smooth_side_by_side(&mut j.cols[..3 * n], n);
             3 * n
         }
-        JointKind::Spherical => 0,
-        JointKind::Fixed => return,
+        Some(JointKind::Spherical) => 0,
+        Some(_) => return,
     };
     // quaternions [x, y, z, w] on the rotation manifold
     let c = &mut j.cols[quat_at..quat_at + 4 * n];
@@ -405,36 +443,30 @@ fn smooth_joint(s: &mut SmoothScratch, j: &mut JointColumns, n: usize) {
 /// constant velocity taken out) gave other accelerations, 4.8 N·m at the Bandai walk's knee at
 /// 30 fps; with `Rᵀp̈` the body's classical acceleration (`a + ω × v`) is the same whatever
 /// the floor's velocity (`tests/contact_in_place.rs`).
-fn world_translation_rates(
-    model: &Model,
-    q: &[Vec<f64>],
-    dt: f64,
-    v: &mut [Vec<f64>],
-    a: &mut [Vec<f64>],
-) {
+fn world_translation_rates(model: &Model, q: &Columns, dt: f64, v: &mut Columns, a: &mut Columns) {
     use crate::motion::derive::differentiate;
-    let n = q.len();
+    let n = q.frames;
     if n < 3 {
         return;
     }
-    let (mut x, mut rate, mut acc) = (vec![0.0; n], vec![vec![0.0; n]; 3], vec![vec![0.0; n]; 3]);
+    let (mut rate, mut acc) = (vec![vec![0.0; n]; 3], vec![vec![0.0; n]; 3]);
     for i in (1..model.nbodies()).filter(|&i| model.joints[i] == JointKind::Free) {
         let (iq, iv) = (model.idx_q[i], model.idx_v[i]);
         for c in 0..3 {
-            for (xk, qk) in x.iter_mut().zip(q) {
-                *xk = qk[iq + c];
-            }
-            differentiate(&x, dt, &mut rate[c]);
+            differentiate(q.col(iq + c), dt, &mut rate[c]);
             differentiate(&rate[c], dt, &mut acc[c]);
         }
         for k in 0..n {
-            let r = crate::spatial::quat_from_xyzw(&q[k][iq + 3..iq + 7]);
+            let xyzw = [0, 1, 2, 3].map(|c| q.data[(iq + 3 + c) * n + k]);
+            let r = crate::spatial::quat_from_xyzw(&xyzw);
             let world = |m: &[Vec<f64>]| nalgebra::Vector3::new(m[0][k], m[1][k], m[2][k]);
             let lin = r.inverse() * world(&rate);
-            let omega = nalgebra::Vector3::from_column_slice(&v[k][iv + 3..iv + 6]);
+            let omega = nalgebra::Vector3::from_fn(|c, _| v.data[(iv + 3 + c) * n + k]);
             let lin_acc = r.inverse() * world(&acc) - omega.cross(&lin);
-            v[k][iv..iv + 3].copy_from_slice(lin.as_slice());
-            a[k][iv..iv + 3].copy_from_slice(lin_acc.as_slice());
+            for c in 0..3 {
+                v.data[(iv + c) * n + k] = lin[c];
+                a.data[(iv + c) * n + k] = lin_acc[c];
+            }
         }
     }
 }
@@ -442,79 +474,149 @@ fn world_translation_rates(
 /// v and a by second-order central differences on the configuration manifold
 /// (`v_k = (q_{k+1} ⊖ q_{k−1}) / 2dt`, one-sided second-order formulas at the ends), then the
 /// same on v (the formulas of [`differentiate`](crate::motion::derive::differentiate), frame by
-/// frame). Takes of one or two frames get v = a = 0 (one frame) or first differences. Frames
-/// in parallel, each worker with its own two difference buffers.
+/// frame). Takes of one or two frames get v = a = 0 (one frame) or first differences.
+/// [`derivative_columns`] on the rows' columns.
 pub fn derivatives(model: &Model, q: &[Vec<f64>], dt: f64) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
-    let n = q.len();
-    let nv = model.nv;
-    let mut v = vec![vec![0.0; nv]; n];
-    let mut a = vec![vec![0.0; nv]; n];
+    let cols = Columns::of_rows(q, model.nq);
+    let (v, a) = derivative_columns(model, &cols, dt);
+    (v.rows(), a.rows())
+}
+
+/// A joint's velocity columns (`nv × frames`, side by side) to fill from its coordinates.
+struct JointRates<'a> {
+    body: usize,
+    v: &'a mut [f64],
+}
+
+/// [`derivatives`] on columns: joints in parallel for v (scalar joints column by column,
+/// ball and free joints through [`Model::difference`]'s joint formula frame by frame), then
+/// every v column in parallel for a. Each value is computed by the same expression as frame by
+/// frame, so the result does not depend on the layout or the number of threads.
+fn derivative_columns(model: &Model, q: &Columns, dt: f64) -> (Columns, Columns) {
+    let (n, nv) = (q.frames, model.nv);
+    let mut v = Columns {
+        frames: n,
+        data: vec![0.0; nv * n],
+    };
+    let mut a = Columns {
+        frames: n,
+        data: vec![0.0; nv * n],
+    };
     if n < 2 {
         return (v, a);
     }
-    let mut scratch = par::scratch(|| (vec![0.0; nv], vec![0.0; nv]));
-    if n == 2 {
-        let d1 = &mut scratch[0].0;
-        model.difference(&q[0], &q[1], d1);
-        for x in d1.iter_mut() {
-            *x /= dt;
-        }
-        v[0].copy_from_slice(d1);
-        v[1].copy_from_slice(d1);
-        return (v, a);
+    // each joint's v columns, split off in velocity order (idx_v grows with the body index)
+    let mut joints = Vec::with_capacity(model.nbodies());
+    let mut rest: &mut [f64] = &mut v.data;
+    let mut at = 0;
+    for i in 1..model.nbodies() {
+        let (iv, nvj) = (model.idx_v[i], model.joints[i].nv());
+        let (_, tail) = std::mem::take(&mut rest).split_at_mut((iv - at) * n);
+        let (mine, tail) = tail.split_at_mut(nvj * n);
+        joints.push(JointRates { body: i, v: mine });
+        rest = tail;
+        at = iv + nvj;
     }
-    let block = par::even_block(n);
-    for_each_block(&mut v, block, &mut scratch, |(d1, d2), first, rows| {
-        for (i, vk) in rows.iter_mut().enumerate() {
-            velocity_at(model, q, first + i, dt, d1, d2, vk);
+    let block = par::even_block(joints.len());
+    for_each_block(&mut joints, block, &mut par::scratch(|| ()), |_, _, b| {
+        for j in b {
+            joint_velocity(model, q, dt, j);
         }
     });
+    if n == 2 {
+        return (v, a);
+    }
     // a: the same second-order differences on each v column
     let h2 = 2.0 * dt;
     let vr = &v;
-    for_each_block(&mut a, block, &mut scratch, |_, first, rows| {
-        for (i, ak) in rows.iter_mut().enumerate() {
-            let k = first + i;
-            for (j, x) in ak.iter_mut().enumerate() {
-                *x = if k == 0 {
-                    (-3.0 * vr[0][j] + 4.0 * vr[1][j] - vr[2][j]) / h2
-                } else if k == n - 1 {
-                    (3.0 * vr[n - 1][j] - 4.0 * vr[n - 2][j] + vr[n - 3][j]) / h2
-                } else {
-                    (vr[k + 1][j] - vr[k - 1][j]) / h2
-                };
+    let block = n * par::even_block(nv);
+    for_each_block(
+        &mut a.data,
+        block,
+        &mut par::scratch(|| ()),
+        |_, first, chunk| {
+            for (c, ac) in chunk.chunks_mut(n).enumerate() {
+                let vc = vr.col(first / n + c);
+                ac[0] = (-3.0 * vc[0] + 4.0 * vc[1] - vc[2]) / h2;
+                for k in 1..n - 1 {
+                    ac[k] = (vc[k + 1] - vc[k - 1]) / h2;
+                }
+                ac[n - 1] = (3.0 * vc[n - 1] - 4.0 * vc[n - 2] + vc[n - 3]) / h2;
             }
-        }
-    });
+        },
+    );
     world_translation_rates(model, q, dt, &mut v, &mut a);
     (v, a)
 }
 
-/// `v` at frame `k` of `n ≥ 3`: the central difference inside, one-sided at the ends
+/// One joint of [`derivative_columns`]: `v` at every frame of `n ≥ 2`. Two frames: the
+/// difference over dt at both. Else the central difference inside and one-sided at the ends
 /// (`v0 = (−3 q0 + 4 q1 − q2) / 2dt = (4 (q1 ⊖ q0) − (q2 ⊖ q0)) / 2dt`).
-fn velocity_at(
-    model: &Model,
-    q: &[Vec<f64>],
-    k: usize,
-    dt: f64,
-    d1: &mut [f64],
-    d2: &mut [f64],
-    vk: &mut [f64],
-) {
-    let n = q.len();
-    if k == 0 || k == n - 1 {
-        let (o, s) = if k == 0 { (0, 1isize) } else { (n - 1, -1) };
-        let p1 = (o as isize + s) as usize;
-        let p2 = (o as isize + 2 * s) as usize;
-        model.difference(&q[o], &q[p1], d1);
-        model.difference(&q[o], &q[p2], d2);
-        for j in 0..vk.len() {
-            vk[j] = s as f64 * (4.0 * d1[j] - d2[j]) / (2.0 * dt);
+fn joint_velocity(model: &Model, q: &Columns, dt: f64, j: &mut JointRates) {
+    let n = q.frames;
+    let joint = model.joints[j.body];
+    let (iq, nqj, nvj) = (model.idx_q[j.body], joint.nq(), joint.nv());
+    if nvj == 0 {
+        return;
+    }
+    if nqj == 1 {
+        // revolute and prismatic: q1 ⊖ q0 = q1 − q0, column at a time
+        let (x, out) = (q.col(iq), &mut j.v[..n]);
+        if n == 2 {
+            let d = (x[1] - x[0]) / dt;
+            (out[0], out[1]) = (d, d);
+            return;
         }
-    } else {
-        model.difference(&q[k - 1], &q[k + 1], d1);
-        for j in 0..vk.len() {
-            vk[j] = d1[j] / (2.0 * dt);
+        let (d1, d2) = (x[1] - x[0], x[2] - x[0]);
+        out[0] = 1.0 * (4.0 * d1 - d2) / (2.0 * dt);
+        for k in 1..n - 1 {
+            out[k] = (x[k + 1] - x[k - 1]) / (2.0 * dt);
         }
+        let (d1, d2) = (x[n - 2] - x[n - 1], x[n - 3] - x[n - 1]);
+        out[n - 1] = -(4.0 * d1 - d2) / (2.0 * dt);
+        return;
+    }
+    // ball and free joints: the manifold difference frame by frame
+    let row = |k: usize| -> [f64; 7] {
+        let mut r = [0.0; 7];
+        for (c, x) in r[..nqj].iter_mut().enumerate() {
+            *x = q.data[(iq + c) * n + k];
+        }
+        r
+    };
+    let (mut d1, mut d2) = ([0.0; 6], [0.0; 6]);
+    let diff = |k0: usize, k1: usize, out: &mut [f64; 6]| {
+        joint.difference(&row(k0)[..nqj], &row(k1)[..nqj], &mut out[..nvj]);
+    };
+    let mut put = |k: usize, x: &[f64]| {
+        for (c, xc) in x[..nvj].iter().enumerate() {
+            j.v[c * n + k] = *xc;
+        }
+    };
+    if n == 2 {
+        diff(0, 1, &mut d1);
+        let d = d1.map(|x| x / dt);
+        put(0, &d);
+        put(1, &d);
+        return;
+    }
+    for k in 0..n {
+        let mut vk = [0.0; 6];
+        if k == 0 || k == n - 1 {
+            let (o, s) = if k == 0 { (0, 1isize) } else { (n - 1, -1) };
+            let p1 = (o as isize + s) as usize;
+            let p2 = (o as isize + 2 * s) as usize;
+            diff(o, p1, &mut d1);
+            diff(o, p2, &mut d2);
+            for c in 0..nvj {
+                vk[c] = s as f64 * (4.0 * d1[c] - d2[c]) / (2.0 * dt);
+            }
+        } else {
+            diff(k - 1, k + 1, &mut d1);
+            for c in 0..nvj {
+                vk[c] = d1[c] / (2.0 * dt);
+            }
+        }
+        put(k, &vk);
     }
 }
