@@ -49,7 +49,7 @@ pub const STAGES: &[StageInfo] = &[
     StageInfo {
         stage: Stage::Coordinates,
         key: "coordinates",
-        what: "channels → q, frame by frame",
+        what: "channels → q, column by column",
     },
     StageInfo {
         stage: Stage::Unwrap,
