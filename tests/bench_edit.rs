@@ -6,22 +6,16 @@
 
 mod common;
 
-use common::cli::articula;
+use common::cli::{articula, json_of};
 
 fn edit_json(args: &[&str]) -> serde_json::Value {
-    let out = articula()
-        .arg("bench")
-        .arg(common::repo("data/demo_walk.bvh"))
-        .args(["--repeat", "3", "--json"])
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
+    json_of(
+        articula()
+            .arg("bench")
+            .arg(common::repo("data/demo_walk.bvh"))
+            .args(["--repeat", "3", "--json"])
+            .args(args),
+    )
 }
 
 #[test]

@@ -5,25 +5,19 @@
 
 mod common;
 
-use common::cli::articula;
+use common::cli::{articula, json_of};
 
 use articula::pipeline::{STAGES, stages::cycle_take_text};
 use std::path::Path;
 
 fn bench_json(args: &[&str]) -> serde_json::Value {
-    let out = articula()
-        .args(["bench", "--stages"])
-        .arg(common::repo("data/demo_walk.bvh"))
-        .args(["--repeat", "1", "--json"])
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
+    json_of(
+        articula()
+            .args(["bench", "--stages"])
+            .arg(common::repo("data/demo_walk.bvh"))
+            .args(["--repeat", "1", "--json"])
+            .args(args),
+    )
 }
 
 #[test]

@@ -246,19 +246,13 @@ fn bad_tolerances_and_outputs_are_clear_errors() {
 fn tradeoff_reduce_writes_its_table_sidecar_and_json() {
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("reduce.csv");
-    let out = articula()
-        .arg("tradeoff")
-        .arg(repo("data/demo_walk.bvh"))
-        .args(["--reduce", "--of", "knee_l,hip_r", "--json", "-o"])
-        .arg(&csv)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let j = common::cli::json_of(
+        articula()
+            .arg("tradeoff")
+            .arg(repo("data/demo_walk.bvh"))
+            .args(["--reduce", "--of", "knee_l,hip_r", "--json", "-o"])
+            .arg(&csv),
     );
-    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(j["outputs"], "knee_l, hip_r");
     let steps = j["steps"].as_array().unwrap();
     assert!(steps.len() > 5);

@@ -20,3 +20,15 @@ pub fn walk(dir: &Path, secs: f64) -> PathBuf {
         .success();
     p
 }
+
+/// Runs `cmd`, asserts it succeeded (its stderr is the failure message) and parses its
+/// standard output as JSON.
+pub fn json_of(cmd: &mut Command) -> serde_json::Value {
+    let out = cmd.output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
