@@ -100,6 +100,8 @@ fn the_kept_ground_reaction_estimate_is_the_fresh_one() {
     pipeline::consistency::consistent_job(&mut job, false, true, None).unwrap();
     assert!(job.estimated.is_some());
     let (kept, kept_grf) = pipeline::job_torques(&job).unwrap();
+    // the job's own estimate, borrowed: kept as a copy before the job lets it go
+    let kept_grf = kept_grf.map(std::borrow::Cow::into_owned);
     job.estimated = None;
     let (fresh, fresh_grf) = pipeline::job_torques(&job).unwrap();
     assert_eq!(kept.tau, fresh.tau);

@@ -180,7 +180,7 @@ pub fn write_inverse_dynamics_as(
             columns: &refs,
         },
     )?;
-    Ok(super::IdOutcome::new(job, &t, grf.as_ref()))
+    Ok(super::IdOutcome::new(job, &t, grf.as_deref()))
 }
 
 /// What `export grf` wrote besides the table: the ExternalLoads XML, or why none.

@@ -65,6 +65,7 @@ use crate::motion::smooth::{SmoothSpec, Smoother};
 use crate::par;
 use crate::report::columns;
 use crate::report::csv::{read_columns, write_columns};
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
@@ -1245,7 +1246,7 @@ pub fn inverse_dynamics_with(
 pub fn write_inverse_dynamics(job: &Job, path: &Path) -> Result<IdOutcome, Error> {
     let (table, t, grf) = table::inverse_dynamics_parts(job)?;
     table.write_csv(path)?;
-    Ok(IdOutcome::new(job, &t, grf.as_ref()))
+    Ok(IdOutcome::new(job, &t, grf.as_deref()))
 }
 
 /// What `articula id` found besides its file: the ground reactions' quality (estimated forces)
@@ -1270,23 +1271,36 @@ impl IdOutcome {
 }
 
 /// A job's generalized forces, with the ground reactions applied when the take has contact
-/// (then also those reactions); an error when a torque is not finite.
+/// (then also those reactions: the job's own, borrowed, when it holds measured or estimated
+/// ones); an error when a torque is not finite.
 pub fn job_torques(
     job: &Job,
-) -> Result<(Torques, Option<crate::dynamics::grf::GroundReactions>), Error> {
+) -> Result<
+    (
+        Torques,
+        Option<Cow<'_, crate::dynamics::grf::GroundReactions>>,
+    ),
+    Error,
+> {
     job_torques_marked(job, &mut |_| {})
 }
 
 /// [`job_torques`] that calls `done` at the end of [`Stage::Contact`] (the ground reactions,
 /// when the take has contact) and of [`Stage::InverseDynamics`].
-pub fn job_torques_marked(
-    job: &Job,
+pub fn job_torques_marked<'j>(
+    job: &'j Job,
     done: &mut dyn FnMut(Stage),
-) -> Result<(Torques, Option<crate::dynamics::grf::GroundReactions>), Error> {
+) -> Result<
+    (
+        Torques,
+        Option<Cow<'j, crate::dynamics::grf::GroundReactions>>,
+    ),
+    Error,
+> {
     let grf = match (&job.measured, &job.estimated, &job.take) {
-        (Some(m), _, _) => Some(m.clone()),
-        (None, Some(e), _) => Some(e.clone()),
-        (None, None, Some(t)) => ground_reactions(t)?,
+        (Some(m), _, _) => Some(Cow::Borrowed(m)),
+        (None, Some(e), _) => Some(Cow::Borrowed(e)),
+        (None, None, Some(t)) => ground_reactions(t)?.map(Cow::Owned),
         (None, None, None) => None,
     };
     done(Stage::Contact);

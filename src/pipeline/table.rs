@@ -9,6 +9,7 @@ use crate::dynamics::grf::GroundReactions;
 use crate::error::Error;
 use crate::model::Model;
 use crate::report::columns;
+use std::borrow::Cow;
 use std::path::Path;
 
 /// A result table: `header[0]` is `time`; every row has `header.len()` numbers.
@@ -49,7 +50,7 @@ pub fn inverse_dynamics_table(job: &Job) -> Result<(Table, Option<GroundQuality>
 /// `--json` figures).
 pub(crate) fn inverse_dynamics_parts(
     job: &Job,
-) -> Result<(Table, Torques, Option<GroundReactions>), Error> {
+) -> Result<(Table, Torques, Option<Cow<'_, GroundReactions>>), Error> {
     let (t, grf) = job_torques(job)?;
     let mut header = vec!["time".to_string()];
     header.extend(t.names.iter().map(|n| columns::name("tau", &[n])));
