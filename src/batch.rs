@@ -238,13 +238,13 @@ struct Row {
     setting: Vec<(String, String)>,
     status: Status,
     /// Wall time of the child (s); 0 when skipped.
-    seconds: f64,
+    wall_time: f64,
     /// Rows of the output CSV (frames of `info`), when there is one.
     frames: Option<usize>,
     /// Peak |x| and RMS per summarised column present in the output.
     figures: Vec<(String, f64, f64)>,
     output: PathBuf,
-    error: String,
+    failure: String,
 }
 
 pub fn run(args: BatchArgs) -> Result<ExitCode> {
@@ -314,7 +314,10 @@ pub fn run(args: BatchArgs) -> Result<ExitCode> {
     write_table(&summary, &header, &cells)?;
     summary_sidecar(&summary, &rows);
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&summary_json(&rows))?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&summary_json(&header, &cells))?
+        );
     }
     let count = |s: Status| rows.iter().filter(|r| r.status == s).count();
     let failed = count(Status::Failed);
@@ -529,21 +532,21 @@ fn run_job(job: &Job, spec: &CommandSpec, of: &[String], force: bool, threads: u
         take: job.take.rel.to_string_lossy().into_owned(),
         setting: job.setting.clone(),
         status: Status::Ok,
-        seconds: 0.0,
+        wall_time: 0.0,
         frames: None,
         figures: Vec::new(),
         output: job.output.clone(),
-        error: String::new(),
+        failure: String::new(),
     };
     if !force && up_to_date(job) {
         row.status = Status::Skipped;
     } else {
         let start = Instant::now();
         let result = execute(job, spec, threads);
-        row.seconds = start.elapsed().as_secs_f64();
+        row.wall_time = start.elapsed().as_secs_f64();
         if let Err(e) = result {
             row.status = Status::Failed;
-            row.error = e;
+            row.failure = e;
             return row;
         }
     }
@@ -635,7 +638,7 @@ fn read_back(row: &mut Row, of: &[String]) {
             }
             Err(e) => {
                 row.status = Status::Failed;
-                row.error = format!("reading the output back: {e}");
+                row.failure = format!("reading the output back: {e}");
             }
         },
         "json" => {
@@ -681,7 +684,7 @@ fn summary_table(
             let mut cells = vec![r.take.clone()];
             cells.extend(r.setting.iter().map(|(_, v)| v.clone()));
             cells.push(r.status.name().into());
-            cells.push(format!("{:.3}", r.seconds));
+            cells.push(format!("{:.3}", r.wall_time));
             cells.push(r.frames.map(|n| n.to_string()).unwrap_or_default());
             for c in &figures {
                 match r.figures.iter().find(|f| &f.0 == *c) {
@@ -690,7 +693,7 @@ fn summary_table(
                 }
             }
             cells.push(r.output.to_string_lossy().into_owned());
-            cells.push(r.error.clone());
+            cells.push(r.failure.clone());
             cells
         })
         .collect();
@@ -734,36 +737,30 @@ fn summary_sidecar(summary: &Path, rows: &[Row]) {
     }
 }
 
-/// The summary as JSON: one object per row, the swept settings as keys, figures under `peak`
-/// and `rms` by column.
-fn summary_json(rows: &[Row]) -> serde_json::Value {
-    use serde_json::{Map, Value, json};
-    let finite = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
-    let list = rows
+/// The summary as JSON: the rows of `summary.csv`, one object per row under the CSV's own
+/// column names (so `pandas.DataFrame(json)` and `read_csv` give the same table). Figures,
+/// `wall_time` and `frames` are numbers, an empty cell is null; the rest are strings.
+fn summary_json(header: &[String], cells: &[Vec<String>]) -> serde_json::Value {
+    use serde_json::{Map, Value};
+    let numeric = |key: &str| {
+        matches!(key, "wall_time" | "frames") || key.starts_with("peak:") || key.starts_with("rms:")
+    };
+    let value = |key: &str, cell: &str| match cell {
+        "" if numeric(key) => Value::Null,
+        _ if numeric(key) => match cell.parse::<u64>() {
+            Ok(n) => Value::from(n),
+            Err(_) => cell.parse::<f64>().ok().map_or(Value::Null, Value::from),
+        },
+        _ => Value::String(cell.to_string()),
+    };
+    let list = cells
         .iter()
-        .map(|r| {
-            let mut o = Map::new();
-            o.insert("take".into(), json!(r.take));
-            for (k, v) in &r.setting {
-                o.insert(k.clone(), json!(v));
-            }
-            o.insert("status".into(), json!(r.status.name()));
-            o.insert("seconds".into(), json!(r.seconds));
-            o.insert("frames".into(), json!(r.frames));
-            let peak: Map<String, Value> = r
-                .figures
+        .map(|row| {
+            let o: Map<String, Value> = header
                 .iter()
-                .map(|(c, p, _)| (c.clone(), finite(*p)))
+                .zip(row)
+                .map(|(k, c)| (k.clone(), value(k, c)))
                 .collect();
-            let rms: Map<String, Value> = r
-                .figures
-                .iter()
-                .map(|(c, _, x)| (c.clone(), finite(*x)))
-                .collect();
-            o.insert("peak".into(), Value::Object(peak));
-            o.insert("rms".into(), Value::Object(rms));
-            o.insert("output".into(), json!(r.output.to_string_lossy()));
-            o.insert("error".into(), json!(r.error));
             Value::Object(o)
         })
         .collect();
@@ -821,14 +818,14 @@ impl Progress {
             Some(bar) => {
                 bar.set_message(format!("{rate:.0} frames/s"));
                 if row.status == Status::Failed {
-                    bar.println(format!("failed {what}: {}", row.error));
+                    bar.println(format!("failed {what}: {}", row.failure));
                 }
                 bar.inc(1);
             }
             None => {
                 let tail = match row.status {
-                    Status::Failed => format!(": {}", row.error),
-                    _ => format!(" ({:.2} s)", row.seconds),
+                    Status::Failed => format!(": {}", row.failure),
+                    _ => format!(" ({:.2} s)", row.wall_time),
                 };
                 eprintln!("[{n}/{}] {} {what}{tail}", self.total, row.status.name());
             }

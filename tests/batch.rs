@@ -75,8 +75,14 @@ fn a_corrupt_take_is_a_failed_row_and_the_rest_are_done_then_resumed_and_forced(
     };
 
     // first run: two ok, the corrupt one failed with its error; exit status non-zero
-    batch(&[]).assert().code(1);
+    let first = batch(&["--json"]).assert().code(1);
     let (h, rows) = summary(&out);
+    let json: serde_json::Value = serde_json::from_slice(&first.get_output().stdout).unwrap();
+    assert_eq!(json[2]["status"], "failed");
+    assert!(
+        json[2]["failure"].as_str().unwrap().contains("broken.bvh"),
+        "{json}"
+    );
     assert_eq!(
         statuses(&out),
         [
@@ -173,14 +179,29 @@ fn a_sweep_has_one_row_per_take_and_setting_with_its_own_figures() {
         assert!(out.join(sub).join("walk__mass=100.csv").exists());
     }
 
-    // --json: the same rows on standard output
+    // --json: the same rows on standard output, under the CSV's column names, figures as
+    // numbers (the CSV's own text, parsed)
     let json: serde_json::Value = serde_json::from_slice(&assert.get_output().stdout).unwrap();
     let list = json.as_array().unwrap();
-    assert_eq!(list.len(), 4);
-    assert!(
-        list.iter()
-            .all(|r| r["status"] == "ok" && r["mass"].is_string())
-    );
+    assert_eq!(list.len(), rows.len());
+    for (r, row) in list.iter().zip(&rows) {
+        let object = r.as_object().unwrap();
+        let mut keys: Vec<&String> = object.keys().collect();
+        let mut columns: Vec<&String> = h.iter().collect();
+        keys.sort();
+        columns.sort();
+        assert_eq!(keys, columns, "{r}");
+        for (column, text) in h.iter().zip(row) {
+            let v = &r[column.as_str()];
+            match v.as_f64() {
+                Some(x) => assert_eq!(x, text.parse::<f64>().unwrap(), "{column}: {v} vs {text}"),
+                None if text.is_empty() && !v.is_string() => assert!(v.is_null(), "{column}"),
+                None => assert_eq!(v.as_str(), Some(text.as_str()), "{column}"),
+            }
+        }
+        assert!(r["wall_time"].is_number() && r["frames"].is_u64(), "{r}");
+        assert_eq!(r["status"], "ok");
+    }
 }
 
 #[test]
