@@ -101,16 +101,39 @@ pub fn joint_angles_moments(
     d: &Matrix3<f64>,
     m: &Vector3<f64>,
 ) -> ([f64; 3], [f64; 3]) {
+    let (angles, e) = joint_angles_axes(kind, right, p, d);
+    (angles, joint_moments(kind, right, &e, m))
+}
+
+/// The half of [`joint_angles_moments`] that reads the motion alone: the angles (rad,
+/// clinical signs) and the joint coordinate system's axes ([`jcs_axes`], world) the moments
+/// are projected on.
+pub fn joint_angles_axes(
+    kind: JointKind,
+    right: bool,
+    p: &Matrix3<f64>,
+    d: &Matrix3<f64>,
+) -> ([f64; 3], [Vector3<f64>; 3]) {
     let s = signs(kind, right);
     let raw = zxy_angles(&(p.transpose() * d));
-    let e = jcs_axes(p, d);
     let angles = [s[0] * raw[0], s[1] * raw[1], s[2] * raw[2]];
-    let moments = [
+    (angles, jcs_axes(p, d))
+}
+
+/// The other half: the net moment `m` (N·m, world axes) on the axes `e` of
+/// [`joint_angles_axes`], signed to oppose the angles.
+pub fn joint_moments(
+    kind: JointKind,
+    right: bool,
+    e: &[Vector3<f64>; 3],
+    m: &Vector3<f64>,
+) -> [f64; 3] {
+    let s = signs(kind, right);
+    [
         -s[0] * m.dot(&e[0]),
         -s[1] * m.dot(&e[1]),
         -s[2] * m.dot(&e[2]),
-    ];
-    (angles, moments)
+    ]
 }
 
 /// The frame with long axis `y` (exact) and lateral axis `z` made orthogonal to it; `None` if

@@ -635,39 +635,28 @@ pub fn anatomy_with(take: &Take, grf: Option<&GroundReactions>) -> Result<Anatom
     cal.series(take, &moments, grf)
 }
 
-/// One frame's row of [`anatomy_with`]'s columns into `row`: per joint its angles (deg) and,
-/// where it has a moment, the moment in its joint coordinate system (N·m) and per kg, from
-/// `world(body)`, the net moment of RNEA on a model body in world axes (N·m). `None` when a
-/// joint's segments have no frame.
-fn frame_row(
-    take: &Take,
+/// One frame's part of [`anatomy_with`]'s columns that masses do not change: per joint its
+/// angles (deg) into `angles` (three per joint) and, for each joint with a moment, its joint
+/// coordinate system's axes (world) into `axes`, which the moments are later projected on.
+/// `None` when a joint's segments have no frame.
+fn frame_angles(
     joints: &[Joint],
     p: &Posed,
     up: &Vector3<f64>,
-    mass: f64,
-    world: &dyn Fn(usize) -> Vector3<f64>,
-    row: &mut [f64],
+    angles: &mut [f64],
+    axes: &mut [[Vector3<f64>; 3]],
 ) -> Option<()> {
-    let mut c = 0;
+    let (mut c, mut i) = (0, 0);
     for j in joints {
         let (fp, fd) = (j.proximal.at(p, up)?, j.distal.at(p, up)?);
-        let m = j
-            .moment_at
-            .map_or(Vector3::zeros(), |b| world(take.map.joints[b].body));
-        let (ang, mom) = jcs::joint_angles_moments(j.kind, j.suffix != "_l", &fp, &fd, &m);
+        let (ang, e) = jcs::joint_angles_axes(j.kind, j.suffix != "_l", &fp, &fd);
         for a in ang {
-            row[c] = a.to_degrees();
+            angles[c] = a.to_degrees();
             c += 1;
         }
         if j.moment_at.is_some() {
-            for x in mom {
-                row[c] = x;
-                c += 1;
-            }
-            for x in mom {
-                row[c] = x / mass;
-                c += 1;
-            }
+            axes[i] = e;
+            i += 1;
         }
     }
     Some(())

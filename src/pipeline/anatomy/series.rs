@@ -3,13 +3,17 @@
 //!
 //! [`Calibration`] is everything the series read from the take's motion alone: one forward
 //! kinematics pass (the world pose of every mapped joint's body at every frame), the segment
-//! frames calibrated on it, the column names and notes. It depends on the model's kinematics
+//! frames calibrated on it, and what the series read of them: the angle columns and, per
+//! frame, each joint coordinate system's axes the moments are projected on
+//! ([`jcs::joint_angles_axes`]), the column names and notes. It depends on the model's kinematics
 //! (tree, joints, placements), the map, the up axis and `q`, never on a mass or an inertia, so
 //! the workbench keeps it across a `body.mass` or `link.<joint>.mass` edit
 //! ([`Calibration::fits`]). [`Calibration::series`] then turns the net moments of inverse
 //! dynamics (`ws.f[body].ang` of RNEA, in the body's frame, for each of
-//! [`Calibration::moment_bodies`]) into the table: the moment in world axes is the kept pose's
-//! rotation times it, exactly what a single pass computes, so the table is bit-identical.
+//! [`Calibration::moment_bodies`]) into the moment columns: the moment in world axes is the
+//! kept pose's rotation times it, projected on the kept axes ([`jcs::joint_moments`]),
+//! exactly what a single pass computes, so the table is bit-identical. A mass edit redoes
+//! only these projections, not the segment frames and angles.
 //!
 //! The moments come from any RNEA over the same `q, v, a`: [`net_moments`] runs one with the
 //! take's ground reactions (as `articula anatomy` did), [`inverse_dynamics_and_moments`] the
@@ -17,7 +21,8 @@
 //! moments).
 
 use super::{AXES, unwrap_degrees};
-use super::{Anatomy, Joint, Posed, Take, find_take_human, frame_row, joints_of, posed};
+use super::{Anatomy, Joint, Posed, Take, find_take_human, frame_angles, joints_of, posed};
+use crate::dynamics::anatomy as jcs;
 use crate::dynamics::grf::GroundReactions;
 use crate::dynamics::{self, Workspace};
 use crate::error::Error;
@@ -29,14 +34,18 @@ use nalgebra::Vector3;
 pub struct Calibration {
     /// The anatomical joints and their segment frames.
     joints: Vec<Joint>,
-    /// `[frame]`: world rotation and position of every BVH joint.
-    frames: Vec<Posed>,
+    /// Three per joint (flexion, adduction, rotation; deg, whole turns unwrapped), one value
+    /// per frame: the angle columns of the series.
+    angles: Vec<Vec<f64>>,
+    /// `[frame * moment joints + i]`: the joint coordinate system's axes (world) of the
+    /// `i`-th joint with a moment, which its moments are projected on.
+    axes: Vec<[Vector3<f64>; 3]>,
+    /// Why the series cannot be made (a frame where a joint's segments have no frame).
+    missing: Option<String>,
     /// The series' column names (`knee_l:flexion:angle`, …).
     names: Vec<String>,
     /// How the joints and frames were found.
     notes: Vec<String>,
-    /// The world's up (unit, world axes).
-    up: Vector3<f64>,
     /// The bodies whose world poses are kept: each mapped joint's body, sorted, each once.
     kept: Vec<usize>,
     /// `[frame * kept.len() + j]`: world pose `0X_i` of body `kept[j]` (as
@@ -93,7 +102,7 @@ impl std::fmt::Debug for Calibration {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Calibration")
             .field("names", &self.names.len())
-            .field("frames", &self.frames.len())
+            .field("frames", &self.angles.first().map_or(0, Vec::len))
             .field("bodies", &self.kept)
             .finish_non_exhaustive()
     }
@@ -126,6 +135,8 @@ impl Calibration {
             );
         }
         let joints = joints_of(take, &human, &frames, &mut notes);
+        let up = Vector3::ith(take.up.index(), 1.0);
+        let (angles, axes, missing) = angles_and_axes(take, &joints, &frames, &up);
         let mut names = vec![];
         for j in &joints {
             for what in ["angle", "moment", "moment_per_kg"] {
@@ -139,10 +150,11 @@ impl Calibration {
         }
         Ok(Self {
             joints,
-            frames,
+            angles,
+            axes,
+            missing,
             names,
             notes,
-            up: Vector3::ith(take.up.index(), 1.0),
             kept,
             poses,
             key: Key::of(take),
@@ -179,65 +191,41 @@ impl Calibration {
         moments: &[Vector3<f64>],
         grf: Option<&GroundReactions>,
     ) -> Result<Anatomy, Error> {
+        if let Some(why) = &self.missing {
+            return Err(Error::Numerical(why.clone()));
+        }
         let s = &take.states;
         let n = s.len();
         let nb = self.kept.len();
+        let nm = self.joints.iter().filter(|j| j.moment_at.is_some()).count();
         let mass = take.model.total_mass();
-        let ncol = self.names.len();
-        let mut values = vec![0.0; n * ncol];
-        let mut missing = vec![false; n];
-        if ncol > 0 {
-            let mut rows: Vec<(&mut [f64], &mut bool)> =
-                values.chunks_mut(ncol).zip(missing.iter_mut()).collect();
-            let mut scratch = crate::par::scratch(|| ());
-            let block = crate::par::even_block(n).min(256);
-            crate::par::for_each_block(&mut rows, block, &mut scratch, |_, first, block| {
-                for (i, (row, missing)) in block.iter_mut().enumerate() {
-                    let k = first + i;
-                    // the world moment: the kept pose's rotation times the body-frame one
-                    let world = |body: usize| {
-                        let j = self
-                            .kept
-                            .binary_search(&body)
-                            .expect("a mapped joint's body");
-                        self.poses[k * nb + j].rot * moments[k * nb + j]
-                    };
-                    **missing = frame_row(
-                        take,
-                        &self.joints,
-                        &self.frames[k],
-                        &self.up,
-                        mass,
-                        &world,
-                        row,
-                    )
-                    .is_none();
+        let mut columns = Vec::with_capacity(self.names.len());
+        let mut angles = self.angles.iter();
+        let mut i = 0;
+        for j in &self.joints {
+            columns.extend(angles.by_ref().take(3).cloned());
+            let Some(at) = j.moment_at else { continue };
+            // the world moment: the kept pose's rotation times the body-frame one
+            let b = self
+                .kept
+                .binary_search(&take.map.joints[at].body)
+                .expect("a mapped joint's body");
+            let mut moment = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+            for k in 0..n {
+                let world = self.poses[k * nb + b].rot * moments[k * nb + b];
+                let m =
+                    jcs::joint_moments(j.kind, j.suffix != "_l", &self.axes[k * nm + i], &world);
+                for (col, x) in moment.iter_mut().zip(m) {
+                    col[k] = x;
                 }
-            });
-        }
-        if let Some(k) = missing.iter().position(|m| *m) {
-            let up = &self.up;
-            let p = &self.frames[k];
-            let j = self
-                .joints
-                .iter()
-                .find(|j| j.proximal.at(p, up).is_none() || j.distal.at(p, up).is_none())
-                .unwrap_or(&self.joints[0]);
-            return Err(Error::Numerical(format!(
-                "{}: frame {k}: the {}{} joint's segments have no frame (a bone of zero \
-                 length or parallel to its lateral axis)",
-                take.path.display(),
-                j.kind.name,
-                j.suffix
-            )));
-        }
-        let mut columns: Vec<Vec<f64>> = (0..ncol)
-            .map(|c| (0..n).map(|k| values[k * ncol + c]).collect())
-            .collect();
-        for (name, col) in self.names.iter().zip(columns.iter_mut()) {
-            if name.ends_with(":angle") {
-                unwrap_degrees(col);
             }
+            let per_kg: Vec<Vec<f64>> = moment
+                .iter()
+                .map(|col| col.iter().map(|x| x / mass).collect())
+                .collect();
+            columns.extend(moment);
+            columns.extend(per_kg);
+            i += 1;
         }
         let contact = grf.map_or(vec![], |g| {
             g.feet
@@ -302,6 +290,73 @@ impl Calibration {
         });
         out
     }
+}
+
+/// One frame's angles, moment axes and whether a joint had no segment frame.
+type FrameRow<'a> = (&'a mut [f64], &'a mut [[Vector3<f64>; 3]], &'a mut bool);
+
+/// The angle columns, moment axes and missing frame of [`Calibration`].
+type AnglesAndAxes = (Vec<Vec<f64>>, Vec<[Vector3<f64>; 3]>, Option<String>);
+
+/// The angle columns (deg, whole turns unwrapped) and the moment axes of [`Calibration`],
+/// frames in parallel ([`frame_angles`]); and why the series cannot be made, when a frame has
+/// a joint whose segments have no frame.
+fn angles_and_axes(
+    take: &Take,
+    joints: &[Joint],
+    frames: &[Posed],
+    up: &Vector3<f64>,
+) -> AnglesAndAxes {
+    let n = frames.len();
+    let na = 3 * joints.len();
+    let nm = joints.iter().filter(|j| j.moment_at.is_some()).count();
+    let mut values = vec![0.0; n * na];
+    let mut axes = vec![[Vector3::zeros(); 3]; n * nm];
+    let mut missing = vec![false; n];
+    if na > 0 {
+        let mut rows: Vec<FrameRow> = if nm == 0 {
+            values
+                .chunks_mut(na)
+                .zip(missing.iter_mut())
+                .map(|(v, m)| (v, &mut [][..], m))
+                .collect()
+        } else {
+            values
+                .chunks_mut(na)
+                .zip(axes.chunks_mut(nm))
+                .zip(missing.iter_mut())
+                .map(|((v, a), m)| (v, a, m))
+                .collect()
+        };
+        let mut scratch = crate::par::scratch(|| ());
+        let block = crate::par::even_block(n).min(256);
+        crate::par::for_each_block(&mut rows, block, &mut scratch, |_, first, block| {
+            for (i, (row, axes, missing)) in block.iter_mut().enumerate() {
+                **missing = frame_angles(joints, &frames[first + i], up, row, axes).is_none();
+            }
+        });
+    }
+    let why = missing.iter().position(|m| *m).map(|k| {
+        let p = &frames[k];
+        let j = joints
+            .iter()
+            .find(|j| j.proximal.at(p, up).is_none() || j.distal.at(p, up).is_none())
+            .unwrap_or(&joints[0]);
+        format!(
+            "{}: frame {k}: the {}{} joint's segments have no frame (a bone of zero length or \
+             parallel to its lateral axis)",
+            take.path.display(),
+            j.kind.name,
+            j.suffix
+        )
+    });
+    let mut angles: Vec<Vec<f64>> = (0..na)
+        .map(|c| (0..n).map(|k| values[k * na + c]).collect())
+        .collect();
+    for col in &mut angles {
+        unwrap_degrees(col);
+    }
+    (angles, axes, why)
 }
 
 /// The bodies whose net moments the anatomical series read: each mapped joint's body, sorted,
