@@ -117,7 +117,7 @@ pub(super) enum RootRotation {
     },
 }
 
-/// Within this of gimbal lock (|cos| of the middle Euler angle, about 2e-5°), the euler
+/// Within this of gimbal lock (|cos| of the middle Euler angle, about 6e-6°), the euler
 /// root's rates, `|q̇| ≈ |ω| / |cos|`, lose more than 1e-9 of `ω` to rounding: there (a set of
 /// poses a take meets with probability zero) the root does not follow the rotation.
 const LOCK_COS: f64 = 1e-7;
