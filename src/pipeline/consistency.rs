@@ -25,8 +25,8 @@ pub struct Adjustments {
     /// Largest and RMS horizontal pelvis offset over the take (m).
     pub pelvis_peak_m: f64,
     pub pelvis_rms_m: f64,
-    /// Largest and RMS pelvis rotation over the take (rad); `None`: not adjusted (an euler
-    /// root near gimbal lock).
+    /// Largest and RMS pelvis rotation over the take (rad); `None`: not adjusted (a root that
+    /// is neither a free joint nor three hinges about coordinate axes).
     pub rotation_peak_rms_rad: Option<(f64, f64)>,
     /// The total mass's change (kg): against measured ground reactions only, else 0.
     pub mass_change_kg: f64,
@@ -68,8 +68,8 @@ impl Adjustments {
                 self.bounds.rotation_peak_rad.to_degrees(),
                 self.bounds.rotation_rms_rad.to_degrees()
             ),
-            None => "pelvis rotation not adjusted (the root's Euler angles come near gimbal \
-                     lock: --joints ball adjusts it)"
+            None => "pelvis rotation not adjusted (the root is neither a free joint nor three \
+                     hinges about coordinate axes: --joints ball adjusts it)"
                 .into(),
         };
         format!(

@@ -260,3 +260,50 @@ pub fn without_leaf_joint(b: &Bvh, joint: &str) -> Bvh {
         .collect();
     out
 }
+
+/// (f) the whole take turned by `deg` about the vertical axis `up` (0 x, 1 y, 2 z: a change of
+/// heading, about the vertical line through the file's origin, the floor unchanged) and the
+/// root's rotation channels written in `order`: root rotations `H R`, positions `H p`. With
+/// the vertical axis in the middle of `order` and a heading near 90°, the root's Euler triple
+/// sits near gimbal lock (the Xia takes' Hips).
+pub fn turned_heading(b: &Bvh, up: usize, deg: f64, order: EulerOrder) -> Bvh {
+    let j = b.joints.iter().position(|j| j.parent.is_none()).unwrap();
+    let (cols, old) = rotation_columns(b, j).expect("a root with three rotations");
+    let h = articula::rotation::axis_rotation(up, deg.to_radians());
+    let mut out = b.clone();
+    let joint = &mut out.joints[j];
+    let slots: Vec<usize> = (0..joint.channels.len())
+        .filter(|&i| joint.channels[i].is_rotation())
+        .collect();
+    let rot = [Channel::Xrotation, Channel::Yrotation, Channel::Zrotation];
+    for (slot, axis) in slots.iter().zip(order.axes()) {
+        joint.channels[*slot] = rot[axis];
+    }
+    let first = joint.first_channel;
+    let position: Vec<(usize, usize)> = (joint.channels.iter().enumerate())
+        .filter_map(|(i, c)| match c {
+            Channel::Xposition => Some((first + i, 0)),
+            Channel::Yposition => Some((first + i, 1)),
+            Channel::Zposition => Some((first + i, 2)),
+            _ => None,
+        })
+        .collect();
+    for k in 0..b.frames {
+        let row = b.frame(k);
+        let r = euler_to_matrix(old, cols.map(|c| row[c].to_radians()));
+        let a = matrix_to_euler(order, &(h * r));
+        let base = k * b.channel_count;
+        for i in 0..3 {
+            out.motion[base + cols[i]] = a[i].to_degrees();
+        }
+        let mut p = Vector3::zeros();
+        for &(c, axis) in &position {
+            p[axis] = row[c];
+        }
+        let turned = h * p;
+        for &(c, axis) in &position {
+            out.motion[base + c] = turned[axis];
+        }
+    }
+    out
+}

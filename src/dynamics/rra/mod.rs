@@ -19,7 +19,8 @@
 //! 3. **the pelvis rotations**: a smooth rotation `R_δ(t) = exp([θ(t)])` of the whole body
 //!    about the pelvis (tilt, list and rotation, as RRA's pelvis coordinates; same knots),
 //!    whose moment `I θ̈` (and gravity's, as the body tilts) changes the needed wrench
-//!    ([`root`]); skipped, and said, on an euler root near gimbal lock;
+//!    ([`root`]); the euler root follows it through its Euler angles at any pose, near
+//!    gimbal lock too; a root of other joints is not rotated, and the report says so;
 //! 4. **the total mass**, against measured ground reactions only ([`Ground::Measured`]): RRA
 //!    finds it from the mean vertical residual force. Against estimated ones it is not
 //!    adjusted: the feet carry the needed vertical force whatever the mass, and a mass change
@@ -153,8 +154,8 @@ pub struct Reduction {
     pub trunk_mass_kg: f64,
     /// Per frame: the pelvis offset (m, world).
     pub pelvis: Vec<Vector3<f64>>,
-    /// Per frame: the pelvis rotation vector (rad, world); `None`: not adjusted (an euler
-    /// root near gimbal lock).
+    /// Per frame: the pelvis rotation vector (rad, world); `None`: not adjusted (a root that
+    /// is neither a free joint nor three hinges about coordinate axes).
     pub rotation: Option<Vec<Vector3<f64>>>,
     /// The mass scale (1: not adjusted).
     pub mass_scale: f64,
@@ -260,7 +261,7 @@ pub fn reduce_residuals(
     problem.height = mean_com_height(problem.model, &e, problem.counted);
     e.cost = problem.cost(&e.ground);
     let (mut x, mut e) = solve(&problem, bounds, x0, e)?;
-    if let Some(r) = root_rotation(model, motion.q) {
+    if let Some(r) = root_rotation(model) {
         let from = problem.layout();
         problem.rotation = Some(r);
         let to = problem.layout();

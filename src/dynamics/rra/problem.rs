@@ -676,7 +676,7 @@ mod tests {
             counted: &counted,
             spline: UniformBSpline::new(0.0, time[n - 1], 0.15).unwrap(),
             translation: root_translation(&model).unwrap(),
-            rotation: root_rotation(&model, &q),
+            rotation: root_rotation(&model),
             root: 1,
             height: 1.0,
         };
