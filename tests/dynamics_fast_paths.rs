@@ -165,6 +165,17 @@ fn parent_transform_is_placement_times_joint_transform() {
     }
 }
 
+/// The axis and translation flag of a joint RNEA crosses by an axis step (alone or in a triple).
+fn axis_of(step: articula::dynamics::rnea::JointStep) -> Option<(usize, bool)> {
+    use articula::dynamics::rnea::JointStep;
+    match step {
+        JointStep::Axis { k, shifted } => Some((k, shifted)),
+        JointStep::Triple { k, shifted } => Some((k[0], shifted)),
+        JointStep::InTriple { k } => Some((k, false)),
+        JointStep::General => None,
+    }
+}
+
 /// The demo take's euler model: every rotation channel takes RNEA's axis step (the first of a
 /// joint's triple across its bone, the other two at its origin, without lever terms), and its
 /// torques, with the ws.v / ws.a / ws.f every body gets, equal those of the generic path
@@ -178,14 +189,13 @@ fn euler_model_takes_the_axis_step_and_agrees_with_the_generic_path() {
     let mut ws = Workspace::new(&m);
     let (mut at_origin, mut shifted) = (0, 0);
     for i in 1..m.nbodies() {
-        let step = ws.joint_steps[i];
         match m.joints[i].revolute_coordinate_axis() {
             Some(k) => {
                 let moved = m.placement[i].trans != Vector3::zeros();
-                assert_eq!(step, JointStep::Axis { k, shifted: moved }, "body {i}");
+                assert_eq!(axis_of(ws.joint_steps[i]), Some((k, moved)), "body {i}");
                 if moved { shifted += 1 } else { at_origin += 1 }
             }
-            None => assert_eq!(step, JointStep::General, "body {i}"),
+            None => assert_eq!(ws.joint_steps[i], JointStep::General, "body {i}"),
         }
     }
     assert!(
@@ -226,4 +236,94 @@ fn euler_model_takes_the_axis_step_and_agrees_with_the_generic_path() {
             );
         }
     }
+}
+
+/// The euler triples of the demo take's model (three rotation channels crossed in one forward
+/// step, the two massless links' inertial terms skipped) give the same bits as the same joints
+/// crossed one by one as axis joints: torques and the v, a, f of every body, with and without
+/// external forces. And a triple is only taken where its pattern holds: with mass on a
+/// fictitious link, that link's triple falls back to single axis steps, and the torques follow
+/// the mass.
+#[test]
+fn euler_triples_equal_single_axis_steps_bit_for_bit() {
+    use articula::dynamics::rnea::JointStep;
+    use articula::pipeline::{self, ModelSource, TakeOptions};
+    use articula::spatial::ForceVec;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/demo_walk.bvh");
+    let m = pipeline::load_model(&ModelSource::Take(path), &TakeOptions::default()).unwrap();
+    let mut fused = Workspace::new(&m);
+    let triples = (1..m.nbodies())
+        .filter(|&i| matches!(fused.joint_steps[i], JointStep::Triple { .. }))
+        .collect::<Vec<_>>();
+    // every joint of the skeleton but the root's translation is a triple
+    assert!(triples.len() > 10, "{triples:?}");
+    let mut single = Workspace::new(&m);
+    for s in &mut single.joint_steps {
+        if let Some((k, shifted)) = axis_of(*s) {
+            *s = JointStep::Axis { k, shifted };
+        }
+    }
+    let bits = |x: &[f64]| x.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let body_bits = |ws: &Workspace| {
+        (1..m.nbodies())
+            .flat_map(|i| {
+                [
+                    ws.v[i].ang,
+                    ws.v[i].lin,
+                    ws.a[i].ang,
+                    ws.a[i].lin,
+                    ws.f[i].ang,
+                    ws.f[i].lin,
+                ]
+            })
+            .flat_map(|x| [x.x.to_bits(), x.y.to_bits(), x.z.to_bits()])
+            .collect::<Vec<_>>()
+    };
+    let mut rng = SplitMix64(23);
+    for round in 0..6 {
+        let mut q = vec![0.0; m.nq];
+        let (mut v, mut a) = (vec![0.0; m.nv], vec![0.0; m.nv]);
+        random_configuration(&m, &mut rng, &mut q);
+        random_vector(&mut rng, 3.0, &mut v);
+        random_vector(&mut rng, 3.0, &mut a);
+        let mut fx = vec![ForceVec::ZERO; m.nbodies()];
+        for f in fx.iter_mut().skip(1) {
+            let mut w = vec![0.0; 6];
+            random_vector(&mut rng, 50.0, &mut w);
+            *f = ForceVec::new(
+                Vector3::new(w[0], w[1], w[2]),
+                Vector3::new(w[3], w[4], w[5]),
+            );
+        }
+        let f_ext = (round % 2 == 1).then_some(&fx[..]);
+        let tf = bits(rnea(&m, &mut fused, &q, &v, &a, f_ext).as_slice());
+        let ts = bits(rnea(&m, &mut single, &q, &v, &a, f_ext).as_slice());
+        assert_eq!(tf, ts, "torques, round {round}");
+        assert_eq!(
+            body_bits(&fused),
+            body_bits(&single),
+            "v, a, f, round {round}"
+        );
+    }
+
+    // mass on the first link of a triple: that triple is crossed one joint at a time
+    let mut heavy = m.clone();
+    let t = triples[triples.len() / 2];
+    heavy.inertia[t] =
+        SpatialInertia::new(1.5, Vector3::new(0.0, 0.1, 0.0), Matrix3::identity() * 0.01);
+    let mut wh = Workspace::new(&heavy);
+    assert_eq!(axis_of(wh.joint_steps[t]), axis_of(fused.joint_steps[t]));
+    assert!(matches!(wh.joint_steps[t], JointStep::Axis { .. }));
+    assert!(matches!(wh.joint_steps[t + 1], JointStep::Axis { .. }));
+    let mut q = vec![0.0; m.nq];
+    let (mut v, mut a) = (vec![0.0; m.nv], vec![0.0; m.nv]);
+    random_configuration(&m, &mut rng, &mut q);
+    random_vector(&mut rng, 3.0, &mut v);
+    random_vector(&mut rng, 3.0, &mut a);
+    let light = rnea(&m, &mut fused, &q, &v, &a, None).clone();
+    let with_mass = rnea(&heavy, &mut wh, &q, &v, &a, None).clone();
+    assert!(
+        (light - with_mass).norm() > 1e-3,
+        "the mass of body {t} is counted"
+    );
 }

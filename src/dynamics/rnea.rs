@@ -2,7 +2,7 @@
 
 use super::Workspace;
 use crate::model::Model;
-use crate::spatial::{AxisRotation, ForceVec, MotionVec};
+use crate::spatial::{AxisRotation, ForceVec, MotionVec, SpatialInertia};
 use nalgebra::{DVector, Matrix3, Vector3};
 
 /// Inverse dynamics, recursive Newton-Euler: the generalized forces `τ` that produce the
@@ -19,6 +19,7 @@ use nalgebra::{DVector, Matrix3, Vector3};
 /// multiplications per rotated vector, no lever terms across the zero-length links of an euler
 /// triple, nothing re-decided per call), and bodies without mass or inertia (the fictitious
 /// links of a BVH euler model, two in three bodies) skip the inertial terms `I a + v ×* I v`.
+/// The three joints of an euler triple are crossed in one forward step ([`JointStep::Triple`]).
 /// The numbers are those of the general formulas, operation for operation.
 pub fn rnea<'w>(
     model: &Model,
@@ -92,22 +93,47 @@ fn forward_pass(
     // forward pass: velocities, accelerations and the net force each body needs
     //   v_i = iX_λ v_λ + S_i q̇_i,   a_i = iX_λ a_λ + S_i q̈_i + v_i ×ₘ S_i q̇_i
     //   f_i = I_i a_i + v_i ×* I_i v_i − f_ext,i
-    for i in 1..n {
-        let (p, iv) = (parent[i], idx_v[i]);
-        let (vi, ai) = match steps[i] {
+    let rate = |x: Option<&[f64]>, iv: usize| x.map_or(0.0, |x| x[iv]);
+    let external = |i: usize| f_ext.map_or(ForceVec::ZERO, |fx| ForceVec::ZERO - fx[i]);
+    let mut i = 1;
+    while i < n {
+        let p = parent[i];
+        match steps[i] {
             JointStep::Axis { k, shifted } => {
+                let iv = idx_v[i];
                 let rot = AxisRotation::new(k, q[idx_q[i]]);
-                let (qd, qdd) = (v.map_or(0.0, |v| v[iv]), a.map_or(0.0, |a| a[iv]));
-                let t = shifted.then_some(&placement[i].trans);
                 joint_rot[i] = rot;
-                let (vp, ap) = (&wv[p], &wa[p]);
-                match k {
-                    0 => axis_forward::<0>(rot, t, vp, ap, qd, qdd),
-                    1 => axis_forward::<1>(rot, t, vp, ap, qd, qdd),
-                    _ => axis_forward::<2>(rot, t, vp, ap, qd, qdd),
+                let t = shifted.then_some(&placement[i].trans);
+                let (vi, ai) = axis_step(k, rot, t, &wv[p], &wa[p], rate(v, iv), rate(a, iv));
+                wf[i] = body_force(&inertia[i], &vi, &ai, f_ext, i);
+                wv[i] = vi;
+                wa[i] = ai;
+                i += 1;
+            }
+            JointStep::Triple { k, shifted } => {
+                // three axis steps in a row, v and a carried in registers; the first two
+                // bodies are massless: their own force is only the external one
+                let (mut vb, mut ab) = (wv[p], wa[p]);
+                for (j, &kj) in k.iter().enumerate() {
+                    let b = i + j;
+                    let iv = idx_v[b];
+                    let rot = AxisRotation::new(kj, q[idx_q[b]]);
+                    joint_rot[b] = rot;
+                    let t = (shifted && j == 0).then_some(&placement[i].trans);
+                    (vb, ab) = axis_step(kj, rot, t, &vb, &ab, rate(v, iv), rate(a, iv));
+                    wv[b] = vb;
+                    wa[b] = ab;
                 }
+                wf[i] = external(i);
+                wf[i + 1] = external(i + 1);
+                wf[i + 2] = body_force(&inertia[i + 2], &vb, &ab, f_ext, i + 2);
+                i += 3;
+            }
+            JointStep::InTriple { .. } => {
+                unreachable!("joint_steps starts every triple with JointStep::Triple")
             }
             JointStep::General => {
+                let iv = idx_v[i];
                 let joint = &model.joints[i];
                 let x = model.parent_transform(i, q);
                 let (mut vi, mut ai) = (x.act_inv_motion(&wv[p]), x.act_inv_motion(&wa[p]));
@@ -116,22 +142,34 @@ fn forward_pass(
                 vi += vj;
                 ai += aj + vi.cross_motion(&vj);
                 x_up[i] = x;
-                (vi, ai)
+                wf[i] = body_force(&inertia[i], &vi, &ai, f_ext, i);
+                wv[i] = vi;
+                wa[i] = ai;
+                i += 1;
             }
-        };
-        let inertia = &inertia[i];
-        let mut fi = if inertia.is_zero() {
-            ForceVec::ZERO
-        } else {
-            inertia.mul_motion(&ai) + vi.cross_force(&inertia.mul_motion(&vi))
-        };
-        if let Some(fx) = f_ext {
-            fi -= fx[i];
         }
-        wv[i] = vi;
-        wa[i] = ai;
-        wf[i] = fi;
     }
+}
+
+/// The net force body `i` needs, `I a + v ×* I v − f_ext` (no inertial terms for a body
+/// without mass or inertia).
+#[inline(always)]
+fn body_force(
+    inertia: &SpatialInertia,
+    vi: &MotionVec,
+    ai: &MotionVec,
+    f_ext: Option<&[ForceVec]>,
+    i: usize,
+) -> ForceVec {
+    let mut fi = if inertia.is_zero() {
+        ForceVec::ZERO
+    } else {
+        inertia.mul_motion(ai) + vi.cross_force(&inertia.mul_motion(vi))
+    };
+    if let Some(fx) = f_ext {
+        fi -= fx[i];
+    }
+    fi
 }
 
 /// RNEA's backward pass: accumulates `ws.f` into each parent and writes `ws.tau`.
@@ -155,15 +193,18 @@ fn backward_pass(model: &Model, ws: &mut Workspace, v: Option<&[f64]>) {
     for i in (1..n).rev() {
         let (iv, p, fi) = (idx_v[i], parent[i], wf[i]);
         let fp = match steps[i] {
-            JointStep::Axis { k, shifted } => {
+            JointStep::Axis { k, shifted }
+            | JointStep::Triple {
+                k: [k, _, _],
+                shifted,
+            } => {
                 tau[iv] = fi.ang[k] + v.map_or(0.0, |v| model.damping[iv] * v[iv]);
                 let t = shifted.then_some(&placement[i].trans);
-                let rot = joint_rot[i];
-                match k {
-                    0 => axis_backward::<0>(rot, t, &fi),
-                    1 => axis_backward::<1>(rot, t, &fi),
-                    _ => axis_backward::<2>(rot, t, &fi),
-                }
+                axis_back(k, joint_rot[i], t, &fi)
+            }
+            JointStep::InTriple { k } => {
+                tau[iv] = fi.ang[k] + v.map_or(0.0, |v| model.damping[iv] * v[iv]);
+                axis_back(k, joint_rot[i], None, &fi)
             }
             JointStep::General => {
                 let joint = &model.joints[i];
@@ -188,8 +229,8 @@ fn backward_pass(model: &Model, ws: &mut Workspace, v: Option<&[f64]>) {
     }
 }
 
-/// How RNEA crosses joint i, decided once per model from its joints and placements
-/// ([`joint_steps`]); kept in [`Workspace::joint_steps`].
+/// How RNEA crosses joint i, decided once per model from its joints, placements and which
+/// bodies are massless ([`joint_steps`]); kept in [`Workspace::joint_steps`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum JointStep {
     /// A revolute joint about coordinate axis `k` whose placement has no rotation: the
@@ -197,13 +238,31 @@ pub enum JointStep {
     /// `shifted` is false when that translation is zero too (the second and third links of a
     /// BVH euler triple), and the lever terms `r × ·` are skipped: they are exactly zero.
     Axis { k: usize, shifted: bool },
+    /// The first joint of an euler triple (a BVH joint's three rotation channels): bodies
+    /// `i`, `i+1`, `i+2` in a chain, each an axis joint (axes `k`), the second and third at
+    /// their parent's origin (`shifted` is the first's), bodies `i` and `i+1` massless. The
+    /// forward pass crosses the three joints in one step, carrying `v` and `a` from one to
+    /// the next, and skips the inertial terms of the two massless links; the backward pass
+    /// takes each of the three as [`JointStep::Axis`]. The arithmetic is the three axis steps'.
+    Triple { k: [usize; 3], shifted: bool },
+    /// The second or third joint of a [`JointStep::Triple`] (axis `k`, no translation):
+    /// crossed by the triple's step in the forward pass, as an axis joint in the backward.
+    InTriple { k: usize },
     /// Any other joint: [`Model::parent_transform`] and the joint's own `S`.
     General,
 }
 
 /// [`JointStep`] of every body (entry 0, the world, is `General` and never used).
+///
+/// A triple is recognised where the pattern holds exactly (consecutive bodies in a chain,
+/// unrotated placements, no translation inside, zero inertia on the first two); anywhere else
+/// the joints take [`JointStep::Axis`] or [`JointStep::General`] one by one. The massless
+/// links are those of the model the workspace is made for: a workspace made before giving
+/// such a link mass would skip its inertial terms (the project's edits change the massive
+/// bodies, and remake the workspace with the model).
 pub fn joint_steps(model: &Model) -> Vec<JointStep> {
-    (0..model.nbodies())
+    let n = model.nbodies();
+    let mut steps: Vec<JointStep> = (0..n)
         .map(|i| {
             let placement = &model.placement[i];
             match model.joints[i].revolute_coordinate_axis() {
@@ -214,7 +273,63 @@ pub fn joint_steps(model: &Model) -> Vec<JointStep> {
                 _ => JointStep::General,
             }
         })
-        .collect()
+        .collect();
+    let mut i = 1;
+    while i + 2 < n {
+        let axis = |b: usize| match steps[b] {
+            JointStep::Axis { k, shifted } => Some((k, shifted)),
+            _ => None,
+        };
+        let triple = match (axis(i), axis(i + 1), axis(i + 2)) {
+            (Some((k0, shifted)), Some((k1, false)), Some((k2, false)))
+                if model.parent[i + 1] == i
+                    && model.parent[i + 2] == i + 1
+                    && model.inertia[i].is_zero()
+                    && model.inertia[i + 1].is_zero() =>
+            {
+                Some(([k0, k1, k2], shifted))
+            }
+            _ => None,
+        };
+        match triple {
+            Some((k, shifted)) => {
+                steps[i] = JointStep::Triple { k, shifted };
+                steps[i + 1] = JointStep::InTriple { k: k[1] };
+                steps[i + 2] = JointStep::InTriple { k: k[2] };
+                i += 3;
+            }
+            None => i += 1,
+        }
+    }
+    steps
+}
+
+/// [`axis_forward`] for the axis `k` of the joint.
+#[inline(always)]
+fn axis_step(
+    k: usize,
+    rot: AxisRotation,
+    t: Option<&Vector3<f64>>,
+    vp: &MotionVec,
+    ap: &MotionVec,
+    qd: f64,
+    qdd: f64,
+) -> (MotionVec, MotionVec) {
+    match k {
+        0 => axis_forward::<0>(rot, t, vp, ap, qd, qdd),
+        1 => axis_forward::<1>(rot, t, vp, ap, qd, qdd),
+        _ => axis_forward::<2>(rot, t, vp, ap, qd, qdd),
+    }
+}
+
+/// [`axis_backward`] for the axis `k` of the joint.
+#[inline(always)]
+fn axis_back(k: usize, rot: AxisRotation, t: Option<&Vector3<f64>>, f: &ForceVec) -> ForceVec {
+    match k {
+        0 => axis_backward::<0>(rot, t, f),
+        1 => axis_backward::<1>(rot, t, f),
+        _ => axis_backward::<2>(rot, t, f),
+    }
 }
 
 /// The forward-pass step across a revolute joint about coordinate axis `K` (rotation `rot`,
