@@ -8,11 +8,7 @@ pub(super) fn info(a: InfoArgs) -> Result<ExitCode> {
     let mut take = pipeline::load_take(&take, &opts.options_for("info")?)?;
     pipeline::resolve_contact(&mut take);
     let info = pipeline::info(&take);
-    if json {
-        println!("{}", serde_json::to_string_pretty(&info.json())?);
-    } else {
-        print!("{}", info.text());
-    }
+    show(json, || info.json(), || info.text())?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -292,11 +288,7 @@ pub(super) fn bench(a: BenchArgs) -> Result<ExitCode> {
             repeat,
             ..
         } => {
-            let take = src
-                .take
-                .as_deref()
-                .ok_or_else(|| anyhow::anyhow!("bench --edit needs a take (a BVH file)"))?;
-            need(take)?;
+            let take = bench_take(&src, "--edit")?;
             let settings = articula::session::edit_bench::EditSettings::parse(
                 &edit,
                 &set,
@@ -307,11 +299,7 @@ pub(super) fn bench(a: BenchArgs) -> Result<ExitCode> {
                 &opts.options_for_source("bench --edit", &src)?,
                 &settings,
             )?;
-            if json {
-                println!("{}", serde_json::to_string_pretty(&r.json())?);
-            } else {
-                print!("{}", r.text());
-            }
+            show(json, || r.json(), || r.text())?;
         }
         BenchArgs {
             src,
@@ -322,11 +310,7 @@ pub(super) fn bench(a: BenchArgs) -> Result<ExitCode> {
             minutes,
             ..
         } => {
-            let take = src
-                .take
-                .as_deref()
-                .ok_or_else(|| anyhow::anyhow!("bench --stages needs a take (a BVH file)"))?;
-            need(take)?;
+            let take = bench_take(&src, "--stages")?;
             let settings = pipeline::StageSettings {
                 repeat: repeat.unwrap_or(5),
                 minutes,
@@ -336,11 +320,7 @@ pub(super) fn bench(a: BenchArgs) -> Result<ExitCode> {
                 &opts.options_for_source("bench --stages", &src)?,
                 settings,
             )?;
-            if json {
-                println!("{}", serde_json::to_string_pretty(&r.json())?);
-            } else {
-                print!("{}", r.text());
-            }
+            show(json, || r.json(), || r.text())?;
         }
         BenchArgs {
             src,
@@ -356,11 +336,7 @@ pub(super) fn bench(a: BenchArgs) -> Result<ExitCode> {
             let model =
                 pipeline::load_model(&src.source()?, &opts.options_for_source("bench", &src)?)?;
             let r = pipeline::bench_batches(&model, batches)?;
-            if json {
-                println!("{}", serde_json::to_string_pretty(&r.json())?);
-            } else {
-                print!("{}", r.text());
-            }
+            show(json, || r.json(), || r.text())?;
         }
     }
     Ok(ExitCode::SUCCESS)
@@ -502,4 +478,28 @@ pub(super) fn run_session(a: RunArgs) -> Result<ExitCode> {
         report.written.len()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// Standard output: the JSON of a report with `--json`, else its text.
+fn show(
+    json: bool,
+    value: impl FnOnce() -> serde_json::Value,
+    text: impl FnOnce() -> String,
+) -> Result<()> {
+    if json {
+        println!("{}", serde_json::to_string_pretty(&value())?);
+    } else {
+        print!("{}", text());
+    }
+    Ok(())
+}
+
+/// The take `bench FLAG` times (a BVH file that exists).
+fn bench_take<'a>(src: &'a SourceArgs, flag: &str) -> Result<&'a Path> {
+    let take = src
+        .take
+        .as_deref()
+        .ok_or_else(|| anyhow::anyhow!("bench {flag} needs a take (a BVH file)"))?;
+    need(take)?;
+    Ok(take)
 }
