@@ -314,6 +314,49 @@ fn a_four_legged_skeleton_stands_on_its_four_feet() {
     assert!(residual < 0.05 * weight, "{residual}");
 }
 
+/// A quadruped rigged as a biped with its front legs for arms (3ds Max's Biped on an animal, as
+/// Truebones' elephant): the hind legs' names read as a human's legs and feet, the front legs'
+/// as arms. More limb ends come down to the floor than the names give feet, so all four
+/// carry the weight, not the two named feet alone (which left half the body to the root).
+#[test]
+fn a_quadruped_with_a_bipeds_names_stands_on_its_four_feet() {
+    let names = [
+        ("fl_upper", "Bip01_L_UpperArm"),
+        ("fl_lower", "Bip01_L_Hand"),
+        ("fr_upper", "Bip01_R_UpperArm"),
+        ("fr_lower", "Bip01_R_Hand"),
+        ("bl_upper", "Bip01_L_Thigh"),
+        ("bl_lower", "Bip01_L_Foot"),
+        ("br_upper", "Bip01_R_Thigh"),
+        ("br_lower", "Bip01_R_Foot"),
+        ("neck", "Bip01_Neck"),
+        ("tail", "BN_Tail_01"),
+    ];
+    let mut text = quadruped();
+    for (from, to) in names {
+        text = text.replace(from, to);
+    }
+    let b = bvh::parse_str(&text, Path::new("elephant.bvh")).unwrap();
+    let t = load(b, &TakeOptions::default());
+    assert!(t.human.is_err(), "not a biped");
+    let gr = pipeline::estimate_take_ground_reactions(&t).unwrap();
+    let mut feet = gr.feet.clone();
+    feet.sort();
+    assert_eq!(
+        feet,
+        [
+            "Bip01_L_Foot",
+            "Bip01_L_Hand",
+            "Bip01_R_Foot",
+            "Bip01_R_Hand"
+        ]
+    );
+    let n = gr.grf.len() as f64;
+    let weight = t.model.total_mass() * 9.81;
+    let residual: f64 = gr.residual.iter().map(|r| r[1].abs()).sum::<f64>() / n;
+    assert!(residual < 0.05 * weight, "{residual}");
+}
+
 #[test]
 fn a_take_bent_over_most_of_the_time_keeps_its_up_axis_from_the_legs() {
     // an inertial-suit box lift, bent over most of the take, fell forward: its largest extent

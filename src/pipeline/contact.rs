@@ -241,15 +241,17 @@ pub fn estimate_take_ground_reactions_keeping(
     .map_err(|e| at_file(&take.path, e))
 }
 
-/// The feet that carry a take's ground reactions: [`take_feet`], else (no feet by name: an
-/// animal, a rig whose names no scheme knows) the limb ends that come down to the floor.
+/// The feet that carry a take's ground reactions: a human's [`take_feet`]; for a skeleton that
+/// is not a human's, the limb ends that come down to the floor when they are more than the feet
+/// its names give (an animal, a rig whose names no scheme knows, a quadruped rigged as a biped
+/// whose front legs are named arms), else the named feet.
 pub fn contact_feet(take: &Take) -> Vec<crate::motion::contact::Foot> {
     let feet = take_feet(take);
-    if feet.is_empty() {
-        limb_ends_on_floor(take)
-    } else {
-        feet
+    if take.human.is_ok() {
+        return feet;
     }
+    let ends = limb_ends_on_floor(take);
+    if ends.len() > feet.len() { ends } else { feet }
 }
 
 /// A human's feet at the ankles and toes its topology found (`model::skeleton`), else the

@@ -30,7 +30,9 @@
 //!    the lever rule, in proportion to how close `p` lies to each ankle, entered from the
 //!    single support before them and left to the one after over a ramp as long as the take's
 //!    median step transition (wrenches interpolated, [`transitions`]), so that no foot's load
-//!    jumps where a double support begins or ends; in flight the feet carry nothing, except within the estimator's
+//!    jumps where a double support begins or ends; three or more feet (an animal's) by the
+//!    lever rule generalised: the shares whose load-weighted ankle centre comes nearest `p`,
+//!    among those the nearest to equal shares (`share::many_feet_shares`); in flight the feet carry nothing, except within the estimator's
 //!    spread of a contact (below);
 //! 4. each foot's force acts at `p` shifted by the foot's offset from the load-weighted ankle
 //!    centre (so the shares together still reproduce `W`), kept inside the foot's support

@@ -382,9 +382,7 @@ pub(super) fn assign_to_feet(
             share[a] = r;
             share[b] = 1.0 - r;
         }
-        _ => (0..contact.len())
-            .filter(|&j| contact[j])
-            .for_each(|j| share[j] = 1.0 / count as f64),
+        _ => many_feet_shares(&p, support, contact, count, share),
     }
 
     // each foot: the force share, pushing, within the friction cone
@@ -418,6 +416,50 @@ pub(super) fn assign_to_feet(
             let reached: Vector3<f64> = loads.iter().zip(&*share).map(|(l, r)| l.cop * *r).sum();
             let moved = loads[j].cop + (p - reached) / share[j];
             loads[j].cop = support[j].clamp(&moved, params.cop_margin);
+        }
+    }
+}
+
+/// The shares of three or more feet in contact (a quadruped, a crab, a biped leaning on a hand):
+/// the lever rule generalised, the shares `r` on the simplex (`r ≥ 0`, `Σ r = 1`) whose
+/// load-weighted heel centre comes nearest the centre of pressure `p`, among those the nearest
+/// to equal shares: `min |Σ rₖ cₖ − p|² + ε |r − 1/m|²` (`cₖ` the heels, `m` the feet in
+/// contact, `ε` = (1 cm)², strictly convex so the shares move continuously with `p`). Equal
+/// shares whatever `p` had left a standing elephant's pitching moment (176 N·m) to the root.
+/// Solved by pairwise coordinate descent (each step moves load from one foot to another by
+/// the exact minimiser along that direction, clamped to keep both shares ≥ 0), from equal
+/// shares; two feet alone reduce to the lever rule.
+fn many_feet_shares(
+    p: &Vector3<f64>,
+    support: &[Support],
+    contact: &[bool],
+    count: usize,
+    share: &mut [f64],
+) {
+    const EPS: f64 = 1e-4;
+    let equal = 1.0 / count as f64;
+    let mut err = -p;
+    for j in (0..contact.len()).filter(|&j| contact[j]) {
+        share[j] = equal;
+        err += support[j].heel * equal;
+    }
+    for _ in 0..64 {
+        let mut moved = 0.0f64;
+        for a in (0..contact.len()).filter(|&j| contact[j]) {
+            for b in (a + 1..contact.len()).filter(|&j| contact[j]) {
+                // r_a += δ, r_b −= δ: d/dδ of |err + δ d|² + ε((r_a − u + δ)² + (r_b − u − δ)²)
+                let d = support[a].heel - support[b].heel;
+                let den = d.norm_squared() + 2.0 * EPS;
+                let delta =
+                    (-(err.dot(&d) + EPS * (share[a] - share[b])) / den).clamp(-share[a], share[b]);
+                share[a] += delta;
+                share[b] -= delta;
+                err += d * delta;
+                moved = moved.max(delta.abs());
+            }
+        }
+        if moved < 1e-12 {
+            break;
         }
     }
 }
@@ -501,6 +543,80 @@ pub(super) fn assign_step(
         if let Some((p, free)) = centre_of_pressure(&rest, up, floor) {
             loads[l].cop = support[l].clamp(&p, params.cop_margin);
             loads[l].free_moment = free;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A quadruped's four feet at the corners of a 1 m × 0.4 m rectangle (Y up), and a fifth
+    /// foot off the ground.
+    fn four_feet() -> (Vec<Support>, Vec<bool>) {
+        let at = |x: f64, z: f64| Support {
+            heel: Vector3::new(x, 0.0, z),
+            toe: Vector3::new(x + 0.1, 0.0, z),
+        };
+        let support = vec![
+            at(0.5, 0.2),
+            at(0.5, -0.2),
+            at(-0.5, 0.2),
+            at(-0.5, -0.2),
+            at(0.0, 0.0),
+        ];
+        (support, vec![true, true, true, true, false])
+    }
+
+    fn shares_for(p: Vector3<f64>) -> (Vec<f64>, Vector3<f64>) {
+        let (support, contact) = four_feet();
+        let mut share = vec![0.0; 5];
+        many_feet_shares(&p, &support, &contact, 4, &mut share);
+        let centre = support.iter().zip(&share).map(|(s, r)| s.heel * *r).sum();
+        (share, centre)
+    }
+
+    #[test]
+    fn many_feet_shares_reach_the_centre_of_pressure_inside_the_feet_and_stay_equal_at_the_middle()
+    {
+        let (share, _) = shares_for(Vector3::zeros());
+        assert!(
+            share[..4].iter().all(|r| (r - 0.25).abs() < 1e-9),
+            "{share:?}"
+        );
+        assert_eq!(share[4], 0.0, "a foot off the ground carries nothing");
+        // the mass centre 30 cm forward, 10 cm to the side: the heels' weighted centre reaches
+        // it (within what ε = (1 cm)² trades for evenness), the front feet carry more
+        for p in [Vector3::new(0.3, 0.0, 0.1), Vector3::new(-0.45, 0.0, -0.15)] {
+            let (share, centre) = shares_for(p);
+            assert!((share.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+            assert!(share.iter().all(|r| *r >= 0.0), "{share:?}");
+            assert!((centre - p).norm() < 2e-3, "{p} → {centre}");
+        }
+        let (front, _) = shares_for(Vector3::new(0.3, 0.0, 0.0));
+        assert!(front[0] > 0.35 && front[2] < 0.15, "{front:?}");
+    }
+
+    #[test]
+    fn many_feet_shares_go_to_the_nearest_feet_outside_them_and_move_continuously() {
+        // beyond the front feet: they carry it all, shared evenly between them
+        let (share, _) = shares_for(Vector3::new(1.0, 0.0, 0.0));
+        assert!(
+            (share[0] - 0.5).abs() < 1e-6 && (share[1] - 0.5).abs() < 1e-6,
+            "{share:?}"
+        );
+        // a 1 mm move of the centre of pressure moves no share by more than a few per cent
+        let mut last = shares_for(Vector3::new(-0.6, 0.0, -0.3)).0;
+        for k in 1..=1200 {
+            let p = Vector3::new(-0.6 + k as f64 * 1e-3, 0.0, -0.3 + k as f64 * 5e-4);
+            let (share, _) = shares_for(p);
+            let jump = share
+                .iter()
+                .zip(&last)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(jump < 0.03, "at {p}: {last:?} → {share:?}");
+            last = share;
         }
     }
 }
