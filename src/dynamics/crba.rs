@@ -144,19 +144,23 @@ pub fn crba<'w>(model: &Model, ws: &'w mut Workspace, q: &[f64]) -> &'w DMatrix<
         }
     }
 
-    // columns: F = I^c_i S_k, projected on k and on every coordinate above it
+    // columns: F = I^c_i S_k, projected on k and on every coordinate above it (the branch-induced
+    // sparsity: only the coordinates on k's path to the root)
+    let (s_world, dof_parent) = (&ws.s_world[..nv], &ws.dof_parent[..nv]);
+    let (idx_v, joints, ycrb) = (&model.idx_v[..n], &model.joints[..n], &ws.ycrb[..n]);
     let h = ws.mass_matrix.as_mut_slice();
     for i in 1..n {
-        let iv = model.idx_v[i];
-        for k in iv..iv + model.joints[i].nv() {
-            let f = ws.ycrb[i].mul_motion(&ws.s_world[k]);
+        let iv = idx_v[i];
+        for k in iv..iv + joints[i].nv() {
+            let f = ycrb[i].mul_motion(&s_world[k]);
+            // D is stored column-major: D[r, c] at r + c·nv
+            let col = k * nv;
             let mut j = k;
             while j != NO_DOF {
-                // D is stored column-major: D[r, c] at r + c·nv
-                let x = ws.s_world[j].dot(&f);
-                h[j + k * nv] = x;
+                let x = s_world[j].dot(&f);
+                h[j + col] = x;
                 h[k + j * nv] = x;
-                j = ws.dof_parent[j];
+                j = dof_parent[j];
             }
         }
     }
