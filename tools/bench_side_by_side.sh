@@ -5,6 +5,8 @@
 #
 #   tools/bench_side_by_side.sh [REAL_TAKES_DIR]      # default ../shared/data/bvh
 #
+# Both binaries live in cargo's target directory: $CARGO_TARGET_DIR when set (relative to the
+# repository if relative, as cargo takes it), else target/.
 # Models: UR5 and TALOS from example-robot-data (installed with Pinocchio), data/arm7.urdf and data/humanoid.urdf (fixed base, gravity 0,0,-9.81, both sides read
 # the same URDF); data/demo_walk.bvh and REAL_TAKES_DIR/cmu_01_01.bvh (if present) in the euler
 # joint model: articula builds the model from the BVH (default options: 75 kg male, de Leva),
@@ -18,13 +20,14 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 REAL="${1:-../shared/data/bvh}"
 BATCHES="${BATCHES:-7}"
+TARGET="${CARGO_TARGET_DIR:-target}"
 cargo build -q --release
-[ -x target/pinocchio_bench ] || tools/pinocchio_cpp_bench/build.sh >&2
+[ -x "$TARGET/pinocchio_bench" ] || tools/pinocchio_cpp_bench/build.sh >&2
 TMP="$(mktemp -d)"; trap 'rm -rf "$TMP"' EXIT
 run() {  # name, articula args, pinocchio urdf, pinocchio args
     local name="$1" a="$2" urdf="$3" p="$4"
     # shellcheck disable=SC2086
-    target/release/articula bench $a --json --batches "$BATCHES" > "$TMP/$name.articula.json"
+    "$TARGET/release/articula" bench $a --json --batches "$BATCHES" > "$TMP/$name.articula.json"
     # shellcheck disable=SC2086
     tools/pinocchio_cpp_bench/run.sh "$urdf" $p --batches "$BATCHES" > "$TMP/$name.pinocchio.json" 2>/dev/null
     echo "$name" >> "$TMP/order"
@@ -41,10 +44,10 @@ else
 fi
 run arm7 "--urdf data/arm7.urdf" data/arm7.urdf ""
 run humanoid "--urdf data/humanoid.urdf" data/humanoid.urdf ""
-target/release/articula export urdf data/demo_walk.bvh -o "$TMP/demo_walk.urdf" 2>/dev/null
+"$TARGET/release/articula" export urdf data/demo_walk.bvh -o "$TMP/demo_walk.urdf" 2>/dev/null
 run demo_walk "data/demo_walk.bvh" "$TMP/demo_walk.urdf" "--gravity 0,-9.81,0"
 if [ -f "$REAL/cmu_01_01.bvh" ]; then
-    target/release/articula export urdf "$REAL/cmu_01_01.bvh" -o "$TMP/cmu_01_01.urdf" 2>/dev/null
+    "$TARGET/release/articula" export urdf "$REAL/cmu_01_01.bvh" -o "$TMP/cmu_01_01.urdf" 2>/dev/null
     run cmu_01_01 "$REAL/cmu_01_01.bvh" "$TMP/cmu_01_01.urdf" "--gravity 0,-9.81,0"
 fi
 python3 - "$TMP" <<'PYEOF'

@@ -1,9 +1,12 @@
 //! The joint-space inertia (mass) matrix by the composite rigid body algorithm.
 
 use super::Workspace;
+use super::rnea::JointStep;
 use super::workspace::NO_DOF;
 use crate::model::Model;
-use crate::spatial::{FastTransform, ForceVec, MotionVec, SpatialInertia, SpatialTransform};
+use crate::spatial::{
+    AxisRotation, FastTransform, ForceVec, MotionVec, SpatialInertia, SpatialTransform,
+};
 use nalgebra::{DMatrix, Vector3};
 
 /// A rigid-body (or composite) spatial inertia in world axes about a fixed point O, in the 10
@@ -108,10 +111,27 @@ pub fn crba<'w>(model: &Model, ws: &'w mut Workspace, q: &[f64]) -> &'w DMatrix<
         } else {
             WorldInertia::of_body(inertia, o)
         };
-        let joint = &model.joints[i];
         let iv = model.idx_v[i];
-        for k in 0..joint.nv() {
-            ws.s_world[iv + k] = o.act_motion(&joint.subspace_col(k));
+        match ws.joint_steps[i] {
+            JointStep::Axis { k, .. }
+            | JointStep::Triple { k: [k, _, _], .. }
+            | JointStep::InTriple { k } => {
+                // S = [e_k; 0] in body axes: column k of the rotation, about the body's origin
+                let ang = o.rot.column(k).into_owned();
+                ws.s_world[iv] = MotionVec::new(ang, o.trans.cross(&ang));
+            }
+            JointStep::General => {
+                let joint = &model.joints[i];
+                if let Some(k) = joint.revolute_coordinate_axis() {
+                    // a coordinate axis under a rotated placement: still a column pick
+                    let ang = o.rot.column(k).into_owned();
+                    ws.s_world[iv] = MotionVec::new(ang, o.trans.cross(&ang));
+                } else {
+                    for k in 0..joint.nv() {
+                        ws.s_world[iv + k] = o.act_motion(&joint.subspace_col(k));
+                    }
+                }
+            }
         }
     }
 
@@ -124,19 +144,23 @@ pub fn crba<'w>(model: &Model, ws: &'w mut Workspace, q: &[f64]) -> &'w DMatrix<
         }
     }
 
-    // columns: F = I^c_i S_k, projected on k and on every coordinate above it
+    // columns: F = I^c_i S_k, projected on k and on every coordinate above it (the branch-induced
+    // sparsity: only the coordinates on k's path to the root)
+    let (s_world, dof_parent) = (&ws.s_world[..nv], &ws.dof_parent[..nv]);
+    let (idx_v, joints, ycrb) = (&model.idx_v[..n], &model.joints[..n], &ws.ycrb[..n]);
     let h = ws.mass_matrix.as_mut_slice();
     for i in 1..n {
-        let iv = model.idx_v[i];
-        for k in iv..iv + model.joints[i].nv() {
-            let f = ws.ycrb[i].mul_motion(&ws.s_world[k]);
+        let iv = idx_v[i];
+        for k in iv..iv + joints[i].nv() {
+            let f = ycrb[i].mul_motion(&s_world[k]);
+            // D is stored column-major: D[r, c] at r + c·nv
+            let col = k * nv;
             let mut j = k;
             while j != NO_DOF {
-                // D is stored column-major: D[r, c] at r + c·nv
-                let x = ws.s_world[j].dot(&f);
-                h[j + k * nv] = x;
+                let x = s_world[j].dot(&f);
+                h[j + col] = x;
                 h[k + j * nv] = x;
-                j = ws.dof_parent[j];
+                j = dof_parent[j];
             }
         }
     }
@@ -148,17 +172,67 @@ pub fn crba<'w>(model: &Model, ws: &'w mut Workspace, q: &[f64]) -> &'w DMatrix<
 /// which the caller takes as the reference point of its world-axes sums so that lever arms stay
 /// short wherever a take walks to (world-frame sums lose digits as |lever|²; the shift itself
 /// is exact to round-off). Zero when no body has mass.
+///
+/// Each joint is crossed as `rnea` crosses it ([`JointStep`], decided once per model): a
+/// revolute joint about a coordinate axis under an unrotated placement mixes two columns of the
+/// parent's rotation (the axis a constant, no branch on it) and adds the placement's
+/// translation only when it has one; any other joint composes [`Model::parent_transform`].
 #[inline]
 pub(crate) fn world_poses(model: &Model, ws: &mut Workspace, q: &[f64]) -> Vector3<f64> {
+    let n = model.nbodies();
+    let (parent, idx_q, placement) = (&model.parent[..n], &model.idx_q[..n], &model.placement[..n]);
+    let (steps, o_x_i) = (&ws.joint_steps[..n], &mut ws.o_x_i[..n]);
     let mut first_massive = None;
-    for i in 1..model.nbodies() {
-        let o = then(&ws.o_x_i[model.parent[i]], &model.parent_transform(i, q));
+    for i in 1..n {
+        let op = &o_x_i[parent[i]];
+        let o = match steps[i] {
+            JointStep::Axis { k, shifted }
+            | JointStep::Triple {
+                k: [k, _, _],
+                shifted,
+            } => axis_pose(k, op, shifted.then_some(&placement[i].trans), q[idx_q[i]]),
+            JointStep::InTriple { k } => axis_pose(k, op, None, q[idx_q[i]]),
+            JointStep::General => then(op, &model.parent_transform(i, q)),
+        };
         if first_massive.is_none() && !model.inertia[i].is_zero() {
             first_massive = Some(i);
         }
-        ws.o_x_i[i] = o;
+        o_x_i[i] = o;
     }
-    first_massive.map_or(Vector3::zeros(), |b| ws.o_x_i[b].trans)
+    first_massive.map_or(Vector3::zeros(), |b| o_x_i[b].trans)
+}
+
+/// `0X_i = 0X_λ λX_i` across a revolute joint about coordinate axis `k` (angle `angle`) after
+/// the translation `t` (none: zero).
+#[inline(always)]
+fn axis_pose(
+    k: usize,
+    op: &SpatialTransform,
+    t: Option<&Vector3<f64>>,
+    angle: f64,
+) -> SpatialTransform {
+    match k {
+        0 => axis_pose_k::<0>(op, t, angle),
+        1 => axis_pose_k::<1>(op, t, angle),
+        _ => axis_pose_k::<2>(op, t, angle),
+    }
+}
+
+/// [`axis_pose`] with the axis a constant: two columns of the parent's rotation mixed.
+#[inline(always)]
+fn axis_pose_k<const K: usize>(
+    op: &SpatialTransform,
+    t: Option<&Vector3<f64>>,
+    angle: f64,
+) -> SpatialTransform {
+    let rot = AxisRotation {
+        axis: K,
+        ..AxisRotation::new(K, angle)
+    };
+    SpatialTransform::new(
+        rot.premul(&op.rot),
+        t.map_or(op.trans, |t| op.trans + op.rot * t),
+    )
 }
 
 /// `0X_i = 0X_λ · λX_i` with `λX_i` in fast form (a coordinate-axis rotation mixes two columns).

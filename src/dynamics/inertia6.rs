@@ -124,27 +124,28 @@ impl SymInertia6 {
     /// `n_p = n − p × f` and `v = v_p + p × ω`).
     #[inline]
     pub fn move_by(&mut self, p: &Vector3<f64>) {
-        let pm = [[0.0, -p.z, p.y], [p.z, 0.0, -p.x], [-p.y, p.x, 0.0]];
+        // with P = [p]×, every product with P is a cross product: (P X)_col = p × X_col and
+        // (X P)_row = X_row × p (6 multiplications each, not a 3×3 product's 27)
         let c = &self.c;
-        let cm = [[c[0], c[3], c[4]], [c[3], c[1], c[5]], [c[4], c[5], c[2]]];
-        let b = &self.b;
-        // P C and B P (3×3 products)
-        let pc: [[f64; 3]; 3] = std::array::from_fn(|r| {
-            std::array::from_fn(|k| pm[r][0] * cm[0][k] + pm[r][1] * cm[1][k] + pm[r][2] * cm[2][k])
-        });
-        let bp: [[f64; 3]; 3] = std::array::from_fn(|r| {
-            std::array::from_fn(|k| b[r][0] * pm[0][k] + b[r][1] * pm[1][k] + b[r][2] * pm[2][k])
-        });
-        // (P C P)_rk on the upper triangle
-        let pcp =
-            |r: usize, k: usize| pc[r][0] * pm[0][k] + pc[r][1] * pm[1][k] + pc[r][2] * pm[2][k];
-        const UPPER: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
-        for (x, &(r, k)) in self.a.iter_mut().zip(&UPPER) {
-            *x += bp[r][k] + bp[k][r] - pcp(r, k);
-        }
-        for (br, pr) in self.b.iter_mut().zip(&pc) {
-            for (x, y) in br.iter_mut().zip(pr) {
-                *x -= y;
+        let cols = [
+            Vector3::new(c[0], c[3], c[4]),
+            Vector3::new(c[3], c[1], c[5]),
+            Vector3::new(c[4], c[5], c[2]),
+        ];
+        let pc = cols.map(|col| p.cross(&col)); // columns of P C
+        let pc_row = |r: usize| Vector3::new(pc[0][r], pc[1][r], pc[2][r]);
+        let (pcp0, pcp1, pcp2) = (pc_row(0).cross(p), pc_row(1).cross(p), pc_row(2).cross(p)); // rows of P C P
+        let bp = self.b.map(|r| Vector3::new(r[0], r[1], r[2]).cross(p)); // rows of B P
+        let a = &mut self.a;
+        a[0] += 2.0 * bp[0][0] - pcp0[0];
+        a[1] += 2.0 * bp[1][1] - pcp1[1];
+        a[2] += 2.0 * bp[2][2] - pcp2[2];
+        a[3] += bp[0][1] + bp[1][0] - pcp0[1];
+        a[4] += bp[0][2] + bp[2][0] - pcp0[2];
+        a[5] += bp[1][2] + bp[2][1] - pcp1[2];
+        for (r, br) in self.b.iter_mut().enumerate() {
+            for (k, x) in br.iter_mut().enumerate() {
+                *x -= pc[k][r];
             }
         }
     }

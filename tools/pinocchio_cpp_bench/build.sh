@@ -7,7 +7,8 @@
 # Flags: -O3 -march=native -DNDEBUG. Every timed Pinocchio function is compiled here from the
 # headers (no PINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION, so nothing comes precompiled from
 # libpinocchio_default.so); only Boost.Serialization is linked, to read the model archive.
-# Writes target/pinocchio_bench (in the repository's target/, next to cargo's output).
+# Writes pinocchio_bench next to cargo's output: in $CARGO_TARGET_DIR when set (relative to
+# the repository if relative), else in the repository's target/.
 set -euo pipefail
 VENV="${1:-$HOME/.cache/pin-oracle}"
 PREFIX="$(echo "$VENV"/lib/python3*/site-packages/cmeel.prefix)"
@@ -16,7 +17,7 @@ if [ ! -d "$PREFIX/include/eigen3/Eigen" ]; then
     echo "Eigen headers missing: $VENV/bin/pip install cmeel-eigen" >&2; exit 1
 fi
 HERE="$(cd "$(dirname "$0")" && pwd)"
-OUT="$HERE/../../target/pinocchio_bench"
+OUT="$(cd "$HERE/../.." && mkdir -p "${CARGO_TARGET_DIR:-target}" && cd "${CARGO_TARGET_DIR:-target}" && pwd)/pinocchio_bench"
 mkdir -p "$(dirname "$OUT")"
 # the compile definitions Pinocchio's CMake config gives its users (pinocchioTargets.cmake),
 # minus the template instantiation one

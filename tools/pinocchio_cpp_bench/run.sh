@@ -23,7 +23,7 @@ while [ $# -gt 0 ]; do
     esac
     shift
 done
-BIN="$HERE/../../target/pinocchio_bench"
+BIN="$(cd "$HERE/../.." && mkdir -p "${CARGO_TARGET_DIR:-target}" && cd "${CARGO_TARGET_DIR:-target}" && pwd)/pinocchio_bench"
 [ -x "$BIN" ] || "$HERE/build.sh" "$VENV" >&2
 TMP="$(mktemp -d)"; trap 'rm -rf "$TMP"' EXIT
 "$VENV/bin/python" "$HERE/export_model.py" "$URDF" "$TMP/m" "${EXPORT_ARGS[@]}" >&2
