@@ -116,6 +116,66 @@ pub fn euler_to_quaternion(order: EulerOrder, angles: [f64; 3]) -> UnitQuaternio
     UnitQuaternion::new_unchecked(q)
 }
 
+/// Rotation `angle` about coordinate `axis` given its sine and cosine ([`axis_rotation`]
+/// without the trigonometry).
+fn axis_rotation_sc(axis: usize, s: f64, c: f64) -> Matrix3<f64> {
+    match axis {
+        0 => Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c),
+        1 => Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c),
+        _ => Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0),
+    }
+}
+
+/// A triple's rotation as a quaternion and as a matrix, and its hinges' axes
+/// ([`hinge_axes`] under the identity), from three half-angle sines and cosines (the full
+/// angles' by the double-angle formulas): what differentiating an euler joint needs per frame,
+/// with three `sin_cos` in all.
+pub fn euler_frame(
+    order: EulerOrder,
+    angles: [f64; 3],
+) -> (UnitQuaternion<f64>, Matrix3<f64>, Matrix3<f64>) {
+    let ax = order.axes();
+    let mut q = Quaternion::identity();
+    let mut r = Matrix3::identity();
+    let mut cols = [Vector3::zeros(); 3];
+    for n in 0..3 {
+        let (s, c) = (0.5 * angles[n]).sin_cos();
+        let mut v = [0.0; 3];
+        v[ax[n]] = s;
+        q *= Quaternion::new(c, v[0], v[1], v[2]);
+        cols[n] = r.column(ax[n]).into_owned();
+        // r · R_a(θ) turns two columns: e_u → c e_u + s e_v, e_v → −s e_u + c e_v
+        let (sa, ca) = (2.0 * s * c, (c - s) * (c + s));
+        let (u, w) = ((ax[n] + 1) % 3, (ax[n] + 2) % 3);
+        let (cu, cw) = (r.column(u).into_owned(), r.column(w).into_owned());
+        r.set_column(u, &(cu * ca + cw * sa));
+        r.set_column(w, &(cw * ca - cu * sa));
+    }
+    (
+        UnitQuaternion::new_unchecked(q),
+        r,
+        Matrix3::from_columns(&cols),
+    )
+}
+
+/// [`matrix_to_euler`] with the first angle's sine and cosine read from the matrix instead
+/// of computed from the angle: the same angles to rounding, one `sin_cos` fewer.
+pub fn matrix_to_euler_fast(order: EulerOrder, r: &Matrix3<f64>) -> [f64; 3] {
+    let [i, j, k] = order.axes();
+    let s = order.parity();
+    let h = r[(j, k)].hypot(r[(k, k)]);
+    let (a1, s1, c1) = if h > 1e-12 {
+        let (y, x) = (-s * r[(j, k)], r[(k, k)]);
+        (y.atan2(x), y / h, x / h)
+    } else {
+        (0.0, 0.0, 1.0)
+    };
+    let m = axis_rotation_sc(i, s1, c1).transpose() * r;
+    let a2 = (s * m[(i, k)]).atan2(m[(k, k)]);
+    let a3 = (s * m[(j, i)]).atan2(m[(j, j)]);
+    [a1, a2, a3]
+}
+
 /// The axes of three hinges `R = before · R_c1(q1) R_c2(q2) R_c3(q3)` (a BVH joint of the euler
 /// model, or its root under the rotation `before`), as columns in the frame `before` is
 /// expressed in: `w_n = before · R_c1 ⋯ R_c(n−1) e_cn`. The angular velocity of the last hinge's
@@ -296,6 +356,15 @@ mod tests {
             let a = [0.3, -1.2, 2.5];
             let q = euler_to_quaternion(o, a);
             assert!((q.to_rotation_matrix().into_inner() - euler_to_matrix(o, a)).norm() < 1e-14);
+            let (_, r, axes) = euler_frame(o, a);
+            assert!((r - euler_to_matrix(o, a)).norm() < 1e-14);
+            assert!((axes - hinge_axes(Matrix3::identity(), o, a)).norm() < 1e-14);
+            let fast = matrix_to_euler_fast(o, &r);
+            let slow = matrix_to_euler(o, &r);
+            assert!(
+                (0..3).all(|n| (fast[n] - slow[n]).abs() < 1e-12),
+                "{fast:?} {slow:?}"
+            );
         }
     }
 

@@ -49,7 +49,13 @@ fn see(t: &Take) -> Seen {
 fn assert_same(label: &str, a: &Seen, b: &Seen, rel: f64) {
     let columns = |s: &Seen| -> Vec<(String, Vec<f64>)> {
         let mut all = s.residuals.clone();
-        all.extend(s.anatomy.names.iter().cloned().zip(s.anatomy.columns.clone()));
+        all.extend(
+            s.anatomy
+                .names
+                .iter()
+                .cloned()
+                .zip(s.anatomy.columns.clone()),
+        );
         all
     };
     let (ca, cb) = (columns(a), columns(b));
@@ -58,7 +64,7 @@ fn assert_same(label: &str, a: &Seen, b: &Seen, rel: f64) {
         cb.iter().map(|c| &c.0).collect::<Vec<_>>(),
         "{label}: columns"
     );
-    assert!(a.anatomy.names.iter().any(|n| n.contains("moment:knee")));
+    assert!(a.anatomy.names.iter().any(|n| is_knee_moment(n)));
     let mut worst = (0.0, String::new());
     for ((name, x), (_, y)) in ca.iter().zip(&cb) {
         let scale = x.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
@@ -69,8 +75,15 @@ fn assert_same(label: &str, a: &Seen, b: &Seen, rel: f64) {
             }
         }
     }
-    eprintln!("{label}: worst relative difference {:.1e} ({})", worst.0, worst.1);
+    eprintln!(
+        "{label}: worst relative difference {:.1e} ({})",
+        worst.0, worst.1
+    );
     assert!(worst.0 <= rel, "{label}: {}", worst.1);
+}
+
+fn is_knee_moment(name: &str) -> bool {
+    name.contains("knee") && name.contains("moment") && !name.contains("per_kg")
 }
 
 fn euler_is_ball(b: &Bvh, label: &str) {
@@ -91,15 +104,17 @@ fn the_demo_walk_on_the_euler_model_moves_as_on_the_ball_model() {
 fn the_demo_walk_in_another_rotation_order_gives_the_same_euler_model_moments() {
     let b = bvh::read(&common::repo("data/demo_walk.bvh")).unwrap();
     let original = see(&take(&b, "euler"));
-    let reordered = see(&take(&common::variants::another_rotation_order(&b), "euler"));
+    let reordered = see(&take(
+        &common::variants::another_rotation_order(&b),
+        "euler",
+    ));
     assert_same("demo walk, another order", &original, &reordered, 1e-6);
 }
 
 /// The demo walk turned about the vertical so that its heading is the root's middle Euler
 /// angle (Y-up, written Z-Y-X: within 6° of gimbal lock on most frames, the Xia takes' Hips)
 /// is the same walk facing another way: the same residuals, ground reactions (turned) and
-/// anatomical moments, so the same figures before reduction. Before the fix the euler model's
-/// RMS residual moment before reduction moved from 7.0 to 7.9 % on such a take.
+/// anatomical moments, so the same figures before reduction.
 #[test]
 fn the_demo_walk_turned_to_gimbal_lock_has_the_same_residuals_on_the_euler_model() {
     let b = bvh::read(&common::repo("data/demo_walk.bvh")).unwrap();
@@ -121,14 +136,24 @@ fn the_demo_walk_turned_to_gimbal_lock_has_the_same_residuals_on_the_euler_model
     let (t0, t1) = (take(&reordered, "euler"), take(&turned, "euler"));
     let figures = |t: &Take| consistent_take(t, false, None).unwrap().2.before;
     let (f0, f1) = (figures(&t0), figures(&t1));
-    eprintln!("before: {} / {} %", f0.moment_pct(), f1.moment_pct());
-    assert!((f0.moment_pct() - f1.moment_pct()).abs() < 1e-6 * f0.moment_pct());
-    assert!((f0.force_pct() - f1.force_pct()).abs() < 1e-6 * f0.force_pct());
+    eprintln!(
+        "before: {} / {} % moment, {} / {} % force",
+        f0.moment_pct(),
+        f1.moment_pct(),
+        f0.force_pct(),
+        f1.force_pct()
+    );
+    assert!((f0.moment_pct() - f1.moment_pct()).abs() < 1e-6 * f0.moment_pct().max(1.0));
+    assert!((f0.force_pct() - f1.force_pct()).abs() < 1e-6 * f0.force_pct().max(1.0));
     let (a0, a1) = (
         pipeline::anatomy::anatomy(&t0).unwrap(),
         pipeline::anatomy::anatomy(&t1).unwrap(),
     );
-    let knees = a0.names.iter().enumerate().filter(|(_, n)| n.starts_with("moment:knee"));
+    let knees = a0
+        .names
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| is_knee_moment(n));
     for (c, name) in knees {
         let peak = a0.columns[c].iter().fold(1.0_f64, |m, v| m.max(v.abs()));
         for (x, y) in a0.columns[c].iter().zip(&a1.columns[c]) {

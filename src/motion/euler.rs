@@ -7,7 +7,7 @@
 //! their central differences likewise differ from the joint's angular velocity by terms that
 //! grow as `1/cos a2`. Here the triple's rotations are smoothed on SO(3) exactly as a ball
 //! joint's quaternions are ([`Smoother::smooth_quaternions`]) and written back as angles on the
-//! take's continuous branch ([`repick`]); the rates come from the rotation: the joint's body
+//! take's continuous branch ([`repick_fast`]); the rates come from the rotation: the joint's body
 //! angular velocity `ω` by the ball joint's manifold differences, `ω̇` by the same differences
 //! of `ω`, then `q̇ = H⁻¹ ω` and `q̈ = H⁻¹ (α − Ḣ q̇)` in the joint's parent frame (`ω_p = R ω`,
 //! `α_p = R ω̇`: `d(Rω)/dt = R ω̇ + R [ω]× ω`), `H` the hinges' axes
@@ -15,10 +15,9 @@
 //! model's, whatever the take's rotation order.
 
 use crate::motion::smooth::{SmoothSpec, Smoother};
-use crate::motion::unwrap::repick;
+use crate::motion::unwrap::repick_fast;
 use crate::rotation::{
-    EulerOrder, euler_to_matrix, euler_to_quaternion, hinge_axes, hinge_coordinate_rates,
-    matrix_to_euler,
+    EulerOrder, euler_frame, euler_to_quaternion, hinge_coordinate_rates, matrix_to_euler_fast,
 };
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
@@ -33,15 +32,21 @@ pub const LOCK_DET: f64 = 1e-7;
 pub struct TripleScratch {
     /// Rotation of each frame.
     pub quats: Vec<UnitQuaternion<f64>>,
+    /// Each frame's rotation and hinge axes ([`euler_frame`]).
+    frames: Vec<Frame>,
     /// Body angular velocity `ω` of each frame (rad/s, child frame).
     omega: Vec<Vector3<f64>>,
 }
+
+/// A frame's rotation (quaternion, matrix) and its hinges' axes in the parent frame.
+type Frame = (UnitQuaternion<f64>, Matrix3<f64>, Matrix3<f64>);
 
 impl TripleScratch {
     /// Buffers for `frames` frames.
     pub fn with_capacity(frames: usize) -> Self {
         Self {
             quats: Vec::with_capacity(frames),
+            frames: Vec::with_capacity(frames),
             omega: Vec::with_capacity(frames),
         }
     }
@@ -49,7 +54,8 @@ impl TripleScratch {
     fn fill_quats(&mut self, order: EulerOrder, cols: [&[f64]; 3]) {
         self.quats.clear();
         self.quats.extend(
-            (0..cols[0].len()).map(|k| euler_to_quaternion(order, [cols[0][k], cols[1][k], cols[2][k]])),
+            (0..cols[0].len())
+                .map(|k| euler_to_quaternion(order, [cols[0][k], cols[1][k], cols[2][k]])),
         );
     }
 }
@@ -74,7 +80,7 @@ pub fn smooth_triple(
     let mut previous = [c0[0], c1[0], c2[0]];
     for (k, r) in s.quats.iter().enumerate() {
         let m: Matrix3<f64> = r.to_rotation_matrix().into_inner();
-        let x = repick(order, &m, matrix_to_euler(order, &m), previous);
+        let x = repick_fast(order, matrix_to_euler_fast(order, &m), previous);
         (c0[k], c1[k], c2[k]) = (x[0], x[1], x[2]);
         previous = x;
     }
@@ -97,8 +103,10 @@ pub fn triple_rates(
     if q[1].iter().any(|a2| a2.cos().abs() < LOCK_DET) {
         return false;
     }
-    s.fill_quats(order, q);
-    body_angular_velocity(&s.quats, dt, &mut s.omega);
+    s.frames.clear();
+    s.frames
+        .extend((0..n).map(|k| euler_frame(order, [q[0][k], q[1][k], q[2][k]])));
+    body_angular_velocity(&s.frames, dt, &mut s.omega);
     let [v0, v1, v2] = v;
     let [a0, a1, a2] = a;
     let h2 = 2.0 * dt;
@@ -111,10 +119,8 @@ pub fn triple_rates(
             _ if k == n - 1 => (3.0 * w[n - 1] - 4.0 * w[n - 2] + w[n - 3]) / h2,
             _ => (w[k + 1] - w[k - 1]) / h2,
         };
-        let x = [q[0][k], q[1][k], q[2][k]];
-        let r = euler_to_matrix(order, x);
-        let axes = hinge_axes(Matrix3::identity(), order, x);
-        let Some((dq, ddq)) = hinge_coordinate_rates(&axes, &(r * w[k]), &(r * dw), 0.0) else {
+        let (_, r, axes) = &s.frames[k];
+        let Some((dq, ddq)) = hinge_coordinate_rates(axes, &(r * w[k]), &(r * dw), 0.0) else {
             // a singular H at |cos a2| ≥ LOCK_DET is rounding's, not the take's: hold
             continue;
         };
@@ -130,9 +136,9 @@ pub fn triple_rates(
 /// (`pipeline::states`' `joint_velocity` with the spherical joint's `difference`,
 /// `log(q_i⁻¹ q_j)`): central inside, one-sided second order at the ends, the one difference
 /// for two frames.
-fn body_angular_velocity(q: &[UnitQuaternion<f64>], dt: f64, out: &mut Vec<Vector3<f64>>) {
+fn body_angular_velocity(q: &[Frame], dt: f64, out: &mut Vec<Vector3<f64>>) {
     let n = q.len();
-    let diff = |i: usize, j: usize| (q[i].inverse() * q[j]).scaled_axis();
+    let diff = |i: usize, j: usize| (q[i].0.inverse() * q[j].0).scaled_axis();
     out.clear();
     match n {
         0 => {}
