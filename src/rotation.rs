@@ -13,7 +13,7 @@
 //! the first angle (even at gimbal lock, where it is arbitrary), the triple reproduces `R` to
 //! rounding.
 
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 use std::f64::consts::PI;
 
 /// One of the six Tait–Bryan orders (three distinct axes), named by its channel order:
@@ -101,6 +101,134 @@ pub fn axis_rotation(axis: usize, angle: f64) -> Matrix3<f64> {
 pub fn euler_to_matrix(order: EulerOrder, angles: [f64; 3]) -> Matrix3<f64> {
     let [i, j, k] = order.axes();
     axis_rotation(i, angles[0]) * axis_rotation(j, angles[1]) * axis_rotation(k, angles[2])
+}
+
+/// The unit quaternion of `euler_to_matrix(order, angles)`: the product of the three axis
+/// quaternions `(cos a/2, sin a/2 · e_axis)`, without the matrix.
+pub fn euler_to_quaternion(order: EulerOrder, angles: [f64; 3]) -> UnitQuaternion<f64> {
+    let mut q = Quaternion::identity();
+    for (n, &axis) in order.axes().iter().enumerate() {
+        let (s, c) = (0.5 * angles[n]).sin_cos();
+        let mut v = [0.0; 3];
+        v[axis] = s;
+        q *= Quaternion::new(c, v[0], v[1], v[2]);
+    }
+    UnitQuaternion::new_unchecked(q)
+}
+
+/// Rotation `angle` about coordinate `axis` given its sine and cosine ([`axis_rotation`]
+/// without the trigonometry).
+fn axis_rotation_sc(axis: usize, s: f64, c: f64) -> Matrix3<f64> {
+    match axis {
+        0 => Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c),
+        1 => Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c),
+        _ => Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0),
+    }
+}
+
+/// A triple's rotation as a quaternion and as a matrix, and its hinges' axes
+/// ([`hinge_axes`] under the identity), from three half-angle sines and cosines (the full
+/// angles' by the double-angle formulas): what differentiating an euler joint needs per frame,
+/// with three `sin_cos` in all.
+pub fn euler_frame(
+    order: EulerOrder,
+    angles: [f64; 3],
+) -> (UnitQuaternion<f64>, Matrix3<f64>, Matrix3<f64>) {
+    let ax = order.axes();
+    let mut q = Quaternion::identity();
+    let mut r = Matrix3::identity();
+    let mut cols = [Vector3::zeros(); 3];
+    for n in 0..3 {
+        let (s, c) = (0.5 * angles[n]).sin_cos();
+        let mut v = [0.0; 3];
+        v[ax[n]] = s;
+        q *= Quaternion::new(c, v[0], v[1], v[2]);
+        cols[n] = r.column(ax[n]).into_owned();
+        // r · R_a(θ) turns two columns: e_u → c e_u + s e_v, e_v → −s e_u + c e_v
+        let (sa, ca) = (2.0 * s * c, (c - s) * (c + s));
+        let (u, w) = ((ax[n] + 1) % 3, (ax[n] + 2) % 3);
+        let (cu, cw) = (r.column(u).into_owned(), r.column(w).into_owned());
+        r.set_column(u, &(cu * ca + cw * sa));
+        r.set_column(w, &(cw * ca - cu * sa));
+    }
+    (
+        UnitQuaternion::new_unchecked(q),
+        r,
+        Matrix3::from_columns(&cols),
+    )
+}
+
+/// [`matrix_to_euler`] with the first angle's sine and cosine read from the matrix instead
+/// of computed from the angle: the same angles to rounding, one `sin_cos` fewer.
+pub fn matrix_to_euler_fast(order: EulerOrder, r: &Matrix3<f64>) -> [f64; 3] {
+    let [i, j, k] = order.axes();
+    let s = order.parity();
+    let h = r[(j, k)].hypot(r[(k, k)]);
+    let (a1, s1, c1) = if h > 1e-12 {
+        let (y, x) = (-s * r[(j, k)], r[(k, k)]);
+        (y.atan2(x), y / h, x / h)
+    } else {
+        (0.0, 0.0, 1.0)
+    };
+    let m = axis_rotation_sc(i, s1, c1).transpose() * r;
+    let a2 = (s * m[(i, k)]).atan2(m[(k, k)]);
+    let a3 = (s * m[(j, i)]).atan2(m[(j, j)]);
+    [a1, a2, a3]
+}
+
+/// The axes of three hinges `R = before · R_c1(q1) R_c2(q2) R_c3(q3)` (a BVH joint of the euler
+/// model, or its root under the rotation `before`), as columns in the frame `before` is
+/// expressed in: `w_n = before · R_c1 ⋯ R_c(n−1) e_cn`. The angular velocity of the last hinge's
+/// body relative to that frame is `ω = H q̇`; `det H = ±cos q2`, zero at gimbal lock.
+pub fn hinge_axes(before: Matrix3<f64>, order: EulerOrder, q: [f64; 3]) -> Matrix3<f64> {
+    let ax = order.axes();
+    let mut r = before;
+    let mut cols = [Vector3::zeros(); 3];
+    for n in 0..3 {
+        cols[n] = r.column(ax[n]).into_owned();
+        r *= axis_rotation(ax[n], q[n]);
+    }
+    Matrix3::from_columns(&cols)
+}
+
+/// The angular velocity and acceleration of the last of three hinges ([`hinge_axes`]):
+/// `ω = Σ w_n q̇_n`, `α = Σ w_n q̈_n + Σ ω_(<n) × w_n q̇_n` (each axis turns with the hinges
+/// before it, `ẇ_n = ω_(<n) × w_n`).
+pub fn hinge_rates(
+    before: Matrix3<f64>,
+    order: EulerOrder,
+    q: [f64; 3],
+    dq: [f64; 3],
+    ddq: [f64; 3],
+) -> (Vector3<f64>, Vector3<f64>) {
+    let axes = hinge_axes(before, order, q);
+    let (mut w, mut dw) = (Vector3::zeros(), Vector3::zeros());
+    for n in 0..3 {
+        let axis = axes.column(n).into_owned();
+        dw += axis * ddq[n] + w.cross(&axis) * dq[n];
+        w += axis * dq[n];
+    }
+    (w, dw)
+}
+
+/// The inverse of [`hinge_rates`] at the hinges' `axes` (`H`): `q̇ = H⁻¹ ω` and
+/// `q̈ = H⁻¹ (α − Ḣ q̇)`, with `Ḣ q̇ = Σ ω_(<n) × w_n q̇_n` at the new rates. `None` when
+/// `|det H| < min_det` (within that `|cos|` of gimbal lock the rates grow without bound).
+pub fn hinge_coordinate_rates(
+    axes: &Matrix3<f64>,
+    w: &Vector3<f64>,
+    dw: &Vector3<f64>,
+    min_det: f64,
+) -> Option<(Vector3<f64>, Vector3<f64>)> {
+    if axes.determinant().abs() < min_det {
+        return None;
+    }
+    let inverse = axes.try_inverse()?;
+    let dq = inverse * w;
+    let w0 = axes.column(0) * dq[0];
+    let bias = w0.cross(&axes.column(1)) * dq[1]
+        + (w0 + axes.column(1) * dq[1]).cross(&axes.column(2)) * dq[2];
+    Some((dq, inverse * (dw - bias)))
 }
 
 /// Angles `[a1, a2, a3]` (rad) with `euler_to_matrix(order, angles) ≈ r`, for a rotation
@@ -220,5 +348,39 @@ mod tests {
             assert_eq!(EulerOrder::from_axes(o.axes()), Some(o));
         }
         assert_eq!(EulerOrder::from_axes([0, 0, 1]), None);
+    }
+
+    #[test]
+    fn the_quaternion_of_a_triple_is_its_matrix() {
+        for o in EulerOrder::ALL {
+            let a = [0.3, -1.2, 2.5];
+            let q = euler_to_quaternion(o, a);
+            assert!((q.to_rotation_matrix().into_inner() - euler_to_matrix(o, a)).norm() < 1e-14);
+            let (_, r, axes) = euler_frame(o, a);
+            assert!((r - euler_to_matrix(o, a)).norm() < 1e-14);
+            assert!((axes - hinge_axes(Matrix3::identity(), o, a)).norm() < 1e-14);
+            let fast = matrix_to_euler_fast(o, &r);
+            let slow = matrix_to_euler(o, &r);
+            assert!(
+                (0..3).all(|n| (fast[n] - slow[n]).abs() < 1e-12),
+                "{fast:?} {slow:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn hinge_coordinate_rates_invert_hinge_rates() {
+        let before = euler_to_matrix(EulerOrder::YXZ, [0.4, 0.2, -0.7]);
+        for o in EulerOrder::ALL {
+            let (q, dq, ddq) = ([0.3, 1.4, -2.0], [1.1, -0.4, 2.2], [-3.0, 0.5, 1.7]);
+            let (w, dw) = hinge_rates(before, o, q, dq, ddq);
+            let axes = hinge_axes(before, o, q);
+            let (v, a) = hinge_coordinate_rates(&axes, &w, &dw, 1e-7).unwrap();
+            for n in 0..3 {
+                assert!((v[n] - dq[n]).abs() < 1e-12 && (a[n] - ddq[n]).abs() < 1e-11);
+            }
+            let locked = hinge_axes(before, o, [0.3, std::f64::consts::FRAC_PI_2, -2.0]);
+            assert!(hinge_coordinate_rates(&locked, &w, &dw, 1e-7).is_none());
+        }
     }
 }

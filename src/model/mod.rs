@@ -19,8 +19,19 @@ pub mod urdf;
 
 pub use joint::JointKind;
 
+use crate::rotation::EulerOrder;
 use crate::spatial::{AxisRotation, FastTransform, SpatialInertia, SpatialTransform};
 use nalgebra::Vector3;
+
+/// Three hinges of a model that make one ball joint ([`Model::euler_triples`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EulerTriple {
+    /// The first hinge's body (its coordinates are `idx_q[body] .. idx_q[body] + 3`, and the
+    /// same in v).
+    pub body: usize,
+    /// The hinges' axes in chain order.
+    pub order: EulerOrder,
+}
 
 /// A superquadric used to draw a link: `|x/a|^(2/e2) + |y/b|^(2/e2)` … (Barr 1981), in the
 /// body frame.
@@ -93,6 +104,42 @@ impl Model {
             j.neutral(&mut q[self.idx_q[i]..self.idx_q[i] + j.nq()]);
         }
         q
+    }
+    /// Every triple of hinges that together make one ball joint, a BVH joint's three rotation
+    /// channels in the euler model: bodies `i`, `i + 1`, `i + 2` each the child of the one
+    /// before, revolute about three distinct coordinate axes, no rotation or offset between
+    /// them (the joint frame turns by `R_c1(q_i) R_c2(q_i+1) R_c3(q_i+2)`), the first two
+    /// massless with no other children (the fictitious links). In body order, disjoint.
+    pub fn euler_triples(&self) -> Vec<EulerTriple> {
+        let n = self.nbodies();
+        let mut children = vec![0usize; n];
+        for i in 1..n {
+            children[self.parent[i]] += 1;
+        }
+        let mut out = vec![];
+        let mut i = 1;
+        while i + 2 < n {
+            let axes = [i, i + 1, i + 2].map(|b| self.joints[b].revolute_coordinate_axis());
+            let chained = (1..3).all(|m| {
+                let b = i + m;
+                self.parent[b] == b - 1
+                    && self.placement[b] == SpatialTransform::IDENTITY
+                    && self.inertia[b - 1].mass == 0.0
+                    && children[b - 1] == 1
+            });
+            let order = match axes {
+                [Some(a), Some(b), Some(c)] if chained => EulerOrder::from_axes([a, b, c]),
+                _ => None,
+            };
+            match order {
+                Some(order) => {
+                    out.push(EulerTriple { body: i, order });
+                    i += 3;
+                }
+                None => i += 1,
+            }
+        }
+        out
     }
     /// Index of the body called `name`.
     pub fn body_index(&self, name: &str) -> Option<usize> {

@@ -5,6 +5,7 @@
 pub mod blend;
 pub mod contact;
 pub mod derive;
+pub mod euler;
 pub mod fold;
 pub mod ramp;
 pub mod smooth;

@@ -39,6 +39,9 @@ pub struct Adjustments {
     pub bounded: Vec<&'static str>,
     /// The bounds used.
     pub bounds: ReductionBounds,
+    /// The knot spacing (s) of the pelvis offset's refinement near the foot changes, when the
+    /// smooth adjustments left the take beyond the thresholds (`dynamics::rra`).
+    pub refined_knot_spacing_s: Option<f64>,
 }
 
 impl Adjustments {
@@ -75,7 +78,7 @@ impl Adjustments {
         format!(
             "adjustments: {mass}; trunk mass centre ({:+.1}, {:+.1}, {:+.1}) cm = {:.1} cm (trunk \
              {:.1} kg, its frame; bound {:.0} cm); pelvis offset peak {:.1} cm, RMS {:.1} cm \
-             (horizontal, knots every {:.2} s; bounds {:.0} cm, {:.0} cm); {rotation}{}; the \
+             (horizontal, knots every {:.2} s{}; bounds {:.0} cm, {:.0} cm); {rotation}{}; the \
              pelvis offset slides a foot in contact by up to {:.1} cm\n",
             c.x,
             c.y,
@@ -86,6 +89,10 @@ impl Adjustments {
             100.0 * self.pelvis_peak_m,
             100.0 * self.pelvis_rms_m,
             self.bounds.knot_spacing_s,
+            self.refined_knot_spacing_s
+                .map_or(String::new(), |h| format!(
+                    ", refined every {h:.3} s within the estimator's spread of the foot changes"
+                )),
             100.0 * self.bounds.pelvis_peak_m,
             100.0 * self.bounds.pelvis_rms_m,
             if self.bounded.is_empty() {
@@ -210,6 +217,7 @@ pub fn consistent_take_keeping(
         stance_slide_m: stance_slide(&r.pelvis, &r.ground.contact),
         bounded: r.bounded.clone(),
         bounds,
+        refined_knot_spacing_s: r.refined_knot_spacing_s,
     };
     let c = finish(
         fig_before,
@@ -543,6 +551,7 @@ impl Consistency {
                 "pelvis_offset_peak_m": a.pelvis_peak_m,
                 "pelvis_offset_rms_m": a.pelvis_rms_m,
                 "stance_slide_m": a.stance_slide_m,
+                "refined_knot_spacing_s": a.refined_knot_spacing_s,
                 "bounded_by": a.bounded,
                 "bounds": {
                     "trunk_com_m": a.bounds.trunk_com_m,

@@ -10,6 +10,7 @@ use crate::error::Error;
 use crate::io::bvh::Bvh;
 use crate::model::bvh::BvhMap;
 use crate::model::{JointKind, Model};
+use crate::motion::euler::{TripleScratch, smooth_triple, triple_rates};
 use crate::motion::smooth::{SmoothSpec, Smoother};
 use crate::motion::unwrap::{AngleUnit, unwrap_angles};
 use crate::par::{self, for_each_block, rounds};
@@ -56,7 +57,7 @@ pub fn take_states_marked(
     };
     done(Stage::Coordinates);
     let dt = bvh.frame_time;
-    let notes = euler_continuity(bvh, map, &mut cols);
+    let mut notes = euler_continuity(bvh, map, &mut cols);
     unwrap_revolute(model, &mut cols);
     done(Stage::Unwrap);
     smooth_columns(model, &mut cols, dt, smooth, &mut |f| keep_going(0.9 * f))?;
@@ -64,7 +65,17 @@ pub fn take_states_marked(
     if !keep_going(0.9) {
         return Err(Error::Cancelled);
     }
-    let (v, a) = derivative_columns(model, &cols, dt);
+    let (v, a, locked) = derivative_columns(model, &cols, dt);
+    notes.extend(locked.iter().map(|&b| {
+        let name = &model.joint_names[b];
+        let joint = name.rsplit_once('.').map_or(name.as_str(), |(j, _)| j);
+        format!(
+            "`{joint}` reaches gimbal lock (its middle angle within 0.00001° of ±90°): there its \
+             rates cannot come from its rotation, so its velocities and accelerations are its \
+             angles' differences, which spike; use the ball joint model (`--joints ball`, `set \
+             joints ball`)"
+        )
+    }));
     let states = States {
         time: (0..n).map(|k| bvh.time(k)).collect(),
         q: cols.rows(),
@@ -324,20 +335,32 @@ pub fn unwrap_and_smooth_with(
     Ok(())
 }
 
-/// Coordinates (columns side by side) to smooth: one ball or free joint's, or up to four
-/// consecutive scalar coordinates (`kind` `None`), which the filter runs side by side.
+/// Coordinates (columns side by side) to smooth: one ball or free joint's, one euler joint's
+/// three hinges ([`Model::euler_triples`]), or up to four consecutive scalar coordinates,
+/// which the filter runs side by side.
 struct JointColumns<'a> {
-    kind: Option<JointKind>,
+    kind: Group,
     cols: &'a mut [f64],
+}
+
+/// What a group of coordinates is.
+#[derive(Clone, Copy)]
+enum Group {
+    /// Scalar coordinates, filtered side by side.
+    Scalars,
+    /// A ball or free joint.
+    Joint(JointKind),
+    /// Three hinges that make one ball joint: smoothed as its rotation.
+    Euler(EulerOrder),
 }
 
 /// Scalar coordinates smoothed side by side in one group.
 const SIDE_BY_SIDE: usize = 4;
 
-/// What one worker smooths with: its filter's buffers and a quaternion trajectory.
+/// What one worker smooths with: its filter's buffers and a rotation trajectory.
 struct SmoothScratch {
     smoother: Smoother,
-    quats: Vec<UnitQuaternion<f64>>,
+    triple: TripleScratch,
 }
 
 /// Smooths every joint's coordinates, groups in parallel (a ball or free joint alone, up to
@@ -357,17 +380,27 @@ fn smooth_columns(
     let smoother = Smoother::new(*smooth, dt)?;
     // the groups of columns: consecutive scalar coordinates up to four together, each ball
     // or free joint alone (coordinate order: idx_q grows with the body index)
-    let mut groups: Vec<(usize, usize, Option<JointKind>)> = vec![];
-    for i in 1..model.nbodies() {
+    // and each euler joint's three hinges alone
+    let triples = model.euler_triples();
+    let mut triples = triples.iter().peekable();
+    let mut groups: Vec<(usize, usize, Group)> = vec![];
+    let mut i = 1;
+    while i < model.nbodies() {
         let (iq, nq, kind) = (model.idx_q[i], model.joints[i].nq(), model.joints[i]);
+        if let Some(t) = triples.next_if(|t| t.body == i) {
+            groups.push((iq, 3, Group::Euler(t.order)));
+            i += 3;
+            continue;
+        }
         match kind {
             JointKind::Fixed => {}
             JointKind::Revolute { .. } | JointKind::Prismatic { .. } => match groups.last_mut() {
-                Some((at, m, None)) if *at + *m == iq && *m < SIDE_BY_SIDE => *m += 1,
-                _ => groups.push((iq, nq, None)),
+                Some((at, m, Group::Scalars)) if *at + *m == iq && *m < SIDE_BY_SIDE => *m += 1,
+                _ => groups.push((iq, nq, Group::Scalars)),
             },
-            JointKind::Spherical | JointKind::Free => groups.push((iq, nq, Some(kind))),
+            JointKind::Spherical | JointKind::Free => groups.push((iq, nq, Group::Joint(kind))),
         }
+        i += 1;
     }
     let mut joints = Vec::with_capacity(groups.len());
     let mut rest: &mut [f64] = &mut cols.data;
@@ -385,7 +418,7 @@ fn smooth_columns(
         smoother.reserve(n);
         SmoothScratch {
             smoother,
-            quats: Vec::with_capacity(n),
+            triple: TripleScratch::with_capacity(n),
         }
     });
     let total = joints.len();
@@ -409,25 +442,32 @@ fn smooth_columns(
 /// One group of [`smooth_columns`].
 fn smooth_joint(s: &mut SmoothScratch, j: &mut JointColumns, n: usize) {
     let quat_at = match j.kind {
-        None => {
+        Group::Scalars => {
             s.smoother.smooth_side_by_side(j.cols, n);
             return;
         }
-        Some(JointKind::Free) => {
+        Group::Euler(order) => {
+            let (c0, rest) = j.cols.split_at_mut(n);
+            let (c1, c2) = rest.split_at_mut(n);
+            smooth_triple(&mut s.smoother, &mut s.triple, order, [c0, c1, c2]);
+            return;
+        }
+        Group::Joint(JointKind::Free) => {
             s.smoother.smooth_side_by_side(&mut j.cols[..3 * n], n);
             3 * n
         }
-        Some(JointKind::Spherical) => 0,
-        Some(_) => return,
+        Group::Joint(JointKind::Spherical) => 0,
+        Group::Joint(_) => return,
     };
     // quaternions [x, y, z, w] on the rotation manifold
     let c = &mut j.cols[quat_at..quat_at + 4 * n];
-    s.quats.clear();
-    s.quats.extend((0..n).map(|k| {
+    let quats = &mut s.triple.quats;
+    quats.clear();
+    quats.extend((0..n).map(|k| {
         UnitQuaternion::new_normalize(Quaternion::new(c[3 * n + k], c[k], c[n + k], c[2 * n + k]))
     }));
-    s.smoother.smooth_quaternions(&mut s.quats);
-    for (k, r) in s.quats.iter().enumerate() {
+    s.smoother.smooth_quaternions(quats);
+    for (k, r) in quats.iter().enumerate() {
         (c[k], c[n + k], c[2 * n + k], c[3 * n + k]) = (r.i, r.j, r.k, r.w);
     }
 }
@@ -478,21 +518,30 @@ fn world_translation_rates(model: &Model, q: &Columns, dt: f64, v: &mut Columns,
 /// [`derivative_columns`] on the rows' columns.
 pub fn derivatives(model: &Model, q: &[Vec<f64>], dt: f64) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
     let cols = Columns::of_rows(q, model.nq);
-    let (v, a) = derivative_columns(model, &cols, dt);
+    let (v, a, _) = derivative_columns(model, &cols, dt);
     (v.rows(), a.rows())
 }
 
-/// A joint's velocity columns (`nv × frames`, side by side) to fill from its coordinates.
+/// A joint's velocity and acceleration columns (`nv × frames` each, side by side) to fill from
+/// its coordinates: one body's, or an euler joint's three hinges.
 struct JointRates<'a> {
     body: usize,
+    euler: Option<EulerOrder>,
     v: &'a mut [f64],
+    a: &'a mut [f64],
+    /// Set when `a` was filled too: an euler joint's rates from its rotation.
+    from_rotation: bool,
 }
 
 /// [`derivatives`] on columns: joints in parallel for v (scalar joints column by column,
-/// ball and free joints through [`Model::difference`]'s joint formula frame by frame), then
-/// every v column in parallel for a. Each value is computed by the same expression as frame by
-/// frame, so the result does not depend on the layout or the number of threads.
-fn derivative_columns(model: &Model, q: &Columns, dt: f64) -> (Columns, Columns) {
+/// ball and free joints through [`Model::difference`]'s joint formula frame by frame, euler
+/// joints from their rotation with their a, [`triple_rates`]), then every other v column in
+/// parallel for a. Each value is computed by the same expression as frame by frame, so the
+/// result does not depend on the layout or the number of threads. Also returns the first
+/// hinge body of each euler joint that comes within
+/// [`LOCK_DET`](crate::motion::euler::LOCK_DET) of gimbal lock, whose rates are its angles'
+/// differences.
+fn derivative_columns(model: &Model, q: &Columns, dt: f64) -> (Columns, Columns, Vec<usize>) {
     let (n, nv) = (q.frames, model.nv);
     let mut v = Columns {
         frames: n,
@@ -503,30 +552,59 @@ fn derivative_columns(model: &Model, q: &Columns, dt: f64) -> (Columns, Columns)
         data: vec![0.0; nv * n],
     };
     if n < 2 {
-        return (v, a);
+        return (v, a, vec![]);
     }
-    // each joint's v columns, split off in velocity order (idx_v grows with the body index)
+    // each joint's v and a columns, split off in velocity order (idx_v grows with the body
+    // index), an euler joint's three hinges together
+    let triples = model.euler_triples();
+    let mut triples = triples.iter().peekable();
     let mut joints = Vec::with_capacity(model.nbodies());
-    let mut rest: &mut [f64] = &mut v.data;
+    let (mut rest_v, mut rest_a): (&mut [f64], &mut [f64]) = (&mut v.data, &mut a.data);
     let mut at = 0;
-    for i in 1..model.nbodies() {
-        let (iv, nvj) = (model.idx_v[i], model.joints[i].nv());
-        let (_, tail) = std::mem::take(&mut rest).split_at_mut((iv - at) * n);
-        let (mine, tail) = tail.split_at_mut(nvj * n);
-        joints.push(JointRates { body: i, v: mine });
-        rest = tail;
+    let mut i = 1;
+    while i < model.nbodies() {
+        let euler = triples.next_if(|t| t.body == i).map(|t| t.order);
+        let bodies = if euler.is_some() { 3 } else { 1 };
+        let iv = model.idx_v[i];
+        let nvj: usize = (i..i + bodies).map(|b| model.joints[b].nv()).sum();
+        let (_, tail_v) = std::mem::take(&mut rest_v).split_at_mut((iv - at) * n);
+        let (_, tail_a) = std::mem::take(&mut rest_a).split_at_mut((iv - at) * n);
+        let (mine_v, tail_v) = tail_v.split_at_mut(nvj * n);
+        let (mine_a, tail_a) = tail_a.split_at_mut(nvj * n);
+        joints.push(JointRates {
+            body: i,
+            euler,
+            v: mine_v,
+            a: mine_a,
+            from_rotation: false,
+        });
+        (rest_v, rest_a) = (tail_v, tail_a);
         at = iv + nvj;
+        i += bodies;
     }
     let block = par::even_block(joints.len());
-    for_each_block(&mut joints, block, &mut par::scratch(|| ()), |_, _, b| {
+    let mut scratch = par::scratch(|| TripleScratch::with_capacity(n));
+    for_each_block(&mut joints, block, &mut scratch, |s, _, b| {
         for j in b {
-            joint_velocity(model, q, dt, j);
+            joint_rates(model, q, dt, s, j);
         }
     });
-    if n == 2 {
-        return (v, a);
+    // the columns whose a is done, and the euler joints left to their angles
+    let mut done = vec![false; nv];
+    let mut locked = vec![];
+    for j in &joints {
+        let iv = model.idx_v[j.body];
+        if j.from_rotation {
+            done[iv..iv + 3].fill(true);
+        } else if j.euler.is_some() {
+            locked.push(j.body);
+        }
     }
-    // a: the same second-order differences on each v column
+    drop(joints);
+    if n == 2 {
+        return (v, a, locked);
+    }
+    // a: the same second-order differences on each other v column
     let h2 = 2.0 * dt;
     let vr = &v;
     let block = n * par::even_block(nv);
@@ -536,6 +614,9 @@ fn derivative_columns(model: &Model, q: &Columns, dt: f64) -> (Columns, Columns)
         &mut par::scratch(|| ()),
         |_, first, chunk| {
             for (c, ac) in chunk.chunks_mut(n).enumerate() {
+                if done[first / n + c] {
+                    continue;
+                }
                 let vc = vr.col(first / n + c);
                 ac[0] = (-3.0 * vc[0] + 4.0 * vc[1] - vc[2]) / h2;
                 for k in 1..n - 1 {
@@ -546,22 +627,45 @@ fn derivative_columns(model: &Model, q: &Columns, dt: f64) -> (Columns, Columns)
         },
     );
     world_translation_rates(model, q, dt, &mut v, &mut a);
-    (v, a)
+    (v, a, locked)
+}
+
+/// One joint of [`derivative_columns`]: an euler joint's v and a from its rotation
+/// ([`triple_rates`]), or else each of its bodies' v ([`joint_velocity`]).
+fn joint_rates(model: &Model, q: &Columns, dt: f64, s: &mut TripleScratch, j: &mut JointRates) {
+    let n = q.frames;
+    if let Some(order) = j.euler {
+        let iq = model.idx_q[j.body];
+        let (v0, rest) = j.v.split_at_mut(n);
+        let (v1, v2) = rest.split_at_mut(n);
+        let (a0, rest) = j.a.split_at_mut(n);
+        let (a1, a2) = rest.split_at_mut(n);
+        let cols = [q.col(iq), q.col(iq + 1), q.col(iq + 2)];
+        j.from_rotation = triple_rates(s, order, cols, dt, [v0, v1, v2], [a0, a1, a2]);
+        if j.from_rotation {
+            return;
+        }
+        for (m, v) in j.v.chunks_mut(n).enumerate() {
+            joint_velocity(model, q, dt, j.body + m, v);
+        }
+        return;
+    }
+    joint_velocity(model, q, dt, j.body, j.v);
 }
 
 /// One joint of [`derivative_columns`]: `v` at every frame of `n ≥ 2`. Two frames: the
 /// difference over dt at both. Else the central difference inside and one-sided at the ends
 /// (`v0 = (−3 q0 + 4 q1 − q2) / 2dt = (4 (q1 ⊖ q0) − (q2 ⊖ q0)) / 2dt`).
-fn joint_velocity(model: &Model, q: &Columns, dt: f64, j: &mut JointRates) {
+fn joint_velocity(model: &Model, q: &Columns, dt: f64, body: usize, v: &mut [f64]) {
     let n = q.frames;
-    let joint = model.joints[j.body];
-    let (iq, nqj, nvj) = (model.idx_q[j.body], joint.nq(), joint.nv());
+    let joint = model.joints[body];
+    let (iq, nqj, nvj) = (model.idx_q[body], joint.nq(), joint.nv());
     if nvj == 0 {
         return;
     }
     if nqj == 1 {
         // revolute and prismatic: q1 ⊖ q0 = q1 − q0, column at a time
-        let (x, out) = (q.col(iq), &mut j.v[..n]);
+        let (x, out) = (q.col(iq), &mut v[..n]);
         if n == 2 {
             let d = (x[1] - x[0]) / dt;
             (out[0], out[1]) = (d, d);
@@ -590,7 +694,7 @@ fn joint_velocity(model: &Model, q: &Columns, dt: f64, j: &mut JointRates) {
     };
     let mut put = |k: usize, x: &[f64]| {
         for (c, xc) in x[..nvj].iter().enumerate() {
-            j.v[c * n + k] = *xc;
+            v[c * n + k] = *xc;
         }
     };
     if n == 2 {

@@ -41,7 +41,7 @@ mod root;
 
 use super::grf::measured::FootLoads;
 use super::grf::{GroundReactions, floating_root};
-use super::residual::centre_of_mass;
+use super::residual::{centre_of_mass, external_forces, residual_figures};
 use super::{Workspace, forward_kinematics};
 use crate::error::Error;
 use crate::model::Model;
@@ -164,6 +164,10 @@ pub struct Reduction {
     pub bounded: Vec<&'static str>,
     /// Gauss–Newton steps kept.
     pub steps: usize,
+    /// The knot spacing (s) of the pelvis offset's refinement near the foot changes
+    /// ([`refine`]); `None`: not refined (the take met the thresholds without it, or it did
+    /// not lower the residuals).
+    pub refined_knot_spacing_s: Option<f64>,
 }
 
 impl Reduction {
@@ -253,6 +257,8 @@ pub fn reduce_residuals(
         rotation: None,
         root: floating_root(model).unwrap_or(1),
         height: 1.0,
+        base_pelvis: &[],
+        free: None,
     };
     // the translations first, then the rotations from there: each stage keeps only steps
     // that lower the residuals, so adding the rotations never ends above the translations
@@ -274,9 +280,13 @@ pub fn reduce_residuals(
         }
         (x, e) = solve(&problem, bounds, wider, e)?;
     }
-    // the bounds the adjustments end against (within a tenth of them)
-    let pelvis = problem.pelvis(&x);
     let rotation = problem.rotation.map(|_| problem.pelvis_rotation(&x));
+    let mut pelvis = problem.pelvis(&x);
+    let mut refined_knot_spacing_s = None;
+    if let Some(r) = refine(&problem, bounds, &pelvis, &e)? {
+        (pelvis, e, refined_knot_spacing_s) = (r.pelvis, r.evaluated, Some(r.spacing_s));
+    }
+    // the bounds the adjustments end against (within a tenth of them)
     let (peak, rms) = peak_rms(&pelvis);
     let (rpeak, rrms) = rotation.as_deref().map_or((0.0, 0.0), peak_rms);
     let mass_scale = problem.mass_scale(&x);
@@ -314,7 +324,125 @@ pub fn reduce_residuals(
         ground: e.ground,
         bounded,
         steps: e.steps,
+        refined_knot_spacing_s,
     })
+}
+
+/// The refinement near the foot changes: when the smooth adjustments leave a take beyond
+/// Hicks et al.'s thresholds against estimated ground reactions, a second pelvis offset on
+/// knots every half the estimator's spread ([`ContactParams::spread_s`], at least three
+/// frames), free only where its basis functions reach within the spread of a foot change
+/// (a contact starting or ending): there the smoothed accelerations move the force of one
+/// contact phase into the next, and the residual lies in runs of a few frames that the
+/// 0.15 s knots cannot follow. The trunk's mass centre, the smooth offset and the rotation
+/// are held; the bounds count both offsets together. `None` when the take meets the
+/// thresholds already (its adjustments stay low-frequency), the ground reactions are
+/// measured, no foot changes, or the refinement does not lower the residuals.
+fn refine(
+    coarse: &Problem,
+    bounds: &ReductionBounds,
+    pelvis: &[Vector3<f64>],
+    e: &Evaluated,
+) -> Result<Option<Refined>, Error> {
+    let Ground::Estimated { params, .. } = coarse.ground else {
+        return Ok(None);
+    };
+    let heights = com_heights(&e.model, &e.q, e.ground.up, e.ground.floor);
+    let external = external_forces(&e.ground);
+    if residual_figures(&e.ground.residual, &external, &heights, coarse.counted).meets() {
+        return Ok(None);
+    }
+    let time = coarse.motion.time;
+    let changes = foot_changes(time, &e.ground.contact);
+    let (Some(&t0), Some(&t1), Some(dt)) =
+        (time.first(), time.last(), time.get(1).map(|t| t - time[0]))
+    else {
+        return Ok(None);
+    };
+    if changes.is_empty() {
+        return Ok(None);
+    }
+    let spacing = (0.5 * params.spread_s)
+        .max(3.0 * dt)
+        .max((t1 - t0) / MAX_KNOTS as f64);
+    // whole intervals no shorter than that (the spline would shrink them to fit)
+    let intervals = ((t1 - t0) / spacing).floor().max(1.0);
+    let Some(spline) = UniformBSpline::new(t0, t1, (t1 - t0) / intervals * (1.0 + 1e-9)) else {
+        return Ok(None);
+    };
+    let mut fine = Problem {
+        model: &e.model,
+        ground: coarse.ground,
+        trunk: Trunk {
+            bodies: &[],
+            across: [Vector3::zeros(); 2],
+        },
+        motion: Motion {
+            time,
+            q: &e.q,
+            v: &e.v,
+            a: &e.a,
+        },
+        up: coarse.up,
+        counted: coarse.counted,
+        spline,
+        translation: coarse.translation,
+        rotation: None,
+        root: coarse.root,
+        height: coarse.height,
+        base_pelvis: pelvis,
+        free: None,
+    };
+    let layout = fine.layout();
+    let (nb, h) = (spline.len(), spline.spacing);
+    // basis function i is non-zero over (t0 + (i − 3) h, t0 + (i + 1) h)
+    let near = |i: usize| {
+        let (a, b) = (
+            t0 + (i as f64 - 3.0) * h - params.spread_s,
+            t0 + (i as f64 + 1.0) * h + params.spread_s,
+        );
+        changes.iter().any(|&t| a < t && t < b)
+    };
+    fine.free = Some(
+        (0..layout.len)
+            .map(|i| {
+                i >= layout.translation
+                    && i < layout.translation + 2 * nb
+                    && near((i - layout.translation) % nb)
+            })
+            .collect(),
+    );
+    let x0 = DVector::zeros(layout.len);
+    let start = fine.evaluate(&x0)?;
+    let (x, mut refined) = solve(&fine, bounds, x0, start)?;
+    if refined.steps == 0 || refined.cost >= e.cost {
+        return Ok(None);
+    }
+    refined.steps += e.steps;
+    Ok(Some(Refined {
+        pelvis: fine.pelvis(&x),
+        evaluated: refined,
+        spacing_s: h,
+    }))
+}
+
+/// What [`refine`] found: the total pelvis offset per frame (m, world), the refined
+/// evaluation and the refinement's knot spacing (s).
+struct Refined {
+    pelvis: Vec<Vector3<f64>>,
+    evaluated: Evaluated,
+    spacing_s: f64,
+}
+
+/// The times (s) where a foot's contact starts or ends: midway between the two frames.
+fn foot_changes(time: &[f64], contact: &[Vec<bool>]) -> Vec<f64> {
+    let mut out = vec![];
+    for k in 1..contact.len().min(time.len()) {
+        if contact[k] != contact[k - 1] {
+            out.push(0.5 * (time[k] + time[k - 1]));
+        }
+    }
+    out
 }
 
 /// Gauss–Newton from `x` (evaluated as `e`): each step kept only if the re-evaluated

@@ -38,6 +38,11 @@ pub(super) struct Problem<'a> {
     pub root: usize,
     /// Weight of the residual force against the moment (m): the mean COM height.
     pub height: f64,
+    /// Per frame: a pelvis offset already applied to `motion` (m, world; empty: none), which
+    /// the bounds count with this problem's own ([`super::refine`]).
+    pub base_pelvis: &'a [Vector3<f64>],
+    /// Per parameter: whether it may change (`None`: all may); a held one stays where it is.
+    pub free: Option<Vec<bool>>,
 }
 
 /// One evaluation: the adjusted model, motion and their ground reactions.
@@ -132,12 +137,15 @@ impl Problem<'_> {
         Some(self.curve(x, at, &[0, 1, 2], t))
     }
 
-    /// Per frame: the pelvis offset (m, world).
+    /// Per frame: the pelvis offset (m, world), the base offset included.
     pub fn pelvis(&self, x: &DVector<f64>) -> Vec<Vector3<f64>> {
         self.motion
             .time
             .iter()
-            .map(|&t| self.pelvis_at(x, t)[0])
+            .enumerate()
+            .map(|(k, &t)| {
+                self.pelvis_at(x, t)[0] + self.base_pelvis.get(k).copied().unwrap_or_default()
+            })
             .collect()
     }
 
@@ -601,6 +609,13 @@ impl Problem<'_> {
                 a[(i, i)] += l;
                 rhs[i] -= l * x[i];
             }
+            // a held parameter's step is zero
+            for (i, _) in self.free.iter().flatten().enumerate().filter(|(_, f)| !**f) {
+                a.row_mut(i).fill(0.0);
+                a.column_mut(i).fill(0.0);
+                a[(i, i)] = 1.0;
+                rhs[i] = 0.0;
+            }
             let next = x + a.cholesky()?.solve(&rhs);
             let ok = self.within(&next, bounds);
             if ok.iter().all(|b| *b) {
@@ -679,6 +694,8 @@ mod tests {
             rotation: root_rotation(&model),
             root: 1,
             height: 1.0,
+            base_pelvis: &[],
+            free: None,
         };
         let layout = problem.layout();
         assert!(layout.rotation.is_some() && layout.mass.is_some());

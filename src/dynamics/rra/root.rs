@@ -14,7 +14,9 @@
 use super::super::grf::floating_root;
 use super::super::{Workspace, forward_kinematics};
 use crate::model::{JointKind, Model};
-use crate::rotation::{EulerOrder, axis_rotation, matrix_to_euler_near};
+use crate::rotation::{
+    EulerOrder, hinge_axes, hinge_coordinate_rates, hinge_rates, matrix_to_euler_near,
+};
 use crate::spatial::{quat_from_xyzw, quat_to_xyzw};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
@@ -278,18 +280,9 @@ pub(super) fn rotate_root(
             let new = matrix_to_euler_near(order, &(before.transpose() * d.rot * rot), old);
             // det of the hinges' axes is ±cos of the middle angle
             let axes = hinge_axes(before, order, new);
-            if axes.determinant().abs() < LOCK_COS {
-                return false;
-            }
-            let Some(inverse) = axes.try_inverse() else {
+            let Some((dq, ddq)) = hinge_coordinate_rates(&axes, &w2, &dw2, LOCK_COS) else {
                 return false;
             };
-            let dq = inverse * w2;
-            // α = Σ w_n q̈_n + Σ ω_{<n} × w_n q̇_n: the second sum at the new rates
-            let w0 = axes.column(0) * dq[0];
-            let bias = w0.cross(&axes.column(1)) * dq[1]
-                + (w0 + axes.column(1) * dq[1]).cross(&axes.column(2)) * dq[2];
-            let ddq = inverse * (dw2 - bias);
             for k in 0..3 {
                 q[iq[k]] = new[k];
                 v[iv[k]] = dq[k];
@@ -308,37 +301,6 @@ fn composed_rates(
 ) -> (Vector3<f64>, Vector3<f64>) {
     let rw = d.rot * w;
     (d.w + rw, d.dw + d.rot * dw + d.w.cross(&rw))
-}
-
-/// World axes of the three hinges at angles `q` (columns): `w_n = before · R_1 ⋯ R_{n−1} e_n`.
-fn hinge_axes(before: Matrix3<f64>, order: EulerOrder, q: [f64; 3]) -> Matrix3<f64> {
-    let ax = order.axes();
-    let mut r = before;
-    let mut cols = [Vector3::zeros(); 3];
-    for n in 0..3 {
-        cols[n] = r.column(ax[n]).into_owned();
-        r *= axis_rotation(ax[n], q[n]);
-    }
-    Matrix3::from_columns(&cols)
-}
-
-/// World angular velocity and acceleration of the last hinge: `ω = Σ w_n q̇_n`,
-/// `α = Σ w_n q̈_n + Σ ω_{<n} × w_n q̇_n`.
-fn hinge_rates(
-    before: Matrix3<f64>,
-    order: EulerOrder,
-    q: [f64; 3],
-    dq: [f64; 3],
-    ddq: [f64; 3],
-) -> (Vector3<f64>, Vector3<f64>) {
-    let axes = hinge_axes(before, order, q);
-    let (mut w, mut dw) = (Vector3::zeros(), Vector3::zeros());
-    for n in 0..3 {
-        let axis = axes.column(n).into_owned();
-        dw += axis * ddq[n] + w.cross(&axis) * dq[n];
-        w += axis * dq[n];
-    }
-    (w, dw)
 }
 
 #[cfg(test)]
