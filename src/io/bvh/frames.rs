@@ -69,7 +69,12 @@ fn chunks(
     decimals: &mut [u8],
     parts: usize,
 ) -> bool {
-    let chunks = split_after_newlines(text, parts);
+    // the text starts with the end of the `Frame Time:` line: not a row
+    let first = text
+        .iter()
+        .position(|b| !matches!(b, b' ' | b'\t' | b'\r' | b'\n'))
+        .unwrap_or(text.len());
+    let chunks = split_after_newlines(&text[first..], parts);
     let newlines: Vec<usize> = chunks
         .par_iter()
         .map(|c| memchr::memchr_iter(b'\n', c).count())
@@ -386,6 +391,24 @@ mod tests {
         ] {
             assert_eq!(rows(bad, 3, &mut [0.0; 9], &mut [0; 9]), None);
         }
+    }
+
+    /// Frame lines after the `Frame Time:` line's end are read in chunks (not left to the
+    /// serial reader), into the same rows; a blank line between them sends them to it.
+    #[test]
+    fn chunks_fill_the_rows_the_serial_reader_fills() {
+        let text: String = (0..40).map(|k| format!("\n{k} -{k}.5 {k}e1")).collect();
+        let text = format!("{text}\n");
+        let (mut serial, mut places) = ([0.0; 120], [0; 120]);
+        assert_eq!(rows(text.as_bytes(), 3, &mut serial, &mut places), Some(40));
+        for parts in 2..6 {
+            let (mut m, mut d) = ([0.0; 120], [0; 120]);
+            assert!(chunks(text.as_bytes(), 3, &mut m, &mut d, parts), "{parts}");
+            assert_eq!((m, d), (serial, places));
+        }
+        let blank = text.replace("\n20 ", "\n\n20 ");
+        let (mut m, mut d) = ([0.0; 120], [0; 120]);
+        assert!(!chunks(blank.as_bytes(), 3, &mut m, &mut d, 4));
     }
 
     #[test]
