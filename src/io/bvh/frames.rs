@@ -1,8 +1,12 @@
-//! The frame lines of a BVH file read fast: one pass over the bytes, no allocation per value
-//! or per line, numbers by Clinger's exact fast path on the digits just scanned (most capture
-//! values: at most 19 digits, no exponent) or else by `fast-float2` (the same correctly
-//! rounded decimal → `f64` algorithm as `str::parse`), so every value is bit-identical; the
-//! lines are cut into chunks read in parallel when the rayon pool has more than one thread.
+//! The frame lines of a BVH file read fast: one pass over the bytes, each value written
+//! straight into its slot of the take's `frames × channel_count` table (allocated once, from
+//! the `Frames:` count), nothing allocated per value or per line.
+//!
+//! Numbers by Clinger's exact fast path on the digits just scanned (most capture values: at
+//! most 19 digits, no exponent) or else by `fast-float2` (the same correctly rounded decimal
+//! → `f64` algorithm as `str::parse`), so every value is bit-identical to
+//! `str::parse::<f64>`. Under more than one rayon thread the lines are cut into chunks at
+//! line ends, each chunk written into its own rows of the same table.
 //!
 //! This reader only ever succeeds: it accepts the common form of frame lines (numbers of the
 //! grammar below separated by spaces or tabs, lines ended by LF, CRLF or a lone CR, blank
@@ -31,48 +35,69 @@ pub(super) fn read(
     channel_count: usize,
 ) -> Option<(Vec<f64>, Vec<u8>)> {
     let total = frames.checked_mul(channel_count)?;
-    if channel_count == 0 {
+    // each value takes at least two bytes ("0 "): a count the text cannot hold is not
+    // allocated (the careful reader says the MOTION section is truncated)
+    if channel_count == 0 || total > text.len() / 2 + 1 {
         return None;
     }
-    let slots = par::slots();
-    if slots <= 1 || text.len() < MIN_PARALLEL_BYTES {
-        let mut out = Values::with_capacity(total.min(text.len() / 2 + 1));
-        let n = lines(text, channel_count, &mut out)?;
-        return (n == frames).then_some((out.motion, out.decimals));
+    let mut motion = vec![0.0; total];
+    let mut decimals = vec![0; total];
+    let in_chunks = par::slots() > 1
+        && text.len() >= MIN_PARALLEL_BYTES
+        && chunks(
+            text,
+            channel_count,
+            &mut motion,
+            &mut decimals,
+            par::slots(),
+        );
+    if !in_chunks && rows(text, channel_count, &mut motion, &mut decimals)? != frames {
+        return None;
     }
-    // chunks of about equal size, each ending just after a '\n'
-    let chunks = split_after_newlines(text, slots);
-    let read: Vec<Option<(usize, Values)>> = chunks
+    Some((motion, decimals))
+}
+
+/// Reads `text` cut into up to `parts` chunks at line ends, in parallel, each into its own
+/// rows of `motion` and `decimals`; the first row of a chunk is the count of `\n` before it.
+/// True when every chunk filled exactly its rows (false at anything else, e.g. a blank line
+/// or lone-CR line ends, where the line count is not the row count: the serial reader then
+/// reads the whole text).
+fn chunks(
+    text: &[u8],
+    channel_count: usize,
+    motion: &mut [f64],
+    decimals: &mut [u8],
+    parts: usize,
+) -> bool {
+    // the text starts with the end of the `Frame Time:` line: not a row
+    let first = text
+        .iter()
+        .position(|b| !matches!(b, b' ' | b'\t' | b'\r' | b'\n'))
+        .unwrap_or(text.len());
+    let chunks = split_after_newlines(&text[first..], parts);
+    let newlines: Vec<usize> = chunks
         .par_iter()
-        .map(|chunk| {
-            let mut out = Values::with_capacity(total.min(chunk.len() / 2 + 1));
-            lines(chunk, channel_count, &mut out).map(|n| (n, out))
-        })
+        .map(|c| memchr::memchr_iter(b'\n', c).count())
         .collect();
-    let mut count = 0;
-    let mut all = Values::with_capacity(total.min(text.len() / 2 + 1));
-    for part in read {
-        let (n, values) = part?;
-        count += n;
-        all.motion.extend_from_slice(&values.motion);
-        all.decimals.extend_from_slice(&values.decimals);
+    // each chunk's rows: its line count, the last one the rest
+    let mut work = Vec::with_capacity(chunks.len());
+    let (mut motion, mut decimals) = (motion, decimals);
+    for (k, chunk) in chunks.iter().enumerate() {
+        let n = if k + 1 == chunks.len() {
+            motion.len() / channel_count
+        } else {
+            newlines[k]
+        };
+        let Some(len) = n.checked_mul(channel_count).filter(|&l| l <= motion.len()) else {
+            return false;
+        };
+        let (m, m_rest) = motion.split_at_mut(len);
+        let (d, d_rest) = decimals.split_at_mut(len);
+        (motion, decimals) = (m_rest, d_rest);
+        work.push((*chunk, n, m, d));
     }
-    (count == frames).then_some((all.motion, all.decimals))
-}
-
-/// Values read so far and their decimals, in the same order.
-struct Values {
-    motion: Vec<f64>,
-    decimals: Vec<u8>,
-}
-
-impl Values {
-    fn with_capacity(n: usize) -> Self {
-        Values {
-            motion: Vec::with_capacity(n),
-            decimals: Vec::with_capacity(n),
-        }
-    }
+    work.into_par_iter()
+        .all(|(chunk, n, m, d)| rows(chunk, channel_count, m, d) == Some(n))
 }
 
 /// `text` cut into at most `parts` slices, each but the last ending just after a `\n`.
@@ -92,12 +117,21 @@ fn split_after_newlines(text: &[u8], parts: usize) -> Vec<&[u8]> {
     out
 }
 
-/// Reads every line of `text` into `out`: each holds `channel_count` values or none (a blank
-/// line). The number of value lines; `None` at anything else.
-fn lines(text: &[u8], channel_count: usize, out: &mut Values) -> Option<usize> {
+/// Reads every line of `text` into the rows of `motion` and `decimals` (`channel_count`
+/// values each, in order): each line holds `channel_count` values or none (a blank line).
+/// The number of value lines; `None` at anything else or at more lines than rows.
+fn rows(
+    text: &[u8],
+    channel_count: usize,
+    motion: &mut [f64],
+    decimals: &mut [u8],
+) -> Option<usize> {
     let mut i = 0;
     let mut frames = 0;
     let n = text.len();
+    let mut rows = motion
+        .chunks_exact_mut(channel_count)
+        .zip(decimals.chunks_exact_mut(channel_count));
     loop {
         // blank lines and the blanks before the first value
         while i < n && matches!(text[i], b' ' | b'\t' | b'\r' | b'\n') {
@@ -106,22 +140,8 @@ fn lines(text: &[u8], channel_count: usize, out: &mut Values) -> Option<usize> {
         if i == n {
             return Some(frames);
         }
-        for c in 0..channel_count {
-            if c > 0 {
-                // a value ends at a blank; the next one is on the same line
-                let before = i;
-                while i < n && matches!(text[i], b' ' | b'\t') {
-                    i += 1;
-                }
-                if i == before || i == n || matches!(text[i], b'\r' | b'\n') {
-                    return None;
-                }
-            }
-            let (v, d, end) = number(text, i)?;
-            out.motion.push(v);
-            out.decimals.push(d);
-            i = end;
-        }
+        let (values, places) = rows.next()?;
+        i = line(text, i, values, places)?;
         // the line ends after its last value (trailing blanks allowed)
         while i < n && matches!(text[i], b' ' | b'\t') {
             i += 1;
@@ -131,6 +151,31 @@ fn lines(text: &[u8], channel_count: usize, out: &mut Values) -> Option<usize> {
         }
         frames += 1;
     }
+}
+
+/// The values of the line whose first value starts at `text[i]`, into `values` and `places`
+/// (one per slot, separated by spaces or tabs); the index just after the last one.
+#[inline]
+fn line(text: &[u8], mut i: usize, values: &mut [f64], places: &mut [u8]) -> Option<usize> {
+    for (c, (v, d)) in values.iter_mut().zip(places.iter_mut()).enumerate() {
+        if c > 0 {
+            // one space before a value, or a run of spaces and tabs (a line end or the end of
+            // the text here is refused by the number scanners: no digit)
+            if text.get(i) == Some(&b' ') && !matches!(text.get(i + 1), Some(b' ' | b'\t')) {
+                i += 1;
+            } else {
+                let from = i;
+                while matches!(text.get(i), Some(b' ' | b'\t')) {
+                    i += 1;
+                }
+                if i == from {
+                    return None;
+                }
+            }
+        }
+        (*v, *d, i) = number(text, i)?;
+    }
+    Some(i)
 }
 
 /// The number starting at `text[i]`: its finite value, its decimals ([`super::decimals_of`])
@@ -254,15 +299,50 @@ mod tests {
             "-96.4418",
             "1.7976931348623157e308",
         ] {
-            let (v, d, end) = number(t.as_bytes(), 0).unwrap_or_else(|| panic!("{t}"));
-            assert_eq!(end, t.len(), "{t}");
+            let (v, d) = read_both(t).unwrap_or_else(|| panic!("{t}"));
             assert_eq!(v.to_bits(), t.parse::<f64>().unwrap().to_bits(), "{t}");
             assert_eq!(d, super::super::decimals_of(t), "{t}");
         }
         for t in [
-            "", "-", ".", "e5", "1e", "1e+", "1x", "nan", "inf", "1e400", "--1", "1..2",
+            "",
+            "-",
+            ".",
+            "-.",
+            "+",
+            "e5",
+            "1e",
+            "1e+",
+            "1x",
+            "nan",
+            "inf",
+            "1e400",
+            "--1",
+            "1..2",
+            "-+1",
+            "1-",
+            "12345678.12345678x",
+            "0.5\x0b",
+            "1,5",
         ] {
-            assert!(number(t.as_bytes(), 0).is_none(), "{t}");
+            assert!(read_both(t).is_none(), "{t}");
+        }
+    }
+
+    /// `t` read by `number` at the end of a text and with a line end and blanks after it, as
+    /// inside a take: both must agree on the value's bits, its decimals and where it ends.
+    fn read_both(t: &str) -> Option<(f64, u8)> {
+        let at_end = number(t.as_bytes(), 0);
+        let inside = format!("{t}\n                  ");
+        let bytes = inside.as_bytes();
+        let read = number(bytes, 0);
+        match (at_end, read) {
+            (None, None) => None,
+            (Some((v, d, e)), Some((w, c, f))) => {
+                assert_eq!((v.to_bits(), d, e), (w.to_bits(), c, f), "{t}");
+                assert_eq!(e, t.len(), "{t}");
+                Some((v, d))
+            }
+            (a, b) => panic!("{t}: at the end {a:?}, inside {b:?}"),
         }
     }
 
@@ -290,21 +370,45 @@ mod tests {
                 }
                 t.push(char::from(b'0' + (next() % 10) as u8));
             }
-            let (v, _, end) = number(t.as_bytes(), 0).unwrap_or_else(|| panic!("{t}"));
-            assert_eq!(end, t.len(), "{t}");
+            let (v, d) = read_both(&t).unwrap_or_else(|| panic!("{t}"));
             assert_eq!(v.to_bits(), t.parse::<f64>().unwrap().to_bits(), "{t}");
+            assert_eq!(d, super::super::decimals_of(&t), "{t}");
         }
     }
 
     #[test]
     fn lines_need_exactly_the_channel_count() {
-        let mut out = Values::with_capacity(0);
+        let (mut motion, mut decimals) = ([0.0; 9], [0; 9]);
         let text = b"1 2 3\r\n\n 4\t5 6 \r7 8 9";
-        assert_eq!(lines(text, 3, &mut out), Some(3));
-        assert_eq!(out.motion, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]);
-        for bad in [&b"1 2\n3\n"[..], b"1 2 3 4\n", b"1 2 3\x0b\n", b"1 2,3\n"] {
-            assert_eq!(lines(bad, 3, &mut Values::with_capacity(0)), None);
+        assert_eq!(rows(text, 3, &mut motion, &mut decimals), Some(3));
+        assert_eq!(motion, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]);
+        for bad in [
+            &b"1 2\n3\n"[..],
+            b"1 2 3 4\n",
+            b"1 2 3\x0b\n",
+            b"1 2,3\n",
+            b"1 2 3\n4 5 6\n7 8 9\n1 2 3\n",
+        ] {
+            assert_eq!(rows(bad, 3, &mut [0.0; 9], &mut [0; 9]), None);
         }
+    }
+
+    /// Frame lines after the `Frame Time:` line's end are read in chunks (not left to the
+    /// serial reader), into the same rows; a blank line between them sends them to it.
+    #[test]
+    fn chunks_fill_the_rows_the_serial_reader_fills() {
+        let text: String = (0..40).map(|k| format!("\n{k} -{k}.5 {k}e1")).collect();
+        let text = format!("{text}\n");
+        let (mut serial, mut places) = ([0.0; 120], [0; 120]);
+        assert_eq!(rows(text.as_bytes(), 3, &mut serial, &mut places), Some(40));
+        for parts in 2..6 {
+            let (mut m, mut d) = ([0.0; 120], [0; 120]);
+            assert!(chunks(text.as_bytes(), 3, &mut m, &mut d, parts), "{parts}");
+            assert_eq!((m, d), (serial, places));
+        }
+        let blank = text.replace("\n20 ", "\n\n20 ");
+        let (mut m, mut d) = ([0.0; 120], [0; 120]);
+        assert!(!chunks(blank.as_bytes(), 3, &mut m, &mut d, 4));
     }
 
     #[test]
