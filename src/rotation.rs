@@ -106,8 +106,15 @@ pub fn euler_to_matrix(order: EulerOrder, angles: [f64; 3]) -> Matrix3<f64> {
 /// The unit quaternion of `euler_to_matrix(order, angles)`: the product of the three axis
 /// quaternions `(cos a/2, sin a/2 · e_axis)`, without the matrix.
 pub fn euler_to_quaternion(order: EulerOrder, angles: [f64; 3]) -> UnitQuaternion<f64> {
+    euler_to_quaternion_axes(order.axes(), angles)
+}
+
+/// [`euler_to_quaternion`] for the axes `ax` (inlined, so constant axes fold away: see
+/// [`with_axes`]).
+#[inline(always)]
+pub fn euler_to_quaternion_axes(ax: [usize; 3], angles: [f64; 3]) -> UnitQuaternion<f64> {
     let mut q = Quaternion::identity();
-    for (n, &axis) in order.axes().iter().enumerate() {
+    for (n, &axis) in ax.iter().enumerate() {
         let (s, c) = (0.5 * angles[n]).sin_cos();
         let mut v = [0.0; 3];
         v[axis] = s;
@@ -115,6 +122,24 @@ pub fn euler_to_quaternion(order: EulerOrder, angles: [f64; 3]) -> UnitQuaternio
     }
     UnitQuaternion::new_unchecked(q)
 }
+
+/// Calls `$f::<I, J, K>($args…)` with the axes of `$order` as constants: the per-frame loops
+/// of the euler model's rotations ([`euler_frame_axes`], [`euler_to_quaternion_axes`],
+/// [`matrix_to_euler_fast_axes`]) compiled once per order, their axis indices folded away
+/// (the same floating-point operations in the same order, so the same bits).
+macro_rules! with_axes {
+    ($order:expr, $f:ident ( $($arg:expr),* $(,)? )) => {
+        match $order {
+            $crate::rotation::EulerOrder::XYZ => $f::<0, 1, 2>($($arg),*),
+            $crate::rotation::EulerOrder::XZY => $f::<0, 2, 1>($($arg),*),
+            $crate::rotation::EulerOrder::YXZ => $f::<1, 0, 2>($($arg),*),
+            $crate::rotation::EulerOrder::YZX => $f::<1, 2, 0>($($arg),*),
+            $crate::rotation::EulerOrder::ZXY => $f::<2, 0, 1>($($arg),*),
+            $crate::rotation::EulerOrder::ZYX => $f::<2, 1, 0>($($arg),*),
+        }
+    };
+}
+pub(crate) use with_axes;
 
 /// Rotation `angle` about coordinate `axis` given its sine and cosine ([`axis_rotation`]
 /// without the trigonometry).
@@ -134,7 +159,15 @@ pub fn euler_frame(
     order: EulerOrder,
     angles: [f64; 3],
 ) -> (UnitQuaternion<f64>, Matrix3<f64>, Matrix3<f64>) {
-    let ax = order.axes();
+    euler_frame_axes(order.axes(), angles)
+}
+
+/// [`euler_frame`] for the axes `ax` (inlined, so constant axes fold away: see [`with_axes`]).
+#[inline(always)]
+pub fn euler_frame_axes(
+    ax: [usize; 3],
+    angles: [f64; 3],
+) -> (UnitQuaternion<f64>, Matrix3<f64>, Matrix3<f64>) {
     let mut q = Quaternion::identity();
     let mut r = Matrix3::identity();
     let mut cols = [Vector3::zeros(); 3];
@@ -161,8 +194,16 @@ pub fn euler_frame(
 /// [`matrix_to_euler`] with the first angle's sine and cosine read from the matrix instead
 /// of computed from the angle: the same angles to rounding, one `sin_cos` fewer.
 pub fn matrix_to_euler_fast(order: EulerOrder, r: &Matrix3<f64>) -> [f64; 3] {
-    let [i, j, k] = order.axes();
-    let s = order.parity();
+    matrix_to_euler_fast_axes(order.axes(), r)
+}
+
+/// [`matrix_to_euler_fast`] for the axes `ax` (inlined, so constant axes fold away: see
+/// [`with_axes`]).
+#[inline(always)]
+pub fn matrix_to_euler_fast_axes(ax: [usize; 3], r: &Matrix3<f64>) -> [f64; 3] {
+    let [i, j, k] = ax;
+    // the parity: +1 for the cyclic orders XYZ, YZX, ZXY
+    let s = if j == (i + 1) % 3 { 1.0 } else { -1.0 };
     let h = r[(j, k)].hypot(r[(k, k)]);
     let (a1, s1, c1) = if h > 1e-12 {
         let (y, x) = (-s * r[(j, k)], r[(k, k)]);

@@ -15,9 +15,11 @@
 //! model's, whatever the take's rotation order.
 
 use crate::motion::smooth::{SmoothSpec, Smoother};
+use crate::motion::unwrap::lock_distance;
 use crate::motion::unwrap::repick_fast;
 use crate::rotation::{
-    EulerOrder, euler_frame, euler_to_quaternion, hinge_coordinate_rates, matrix_to_euler_fast,
+    EulerOrder, euler_frame_axes, euler_to_quaternion_axes, hinge_coordinate_rates,
+    matrix_to_euler_fast_axes, with_axes,
 };
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
@@ -52,11 +54,30 @@ impl TripleScratch {
     }
 
     fn fill_quats(&mut self, order: EulerOrder, cols: [&[f64]; 3]) {
-        self.quats.clear();
-        self.quats.extend(
-            (0..cols[0].len())
-                .map(|k| euler_to_quaternion(order, [cols[0][k], cols[1][k], cols[2][k]])),
-        );
+        fn fill<const I: usize, const J: usize, const K: usize>(
+            quats: &mut Vec<UnitQuaternion<f64>>,
+            cols: [&[f64]; 3],
+        ) {
+            quats.clear();
+            quats.extend((0..cols[0].len()).map(|k| {
+                euler_to_quaternion_axes([I, J, K], [cols[0][k], cols[1][k], cols[2][k]])
+            }));
+        }
+        with_axes!(order, fill(&mut self.quats, cols));
+    }
+
+    fn fill_frames(&mut self, order: EulerOrder, cols: [&[f64]; 3]) {
+        fn fill<const I: usize, const J: usize, const K: usize>(
+            frames: &mut Vec<Frame>,
+            cols: [&[f64]; 3],
+        ) {
+            frames.clear();
+            frames.extend(
+                (0..cols[0].len())
+                    .map(|k| euler_frame_axes([I, J, K], [cols[0][k], cols[1][k], cols[2][k]])),
+            );
+        }
+        with_axes!(order, fill(&mut self.frames, cols));
     }
 }
 
@@ -77,12 +98,32 @@ pub fn smooth_triple(
     }
     s.fill_quats(order, [&c0[..], &c1[..], &c2[..]]);
     smoother.smooth_quaternions(&mut s.quats);
+    with_axes!(order, write_back(order, &s.quats, [c0, c1, c2]));
+}
+
+/// The angles of the rotations `quats` on the take's branch (see [`smooth_triple`]).
+fn write_back<const I: usize, const J: usize, const K: usize>(
+    order: EulerOrder,
+    quats: &[UnitQuaternion<f64>],
+    cols: [&mut [f64]; 3],
+) {
+    let [c0, c1, c2] = cols;
     let mut previous = [c0[0], c1[0], c2[0]];
-    for (k, r) in s.quats.iter().enumerate() {
+    for (k, r) in quats.iter().enumerate() {
         let m: Matrix3<f64> = r.to_rotation_matrix().into_inner();
-        let x = repick_fast(order, matrix_to_euler_fast(order, &m), previous);
+        let x = repick_fast(order, matrix_to_euler_fast_axes([I, J, K], &m), previous);
         (c0[k], c1[k], c2[k]) = (x[0], x[1], x[2]);
         previous = x;
+    }
+}
+
+/// Whether `|cos a2| < LOCK_DET`, `cos` computed only where [`lock_distance`] leaves doubt:
+/// farther than `2·LOCK_DET` from the lock `|cos a2| = sin(distance) > LOCK_DET` by a margin
+/// far beyond rounding, so the answer is the same as always computing it.
+fn near_lock(a2: f64) -> bool {
+    match lock_distance(a2) {
+        Some(d) if d > 2.0 * LOCK_DET => false,
+        _ => a2.cos().abs() < LOCK_DET,
     }
 }
 
@@ -100,12 +141,10 @@ pub fn triple_rates(
     a: [&mut [f64]; 3],
 ) -> bool {
     let n = q[0].len();
-    if q[1].iter().any(|a2| a2.cos().abs() < LOCK_DET) {
+    if q[1].iter().any(|&a2| near_lock(a2)) {
         return false;
     }
-    s.frames.clear();
-    s.frames
-        .extend((0..n).map(|k| euler_frame(order, [q[0][k], q[1][k], q[2][k]])));
+    s.fill_frames(order, q);
     body_angular_velocity(&s.frames, dt, &mut s.omega);
     let [v0, v1, v2] = v;
     let [a0, a1, a2] = a;
