@@ -248,9 +248,9 @@ pub struct Smoother {
     buf: Vec<f64>,
     /// Padded quaternion trajectory, hemisphere-aligned, written by `smooth_quaternions`.
     qbuf: Vec<UnitQuaternion<f64>>,
-    /// Smoothed quaternion components `[w, x, y, z]` (`n` each), written by
+    /// Smoothed quaternion components `[w, x, y, z]` (`n`), written by the Gaussian's
     /// `smooth_quaternions`.
-    comp: [Vec<f64>; 4],
+    comp: Vec<[f64; LANES]>,
     /// Padded signals side by side (`n + 2·pad` samples of [`LANES`]), written by
     /// `smooth_side_by_side`.
     lanes: Vec<[f64; LANES]>,
@@ -311,7 +311,7 @@ impl Smoother {
             pad,
             buf: Vec::new(),
             qbuf: Vec::new(),
-            comp: Default::default(),
+            comp: Vec::new(),
             lanes: Vec::new(),
         })
     }
@@ -337,9 +337,7 @@ impl Smoother {
         let len = frames + 2 * self.pad;
         self.buf.reserve(len.saturating_sub(self.buf.len()));
         self.qbuf.reserve(len.saturating_sub(self.qbuf.len()));
-        for c in &mut self.comp {
-            c.reserve(frames.saturating_sub(c.len()));
-        }
+        self.comp.reserve(frames.saturating_sub(self.comp.len()));
         self.lanes.reserve(len.saturating_sub(self.lanes.len()));
     }
 
@@ -447,20 +445,40 @@ impl Smoother {
         if self.qbuf[p].coords.dot(&q[0].coords) < 0.0 {
             self.qbuf.iter_mut().for_each(|r| *r = negate(r));
         }
-        for c in 0..4 {
-            self.comp[c].clear();
-            self.comp[c].resize(n, 0.0);
-            self.buf.clear();
-            self.buf.extend(self.qbuf.iter().map(|r| component(r, c)));
-            filter_padded(&self.method, p, &mut self.buf, &mut self.comp[c]);
-        }
-        for (k, qk) in q.iter_mut().enumerate() {
-            let raw = Quaternion::new(
-                self.comp[0][k],
-                self.comp[1][k],
-                self.comp[2][k],
-                self.comp[3][k],
-            );
+        // the four components side by side, each filtered by the very operations of
+        // `filter_padded` on it alone (the same bits)
+        self.lanes.clear();
+        self.lanes
+            .extend(self.qbuf.iter().map(|r| [r.w, r.i, r.j, r.k]));
+        let smoothed: &[[f64; LANES]] = match &self.method {
+            Method::None => return,
+            Method::Fir { kernel } => {
+                self.comp.clear();
+                self.comp.extend((0..n).map(|i| {
+                    let c = i + p;
+                    let mut acc = self.lanes[c].map(|x| kernel[0] * x);
+                    for (k, wk) in kernel.iter().enumerate().skip(1) {
+                        let (before, after) = (self.lanes[c - k], self.lanes[c + k]);
+                        for l in 0..LANES {
+                            acc[l] += wk * (before[l] + after[l]);
+                        }
+                    }
+                    acc
+                }));
+                &self.comp
+            }
+            Method::Iir { sections, .. } => {
+                for s in sections {
+                    s.run(&mut self.lanes, false);
+                }
+                for s in sections {
+                    s.run(&mut self.lanes, true);
+                }
+                &self.lanes[p..p + n]
+            }
+        };
+        for (qk, c) in q.iter_mut().zip(smoothed) {
+            let raw = Quaternion::new(c[0], c[1], c[2], c[3]);
             // a zero mean would need rotations half a turn apart inside one window
             if raw.norm() > 1e-9 {
                 *qk = UnitQuaternion::new_normalize(raw);
@@ -501,16 +519,6 @@ pub fn align_hemispheres(q: &mut [UnitQuaternion<f64>]) {
 
 fn negate(q: &UnitQuaternion<f64>) -> UnitQuaternion<f64> {
     UnitQuaternion::new_unchecked(-q.into_inner())
-}
-
-/// Component `c` of `q` in the order `[w, x, y, z]`.
-fn component(q: &UnitQuaternion<f64>, c: usize) -> f64 {
-    match c {
-        0 => q.w,
-        1 => q.i,
-        2 => q.j,
-        _ => q.k,
-    }
 }
 
 /// The most samples a filter may reach on each side of a sample (the Gaussian's half-width, the
