@@ -197,3 +197,25 @@ fn body_angular_velocity(q: &[Frame], dt: f64, out: &mut Vec<Vector3<f64>>) {
         })),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::FRAC_PI_2;
+
+    #[test]
+    fn the_lock_test_without_cos_answers_as_cos_does() {
+        // around the locks (±π/2 and beyond whole turns), across the threshold and far from it
+        for lock in [-5.0, -1.0, 1.0, 3.0, 2001.0].map(|m| m * FRAC_PI_2) {
+            for e in 0..4000 {
+                let d = (e as f64 - 2000.0) * 1.7e-10 * (1.0 + (e % 7) as f64);
+                for a2 in [lock + d, lock + d * 1e3, lock + d * 1e6] {
+                    assert_eq!(near_lock(a2), a2.cos().abs() < LOCK_DET, "{a2}");
+                }
+            }
+        }
+        for a2 in [0.0, -0.3, 1.2, f64::NAN, 1e7, -3e9] {
+            assert_eq!(near_lock(a2), a2.cos().abs() < LOCK_DET, "{a2}");
+        }
+    }
+}
