@@ -173,3 +173,92 @@ fn shared_walks_on_the_euler_model_move_as_on_the_ball_model() {
         euler_is_ball(&b, name);
     }
 }
+
+/// A root that reaches gimbal lock exactly (its middle angle written as 90° on a run of
+/// frames, not smoothed): at those frames the euler joint's rates cannot come from its
+/// rotation (`motion::euler::LOCK_DET`), so there its velocities and accelerations are its
+/// angles' differences, and a note says so, naming the BVH joint and counting the frames.
+/// Every other frame keeps its rates from the rotation: a few frames from the lock the euler
+/// model's moments are the ball model's (which never locks). Before, the whole joint fell
+/// back to its angles' differences, 16 % of the knee's peak off the ball model's all along
+/// the take (the walk's heading within a few degrees of the lock amplifies them).
+#[test]
+fn a_root_at_exact_gimbal_lock_falls_back_to_its_angle_differences_and_says_so() {
+    let b = bvh::read(&common::repo("data/demo_walk.bvh")).unwrap();
+    let order = EulerOrder::ZYX;
+    let reordered = common::variants::turned_heading(&b, 1, 0.0, order);
+    let root = &reordered.joints[0];
+    let middle = root.first_channel
+        + (0..root.channels.len())
+            .filter(|&i| root.channels[i].is_rotation())
+            .nth(1)
+            .unwrap();
+    let mid = b.frames / 2;
+    let heading = reordered.frame(mid)[middle];
+    let mut locked = common::variants::turned_heading(&b, 1, 90.0 - heading, order);
+    let lock = mid - 2..mid + 3;
+    for k in lock.clone() {
+        locked.motion[k * locked.channel_count + middle] = 90.0;
+    }
+    let opts = |joints: &str| TakeOptions {
+        joints: joints.parse().unwrap(),
+        smooth: Some("none".parse().unwrap()),
+        ..common::anatomy_opts()
+    };
+    let load = |joints: &str| {
+        pipeline::take_from_bvh(Path::new("locked.bvh"), locked.clone(), &opts(joints)).unwrap()
+    };
+    let (euler, ball) = (load("euler"), load("ball"));
+    let name = &locked.joints[0].name;
+    let note = euler
+        .notes
+        .iter()
+        .find(|n| n.contains("reaches gimbal lock"))
+        .unwrap_or_else(|| panic!("no lock note in {:#?}", euler.notes));
+    assert!(
+        note.starts_with(&format!("`{name}` reaches gimbal lock at 5 frame(s)")),
+        "{note}"
+    );
+    assert!(
+        !ball.notes.iter().any(|n| n.contains("reaches gimbal lock")),
+        "{:#?}",
+        ball.notes
+    );
+    let s = &euler.states;
+    for (k, (v, a)) in s.v.iter().zip(&s.a).enumerate() {
+        assert!(
+            v.iter().chain(a).all(|x| x.is_finite()),
+            "frame {k} not finite"
+        );
+    }
+    // the root's rates are not zero: the walk turns and sways at every frame
+    let root_v: f64 =
+        s.v.iter()
+            .map(|v| v[3].abs() + v[4].abs() + v[5].abs())
+            .sum();
+    assert!(root_v > 1e-3 * s.len() as f64, "root rates {root_v}");
+    let (ae, ab) = (
+        pipeline::anatomy::anatomy(&euler).unwrap(),
+        pipeline::anatomy::anatomy(&ball).unwrap(),
+    );
+    assert_eq!(ae.names, ab.names);
+    // frames a few samples from the lock and from the take's ends
+    let far = |k: usize| k + 3 < lock.start || k > lock.end + 3;
+    let mut checked = 0;
+    for (c, name) in ae
+        .names
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| is_knee_moment(n))
+    {
+        let peak = ab.columns[c].iter().fold(1.0_f64, |m, v| m.max(v.abs()));
+        let mut worst = 0.0_f64;
+        for k in (0..s.len()).filter(|&k| far(k)) {
+            worst = worst.max((ae.columns[c][k] - ab.columns[c][k]).abs() / peak);
+            checked += 1;
+        }
+        eprintln!("{name}: away from the lock, euler within {worst:.2e} of the ball's peak");
+        assert!(worst < 1e-6, "{name}: {worst}");
+    }
+    assert!(checked > 100, "{checked}");
+}

@@ -24,8 +24,8 @@ use crate::rotation::{
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// Within this `|det H| = |cos a2|` of gimbal lock (the middle angle within 0.00001° of ±90°)
-/// `H` cannot be inverted with any accuracy: a triple that comes this close anywhere keeps the
-/// angles' scalar differences ([`triple_rates`] returns false).
+/// `H` cannot be inverted with any accuracy: at a frame this close a triple's rates are its
+/// angles' scalar differences ([`triple_rates`] leaves those frames to its caller).
 pub const LOCK_DET: f64 = 1e-7;
 
 /// Work buffers of [`smooth_triple`] and [`triple_rates`], for up to a take's frames; reused,
@@ -120,7 +120,7 @@ fn write_back<const I: usize, const J: usize, const K: usize>(
 /// Whether `|cos a2| < LOCK_DET`, `cos` computed only where [`lock_distance`] leaves doubt:
 /// farther than `2·LOCK_DET` from the lock `|cos a2| = sin(distance) > LOCK_DET` by a margin
 /// far beyond rounding, so the answer is the same as always computing it.
-fn near_lock(a2: f64) -> bool {
+pub fn at_gimbal_lock(a2: f64) -> bool {
     match lock_distance(a2) {
         Some(d) if d > 2.0 * LOCK_DET => false,
         _ => a2.cos().abs() < LOCK_DET,
@@ -130,8 +130,10 @@ fn near_lock(a2: f64) -> bool {
 /// The rates of one euler joint from its rotation (module doc): `v` = q̇ and `a` = q̈ of its
 /// three hinges at every frame of the angle columns `q` sampled every `dt` s, with the ball
 /// joint's differences (second order at every frame; two frames: the one difference, no
-/// acceleration). Returns false, writing nothing, when some frame lies within [`LOCK_DET`]
-/// of gimbal lock.
+/// acceleration). Frames within [`LOCK_DET`] of gimbal lock, where `H` is singular, are left
+/// as they were and counted: the caller gives them the angles' differences (`ω` and `ω̇` are
+/// the rotation's there too, so the frames around them keep their rates from the rotation).
+/// Returns how many frames were left.
 pub fn triple_rates(
     s: &mut TripleScratch,
     order: EulerOrder,
@@ -139,17 +141,19 @@ pub fn triple_rates(
     dt: f64,
     v: [&mut [f64]; 3],
     a: [&mut [f64]; 3],
-) -> bool {
+) -> usize {
     let n = q[0].len();
-    if q[1].iter().any(|&a2| near_lock(a2)) {
-        return false;
-    }
     s.fill_frames(order, q);
     body_angular_velocity(&s.frames, dt, &mut s.omega);
     let [v0, v1, v2] = v;
     let [a0, a1, a2] = a;
     let h2 = 2.0 * dt;
+    let mut left = 0;
     for k in 0..n {
+        if at_gimbal_lock(q[1][k]) {
+            left += 1;
+            continue;
+        }
         // ω̇ by the scalar formulas of each component (pipeline::states' accelerations)
         let w = &s.omega;
         let dw = match n {
@@ -168,7 +172,7 @@ pub fn triple_rates(
             (a0[k], a1[k], a2[k]) = (ddq[0], ddq[1], ddq[2]);
         }
     }
-    true
+    left
 }
 
 /// The body angular velocity of a rotation trajectory by the ball joint's differences
@@ -210,12 +214,12 @@ mod tests {
             for e in 0..4000 {
                 let d = (e as f64 - 2000.0) * 1.7e-10 * (1.0 + (e % 7) as f64);
                 for a2 in [lock + d, lock + d * 1e3, lock + d * 1e6] {
-                    assert_eq!(near_lock(a2), a2.cos().abs() < LOCK_DET, "{a2}");
+                    assert_eq!(at_gimbal_lock(a2), a2.cos().abs() < LOCK_DET, "{a2}");
                 }
             }
         }
         for a2 in [0.0, -0.3, 1.2, f64::NAN, 1e7, -3e9] {
-            assert_eq!(near_lock(a2), a2.cos().abs() < LOCK_DET, "{a2}");
+            assert_eq!(at_gimbal_lock(a2), a2.cos().abs() < LOCK_DET, "{a2}");
         }
     }
 }

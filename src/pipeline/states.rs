@@ -10,7 +10,7 @@ use crate::error::Error;
 use crate::io::bvh::Bvh;
 use crate::model::bvh::BvhMap;
 use crate::model::{JointKind, Model};
-use crate::motion::euler::{TripleScratch, smooth_triple, triple_rates};
+use crate::motion::euler::{TripleScratch, at_gimbal_lock, smooth_triple, triple_rates};
 use crate::motion::smooth::{SmoothSpec, Smoother};
 use crate::motion::unwrap::{AngleUnit, unwrap_angles};
 use crate::par::{self, for_each_block, rounds};
@@ -66,14 +66,14 @@ pub fn take_states_marked(
         return Err(Error::Cancelled);
     }
     let (v, a, locked) = derivative_columns(model, &cols, dt);
-    notes.extend(locked.iter().map(|&b| {
+    notes.extend(locked.iter().map(|&(b, frames)| {
         let name = &model.joint_names[b];
         let joint = name.rsplit_once('.').map_or(name.as_str(), |(j, _)| j);
         format!(
-            "`{joint}` reaches gimbal lock (its middle angle within 0.00001° of ±90°): there its \
-             rates cannot come from its rotation, so its velocities and accelerations are its \
-             angles' differences, which spike; use the ball joint model (`--joints ball`, `set \
-             joints ball`)"
+            "`{joint}` reaches gimbal lock at {frames} frame(s) (its middle angle within \
+             0.00001° of ±90°): there its rates cannot come from its rotation, so its \
+             velocities and accelerations are its angles' differences, which may spike; use \
+             the ball joint model (`--joints ball`, `set joints ball`)"
         )
     }));
     let states = States {
@@ -529,19 +529,24 @@ struct JointRates<'a> {
     euler: Option<EulerOrder>,
     v: &'a mut [f64],
     a: &'a mut [f64],
-    /// Set when `a` was filled too: an euler joint's rates from its rotation.
-    from_rotation: bool,
+    /// An euler joint's frames at gimbal lock, whose rates are its angles' differences (its
+    /// `a` is filled at every frame).
+    locked_frames: usize,
 }
 
 /// [`derivatives`] on columns: joints in parallel for v (scalar joints column by column,
 /// ball and free joints through [`Model::difference`]'s joint formula frame by frame, euler
 /// joints from their rotation with their a, [`triple_rates`]), then every other v column in
 /// parallel for a. Each value is computed by the same expression as frame by frame, so the
-/// result does not depend on the layout or the number of threads. Also returns the first
-/// hinge body of each euler joint that comes within
-/// [`LOCK_DET`](crate::motion::euler::LOCK_DET) of gimbal lock, whose rates are its angles'
+/// result does not depend on the layout or the number of threads. Also returns, for each
+/// euler joint that comes within [`LOCK_DET`](crate::motion::euler::LOCK_DET) of gimbal lock,
+/// its first hinge body and the number of those frames, whose rates are its angles'
 /// differences.
-fn derivative_columns(model: &Model, q: &Columns, dt: f64) -> (Columns, Columns, Vec<usize>) {
+fn derivative_columns(
+    model: &Model,
+    q: &Columns,
+    dt: f64,
+) -> (Columns, Columns, Vec<(usize, usize)>) {
     let (n, nv) = (q.frames, model.nv);
     let mut v = Columns {
         frames: n,
@@ -576,7 +581,7 @@ fn derivative_columns(model: &Model, q: &Columns, dt: f64) -> (Columns, Columns,
             euler,
             v: mine_v,
             a: mine_a,
-            from_rotation: false,
+            locked_frames: 0,
         });
         (rest_v, rest_a) = (tail_v, tail_a);
         at = iv + nvj;
@@ -589,15 +594,14 @@ fn derivative_columns(model: &Model, q: &Columns, dt: f64) -> (Columns, Columns,
             joint_rates(model, q, dt, s, j);
         }
     });
-    // the columns whose a is done, and the euler joints left to their angles
+    // the columns whose a is done (every euler joint's), and the euler joints at lock
     let mut done = vec![false; nv];
     let mut locked = vec![];
-    for j in &joints {
+    for j in joints.iter().filter(|j| j.euler.is_some()) {
         let iv = model.idx_v[j.body];
-        if j.from_rotation {
-            done[iv..iv + 3].fill(true);
-        } else if j.euler.is_some() {
-            locked.push(j.body);
+        done[iv..iv + 3].fill(true);
+        if j.locked_frames > 0 {
+            locked.push((j.body, j.locked_frames));
         }
     }
     drop(joints);
@@ -641,16 +645,39 @@ fn joint_rates(model: &Model, q: &Columns, dt: f64, s: &mut TripleScratch, j: &m
         let (a0, rest) = j.a.split_at_mut(n);
         let (a1, a2) = rest.split_at_mut(n);
         let cols = [q.col(iq), q.col(iq + 1), q.col(iq + 2)];
-        j.from_rotation = triple_rates(s, order, cols, dt, [v0, v1, v2], [a0, a1, a2]);
-        if j.from_rotation {
-            return;
-        }
-        for (m, v) in j.v.chunks_mut(n).enumerate() {
-            joint_velocity(model, q, dt, j.body + m, v);
+        j.locked_frames = triple_rates(s, order, cols, dt, [v0, v1, v2], [a0, a1, a2]);
+        if j.locked_frames > 0 {
+            // at gimbal lock: the angles' differences, v first, then a from the whole v
+            let locked = |k: usize| at_gimbal_lock(cols[1][k]);
+            for (m, v) in j.v.chunks_mut(n).enumerate() {
+                (0..n)
+                    .filter(|&k| locked(k))
+                    .for_each(|k| v[k] = difference_at(cols[m], k, dt));
+            }
+            if n > 2 {
+                for (v, a) in j.v.chunks(n).zip(j.a.chunks_mut(n)) {
+                    (0..n)
+                        .filter(|&k| locked(k))
+                        .for_each(|k| a[k] = difference_at(v, k, dt));
+                }
+            }
         }
         return;
     }
     joint_velocity(model, q, dt, j.body, j.v);
+}
+
+/// The rate of the samples `x` (every `dt` s) at `k` by the differences [`joint_velocity`]
+/// takes on a hinge: central inside, one-sided second order at the ends, the one difference
+/// for two samples.
+fn difference_at(x: &[f64], k: usize, dt: f64) -> f64 {
+    let n = x.len();
+    match (n, k) {
+        (2, _) => (x[1] - x[0]) / dt,
+        (_, 0) => (-3.0 * x[0] + 4.0 * x[1] - x[2]) / (2.0 * dt),
+        _ if k == n - 1 => (3.0 * x[n - 1] - 4.0 * x[n - 2] + x[n - 3]) / (2.0 * dt),
+        _ => (x[k + 1] - x[k - 1]) / (2.0 * dt),
+    }
 }
 
 /// One joint of [`derivative_columns`]: `v` at every frame of `n ≥ 2`. Two frames: the
