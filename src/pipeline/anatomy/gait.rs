@@ -17,10 +17,12 @@ pub struct KneeCycles {
     /// (N·m/kg), of the frames [`Anatomy::quoted`] keeps. Its normative peak lies at 12–15 %
     /// of the gait cycle (Winter 2009), about a fifth of stance, just where the estimated load
     /// reaches the leading foot at the end of the double support: a window of a fifth of
-    /// stance, four frames at 30 fps, caught the Bandai walk's knees before it.
-    pub loading_extensor_nm_kg: f64,
-    /// Knee flexion at that moment's peak (deg).
-    pub loading_flexion_deg: f64,
+    /// stance, four frames at 30 fps, caught the Bandai walk's knees before it. `None`: no
+    /// stride has a quoted frame there (all beyond Hicks et al.'s thresholds or at the take's
+    /// ends), so there is nothing to quote.
+    pub loading_extensor_nm_kg: Option<f64>,
+    /// Knee flexion at that moment's peak (deg); `None` with the moment.
+    pub loading_flexion_deg: Option<f64>,
 }
 
 /// The gait-cycle figures of each knee from its foot's contact phases (a stride: foot strike,
@@ -28,7 +30,7 @@ pub struct KneeCycles {
 pub fn knee_cycles(a: &Anatomy) -> Vec<KneeCycles> {
     let median = |mut v: Vec<f64>| {
         v.sort_by(f64::total_cmp);
-        v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+        v.get(v.len() / 2).copied()
     };
     let mut out = vec![];
     for (foot, on) in &a.contact {
@@ -68,7 +70,7 @@ pub fn knee_cycles(a: &Anatomy) -> Vec<KneeCycles> {
         out.push(KneeCycles {
             knee: knee.into(),
             strides: swing.len(),
-            swing_flexion_deg: median(swing),
+            swing_flexion_deg: median(swing).unwrap_or(f64::NAN),
             loading_extensor_nm_kg: median(load),
             loading_flexion_deg: median(load_flex),
         });
@@ -138,19 +140,76 @@ pub fn summary(a: &Anatomy) -> String {
         );
     }
     for c in knee_cycles(a) {
+        let loading = match (c.loading_extensor_nm_kg, c.loading_flexion_deg) {
+            (Some(m), Some(f)) => format!("{m:.2} N·m/kg at {f:.1}° flexion"),
+            _ => "not quoted (no stride's early stance has a frame within Hicks et al.'s \
+                  thresholds and away from the take's ends)"
+                .into(),
+        };
         out += &format!(
             "{}: {} strides (medians): swing flexion peak {:.1}°, loading-response extensor \
-             moment {:.2} N·m/kg at {:.1}° flexion ({:.0} kg body)\n",
-            c.knee,
-            c.strides,
-            c.swing_flexion_deg,
-            c.loading_extensor_nm_kg,
-            c.loading_flexion_deg,
-            a.mass_kg
+             moment {loading} ({:.0} kg body)\n",
+            c.knee, c.strides, c.swing_flexion_deg, a.mass_kg
         );
     }
     if let Some(c) = &a.consistency {
         out += &c.text();
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A knee over three cycles of 20 frames (stance 0–9, swing 10–19: one whole stride from
+    /// the strike at 20 to the next at 40), its moment peaking early in stance; `edge` frames at
+    /// each end not reported.
+    fn strides(edge: usize) -> Anatomy {
+        let n = 60;
+        let on: Vec<bool> = (0..n).map(|k| k % 20 < 10).collect();
+        let phase = |k: usize| (k % 20) as f64 / 20.0;
+        let flex = (0..n).map(|k| 10.0 + 50.0 * phase(k)).collect();
+        let moment = (0..n)
+            .map(|k| if k % 20 == 2 { 0.8 } else { 0.1 })
+            .collect();
+        Anatomy {
+            time: (0..n).map(|k| k as f64 / 30.0).collect(),
+            names: vec![
+                "knee_l:flexion:angle".into(),
+                "knee_l:flexion:moment_per_kg".into(),
+            ],
+            columns: vec![flex, moment],
+            mass_kg: 75.0,
+            notes: vec![],
+            contact: vec![("left".into(), on)],
+            consistency: None,
+            edge,
+            include_edges: false,
+        }
+    }
+
+    #[test]
+    fn the_loading_response_is_the_early_stance_peak() {
+        let c = &knee_cycles(&strides(1))[0];
+        assert_eq!(c.strides, 1);
+        assert_eq!(c.loading_extensor_nm_kg, Some(0.8));
+        assert_eq!(c.loading_flexion_deg, Some(15.0));
+        assert!(summary(&strides(1)).contains("moment 0.80 N·m/kg at 15.0° flexion"));
+    }
+
+    /// Before, a take with no quoted early-stance frame printed "NaN N·m/kg at NaN° flexion"
+    /// (the Rokoko dance jesse_dance, every such frame beyond Hicks et al.'s thresholds).
+    #[test]
+    fn no_quoted_early_stance_frame_says_so_and_prints_no_nan() {
+        let a = strides(26);
+        let c = &knee_cycles(&a)[0];
+        assert_eq!(c.loading_extensor_nm_kg, None);
+        let text = summary(&a);
+        assert!(!text.contains("NaN"), "{text}");
+        assert!(
+            text.contains("loading-response extensor moment not quoted"),
+            "{text}"
+        );
+    }
 }
