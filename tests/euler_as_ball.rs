@@ -111,21 +111,31 @@ fn the_demo_walk_in_another_rotation_order_gives_the_same_euler_model_moments() 
     assert_same("demo walk, another order", &original, &reordered, 1e-6);
 }
 
-/// The demo walk turned about the vertical so that its heading is the root's middle Euler
-/// angle (Y-up, written Z-Y-X: within 6° of gimbal lock on most frames, the Xia takes' Hips)
-/// is the same walk facing another way: the same residuals, ground reactions (turned) and
-/// anatomical moments, so the same figures before reduction.
-#[test]
-fn the_demo_walk_turned_to_gimbal_lock_has_the_same_residuals_on_the_euler_model() {
-    let b = bvh::read(&common::repo("data/demo_walk.bvh")).unwrap();
-    let order = EulerOrder::ZYX;
-    let reordered = common::variants::turned_heading(&b, 1, 0.0, order);
+fn demo() -> Bvh {
+    bvh::read(&common::repo("data/demo_walk.bvh")).unwrap()
+}
+
+/// `b` with its root's rotations written in `order` (the vertical axis in the middle: its
+/// heading is the middle angle), and that angle's channel.
+fn heading_in_the_middle(b: &Bvh, order: EulerOrder) -> (Bvh, usize) {
+    let reordered = common::variants::turned_heading(b, 1, 0.0, order);
     let root = &reordered.joints[0];
     let middle = root.first_channel
         + (0..root.channels.len())
             .filter(|&i| root.channels[i].is_rotation())
             .nth(1)
             .unwrap();
+    (reordered, middle)
+}
+
+/// The demo walk turned about the vertical so that its heading is the root's middle Euler
+/// angle (Y-up, written Z-Y-X: within 6° of gimbal lock on most frames, the Xia takes' Hips)
+/// is the same walk facing another way: the same residuals, ground reactions (turned) and
+/// anatomical moments, so the same figures before reduction.
+#[test]
+fn the_demo_walk_turned_to_gimbal_lock_has_the_same_residuals_on_the_euler_model() {
+    let (b, order) = (demo(), EulerOrder::ZYX);
+    let (reordered, middle) = heading_in_the_middle(&b, order);
     let mut heading: Vec<f64> = (0..b.frames).map(|k| reordered.frame(k)[middle]).collect();
     heading.sort_by(f64::total_cmp);
     let turned = common::variants::turned_heading(&b, 1, 90.0 - heading[b.frames / 2], order);
@@ -184,15 +194,8 @@ fn shared_walks_on_the_euler_model_move_as_on_the_ball_model() {
 /// the take (the walk's heading within a few degrees of the lock amplifies them).
 #[test]
 fn a_root_at_exact_gimbal_lock_falls_back_to_its_angle_differences_and_says_so() {
-    let b = bvh::read(&common::repo("data/demo_walk.bvh")).unwrap();
-    let order = EulerOrder::ZYX;
-    let reordered = common::variants::turned_heading(&b, 1, 0.0, order);
-    let root = &reordered.joints[0];
-    let middle = root.first_channel
-        + (0..root.channels.len())
-            .filter(|&i| root.channels[i].is_rotation())
-            .nth(1)
-            .unwrap();
+    let (b, order) = (demo(), EulerOrder::ZYX);
+    let (reordered, middle) = heading_in_the_middle(&b, order);
     let mid = b.frames / 2;
     let heading = reordered.frame(mid)[middle];
     let mut locked = common::variants::turned_heading(&b, 1, 90.0 - heading, order);
