@@ -7,7 +7,8 @@
 //! their central differences likewise differ from the joint's angular velocity by terms that
 //! grow as `1/cos a2`. Here the triple's rotations are smoothed on SO(3) exactly as a ball
 //! joint's quaternions are ([`Smoother::smooth_quaternions`]) and written back as angles on the
-//! take's continuous branch ([`repick_fast`]); the rates come from the rotation: the joint's body
+//! take's continuous branch ([`repick_fast`]); the rates come from the smoothed rotation itself
+//! (not from one rebuilt from the written-back angles): the joint's body
 //! angular velocity `ω` by the ball joint's manifold differences, `ω̇` by the same differences
 //! of `ω`, then `q̇ = H⁻¹ ω` and `q̈ = H⁻¹ (α − Ḣ q̇)` in the joint's parent frame (`ω_p = R ω`,
 //! `α_p = R ω̇`: `d(Rω)/dt = R ω̇ + R [ω]× ω`), `H` the hinges' axes
