@@ -124,7 +124,7 @@ pub fn euler_to_quaternion_axes(ax: [usize; 3], angles: [f64; 3]) -> UnitQuatern
 }
 
 /// Calls `$f::<I, J, K>($args…)` with the axes of `$order` as constants: the per-frame loops
-/// of the euler model's rotations ([`euler_frame_axes`], [`euler_to_quaternion_axes`],
+/// of the euler model's rotations ([`euler_to_quaternion_axes`],
 /// [`matrix_to_euler_fast_axes`]) compiled once per order, their axis indices folded away
 /// (the same floating-point operations in the same order, so the same bits).
 macro_rules! with_axes {
@@ -149,46 +149,6 @@ fn axis_rotation_sc(axis: usize, s: f64, c: f64) -> Matrix3<f64> {
         1 => Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c),
         _ => Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0),
     }
-}
-
-/// A triple's rotation as a quaternion and as a matrix, and its hinges' axes
-/// ([`hinge_axes`] under the identity), from three half-angle sines and cosines (the full
-/// angles' by the double-angle formulas): what differentiating an euler joint needs per frame,
-/// with three `sin_cos` in all.
-pub fn euler_frame(
-    order: EulerOrder,
-    angles: [f64; 3],
-) -> (UnitQuaternion<f64>, Matrix3<f64>, Matrix3<f64>) {
-    euler_frame_axes(order.axes(), angles)
-}
-
-/// [`euler_frame`] for the axes `ax` (inlined, so constant axes fold away: see [`with_axes`]).
-#[inline(always)]
-pub fn euler_frame_axes(
-    ax: [usize; 3],
-    angles: [f64; 3],
-) -> (UnitQuaternion<f64>, Matrix3<f64>, Matrix3<f64>) {
-    let mut q = Quaternion::identity();
-    let mut r = Matrix3::identity();
-    let mut cols = [Vector3::zeros(); 3];
-    for n in 0..3 {
-        let (s, c) = (0.5 * angles[n]).sin_cos();
-        let mut v = [0.0; 3];
-        v[ax[n]] = s;
-        q *= Quaternion::new(c, v[0], v[1], v[2]);
-        cols[n] = r.column(ax[n]).into_owned();
-        // r · R_a(θ) turns two columns: e_u → c e_u + s e_v, e_v → −s e_u + c e_v
-        let (sa, ca) = (2.0 * s * c, (c - s) * (c + s));
-        let (u, w) = ((ax[n] + 1) % 3, (ax[n] + 2) % 3);
-        let (cu, cw) = (r.column(u).into_owned(), r.column(w).into_owned());
-        r.set_column(u, &(cu * ca + cw * sa));
-        r.set_column(w, &(cw * ca - cu * sa));
-    }
-    (
-        UnitQuaternion::new_unchecked(q),
-        r,
-        Matrix3::from_columns(&cols),
-    )
 }
 
 /// [`matrix_to_euler`] with the first angle's sine and cosine read from the matrix instead
@@ -397,9 +357,7 @@ mod tests {
             let a = [0.3, -1.2, 2.5];
             let q = euler_to_quaternion(o, a);
             assert!((q.to_rotation_matrix().into_inner() - euler_to_matrix(o, a)).norm() < 1e-14);
-            let (_, r, axes) = euler_frame(o, a);
-            assert!((r - euler_to_matrix(o, a)).norm() < 1e-14);
-            assert!((axes - hinge_axes(Matrix3::identity(), o, a)).norm() < 1e-14);
+            let r = euler_to_matrix(o, a);
             let fast = matrix_to_euler_fast(o, &r);
             let slow = matrix_to_euler(o, &r);
             assert!(

@@ -7,7 +7,8 @@
 //! their central differences likewise differ from the joint's angular velocity by terms that
 //! grow as `1/cos a2`. Here the triple's rotations are smoothed on SO(3) exactly as a ball
 //! joint's quaternions are ([`Smoother::smooth_quaternions`]) and written back as angles on the
-//! take's continuous branch ([`repick_fast`]); the rates come from the rotation: the joint's body
+//! take's continuous branch ([`repick_fast`]); the rates come from the smoothed rotation itself
+//! (not from one rebuilt from the written-back angles): the joint's body
 //! angular velocity `ω` by the ball joint's manifold differences, `ω̇` by the same differences
 //! of `ω`, then `q̇ = H⁻¹ ω` and `q̈ = H⁻¹ (α − Ḣ q̇)` in the joint's parent frame (`ω_p = R ω`,
 //! `α_p = R ω̇`: `d(Rω)/dt = R ω̇ + R [ω]× ω`), `H` the hinges' axes
@@ -18,8 +19,8 @@ use crate::motion::smooth::{SmoothSpec, Smoother};
 use crate::motion::unwrap::lock_distance;
 use crate::motion::unwrap::repick_fast;
 use crate::rotation::{
-    EulerOrder, euler_frame_axes, euler_to_quaternion_axes, hinge_coordinate_rates,
-    matrix_to_euler_fast_axes, with_axes,
+    EulerOrder, euler_to_quaternion_axes, hinge_coordinate_rates, matrix_to_euler_fast_axes,
+    with_axes,
 };
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
@@ -28,77 +29,66 @@ use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 /// angles' scalar differences ([`triple_rates`] leaves those frames to its caller).
 pub const LOCK_DET: f64 = 1e-7;
 
-/// Work buffers of [`smooth_triple`] and [`triple_rates`], for up to a take's frames; reused,
-/// so the per-frame loops allocate nothing.
+/// Farther than this (rad) from gimbal lock, [`hinge_axes_at`] reads the first angle's sine
+/// and cosine from the rotation (dividing by `|cos a2| > sin 0.01`, which costs at most two
+/// digits); nearer, it takes them from the angle.
+const AXES_FROM_ROTATION: f64 = 0.01;
+
+/// Work buffers of [`triple_rates`] and of a ball joint's smoothing, for up to a take's
+/// frames; reused, so the per-frame loops allocate nothing.
 #[derive(Debug, Clone, Default)]
 pub struct TripleScratch {
     /// Rotation of each frame.
     pub quats: Vec<UnitQuaternion<f64>>,
-    /// Each frame's rotation and hinge axes ([`euler_frame`]).
-    frames: Vec<Frame>,
     /// Body angular velocity `ω` of each frame (rad/s, child frame).
     omega: Vec<Vector3<f64>>,
 }
-
-/// A frame's rotation (quaternion, matrix) and its hinges' axes in the parent frame.
-type Frame = (UnitQuaternion<f64>, Matrix3<f64>, Matrix3<f64>);
 
 impl TripleScratch {
     /// Buffers for `frames` frames.
     pub fn with_capacity(frames: usize) -> Self {
         Self {
             quats: Vec::with_capacity(frames),
-            frames: Vec::with_capacity(frames),
             omega: Vec::with_capacity(frames),
         }
     }
+}
 
-    fn fill_quats(&mut self, order: EulerOrder, cols: [&[f64]; 3]) {
-        fn fill<const I: usize, const J: usize, const K: usize>(
-            quats: &mut Vec<UnitQuaternion<f64>>,
-            cols: [&[f64]; 3],
-        ) {
-            quats.clear();
-            quats.extend((0..cols[0].len()).map(|k| {
-                euler_to_quaternion_axes([I, J, K], [cols[0][k], cols[1][k], cols[2][k]])
-            }));
+/// The rotation of each frame of a triple's angle columns `cols` into `out` (one per frame).
+pub fn triple_rotations(order: EulerOrder, cols: [&[f64]; 3], out: &mut [UnitQuaternion<f64>]) {
+    fn fill<const I: usize, const J: usize, const K: usize>(
+        cols: [&[f64]; 3],
+        out: &mut [UnitQuaternion<f64>],
+    ) {
+        for (k, r) in out.iter_mut().enumerate() {
+            *r = euler_to_quaternion_axes([I, J, K], [cols[0][k], cols[1][k], cols[2][k]]);
         }
-        with_axes!(order, fill(&mut self.quats, cols));
     }
-
-    fn fill_frames(&mut self, order: EulerOrder, cols: [&[f64]; 3]) {
-        fn fill<const I: usize, const J: usize, const K: usize>(
-            frames: &mut Vec<Frame>,
-            cols: [&[f64]; 3],
-        ) {
-            frames.clear();
-            frames.extend(
-                (0..cols[0].len())
-                    .map(|k| euler_frame_axes([I, J, K], [cols[0][k], cols[1][k], cols[2][k]])),
-            );
-        }
-        with_axes!(order, fill(&mut self.frames, cols));
-    }
+    with_axes!(order, fill(cols, out));
 }
 
 /// Smooths the rotation of one euler joint (its three angle columns, one value per frame,
 /// continuous) on SO(3) with `smoother`, and writes the angles back: each frame's triple of
 /// the smoothed rotation nearest the previous frame's (the first frame's nearest the given
-/// first triple). Without smoothing nothing changes.
+/// first triple). `rotations` (one per frame) receives the rotations, smoothed: the ones the
+/// angles are read from, which [`triple_rates`] takes the rates from. Without smoothing the
+/// angles do not change and `rotations` are theirs.
 pub fn smooth_triple(
     smoother: &mut Smoother,
-    s: &mut TripleScratch,
     order: EulerOrder,
     cols: [&mut [f64]; 3],
+    rotations: &mut [UnitQuaternion<f64>],
 ) {
     let [c0, c1, c2] = cols;
-    let n = c0.len();
-    if n == 0 || smoother.spec() == SmoothSpec::None {
+    if c0.is_empty() {
         return;
     }
-    s.fill_quats(order, [&c0[..], &c1[..], &c2[..]]);
-    smoother.smooth_quaternions(&mut s.quats);
-    with_axes!(order, write_back(order, &s.quats, [c0, c1, c2]));
+    triple_rotations(order, [&c0[..], &c1[..], &c2[..]], rotations);
+    if smoother.spec() == SmoothSpec::None {
+        return;
+    }
+    smoother.smooth_quaternions(rotations);
+    with_axes!(order, write_back(order, rotations, [c0, c1, c2]));
 }
 
 /// The angles of the rotations `quats` on the take's branch (see [`smooth_triple`]).
@@ -130,21 +120,43 @@ pub fn at_gimbal_lock(a2: f64) -> bool {
 /// The rates of one euler joint from its rotation (module doc): `v` = q̇ and `a` = q̈ of its
 /// three hinges at every frame of the angle columns `q` sampled every `dt` s, with the ball
 /// joint's differences (second order at every frame; two frames: the one difference, no
-/// acceleration). Frames within [`LOCK_DET`] of gimbal lock, where `H` is singular, are left
-/// as they were and counted: the caller gives them the angles' differences (`ω` and `ω̇` are
-/// the rotation's there too, so the frames around them keep their rates from the rotation).
-/// Returns how many frames were left.
+/// acceleration). `rotations` are the frames' rotations as [`smooth_triple`] left them (the
+/// angles' own when `None`). Frames within [`LOCK_DET`] of gimbal lock, where `H` is singular,
+/// are left as they were and counted: the caller gives them the angles' differences (`ω` and
+/// `ω̇` are the rotation's there too, so the frames around them keep their rates from the
+/// rotation). Returns how many frames were left.
 pub fn triple_rates(
     s: &mut TripleScratch,
     order: EulerOrder,
+    q: [&[f64]; 3],
+    rotations: Option<&[UnitQuaternion<f64>]>,
+    dt: f64,
+    v: [&mut [f64]; 3],
+    a: [&mut [f64]; 3],
+) -> usize {
+    let quats = match rotations {
+        Some(r) => r,
+        None => {
+            s.quats.resize(q[0].len(), UnitQuaternion::identity());
+            triple_rotations(order, q, &mut s.quats);
+            &s.quats
+        }
+    };
+    body_angular_velocity(quats, dt, &mut s.omega);
+    with_axes!(order, coordinate_rates(quats, &s.omega, q, dt, v, a))
+}
+
+/// [`triple_rates`] from the rotations `quats` and their body angular velocities `w`, frame
+/// by frame.
+fn coordinate_rates<const I: usize, const J: usize, const K: usize>(
+    quats: &[UnitQuaternion<f64>],
+    w: &[Vector3<f64>],
     q: [&[f64]; 3],
     dt: f64,
     v: [&mut [f64]; 3],
     a: [&mut [f64]; 3],
 ) -> usize {
     let n = q[0].len();
-    s.fill_frames(order, q);
-    body_angular_velocity(&s.frames, dt, &mut s.omega);
     let [v0, v1, v2] = v;
     let [a0, a1, a2] = a;
     let h2 = 2.0 * dt;
@@ -155,15 +167,15 @@ pub fn triple_rates(
             continue;
         }
         // ω̇ by the scalar formulas of each component (pipeline::states' accelerations)
-        let w = &s.omega;
         let dw = match n {
             0..=2 => Vector3::zeros(),
             _ if k == 0 => (-3.0 * w[0] + 4.0 * w[1] - w[2]) / h2,
             _ if k == n - 1 => (3.0 * w[n - 1] - 4.0 * w[n - 2] + w[n - 3]) / h2,
             _ => (w[k + 1] - w[k - 1]) / h2,
         };
-        let (_, r, axes) = &s.frames[k];
-        let Some((dq, ddq)) = hinge_coordinate_rates(axes, &(r * w[k]), &(r * dw), 0.0) else {
+        let r = quats[k].to_rotation_matrix().into_inner();
+        let axes = hinge_axes_at::<I, J, K>(&r, [q[0][k], q[1][k], q[2][k]]);
+        let Some((dq, ddq)) = hinge_coordinate_rates(&axes, &(r * w[k]), &(r * dw), 0.0) else {
             // a singular H at |cos a2| ≥ LOCK_DET is rounding's, not the take's: hold
             continue;
         };
@@ -175,13 +187,57 @@ pub fn triple_rates(
     left
 }
 
+/// The hinges' axes `H` ([`hinge_axes`](crate::rotation::hinge_axes) under the identity) of
+/// the triple `x` (axes `I, J, K`, parity `p`) whose rotation is `r`: `w1 = e_I`,
+/// `w2 = R_I(a1) e_J = cos a1 e_J + p sin a1 e_K` and `w3 = r e_K` (the last hinge's axis
+/// turns with the first two only). Farther than [`AXES_FROM_ROTATION`] from gimbal lock the
+/// first angle's sine and cosine are read from `r`'s third column, `r e_K = p sin a2 e_I +
+/// cos a2 (cos a1 e_K − p sin a1 e_J)`, as the write-back took `a1` from it
+/// ([`matrix_to_euler_fast_axes`]), with the sign of `cos a2` from `x`'s branch: no
+/// trigonometry. Nearer, from `sin_cos(a1)`.
+#[inline(always)]
+fn hinge_axes_at<const I: usize, const J: usize, const K: usize>(
+    r: &Matrix3<f64>,
+    x: [f64; 3],
+) -> Matrix3<f64> {
+    let p = if J == (I + 1) % 3 { 1.0 } else { -1.0 };
+    let (s1, c1) = match lock_distance(x[1]) {
+        Some(d) if d > AXES_FROM_ROTATION => {
+            let (y, z) = (r[(J, K)], r[(K, K)]);
+            let inv = cos_sign(x[1]) / (y * y + z * z).sqrt();
+            (-p * y * inv, z * inv)
+        }
+        _ => x[0].sin_cos(),
+    };
+    let mut axes = Matrix3::zeros();
+    axes[(I, 0)] = 1.0;
+    axes[(J, 1)] = c1;
+    axes[(K, 1)] = p * s1;
+    axes.set_column(2, &r.column(K));
+    axes
+}
+
+/// The sign of `cos a` (+1 or −1) for an angle `a` not within rounding of an odd multiple of
+/// π/2: `a` reduced by whole turns to `[−π, π]` lies within π/2 of 0.
+fn cos_sign(a: f64) -> f64 {
+    use std::f64::consts::{FRAC_PI_2, TAU};
+    let t = a / TAU;
+    // nearest integer (half away from zero; at a half, a lies π from 0 either way)
+    let turns = (t + 0.5f64.copysign(t)) as i64 as f64;
+    if (a - turns * TAU).abs() < FRAC_PI_2 {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
 /// The body angular velocity of a rotation trajectory by the ball joint's differences
 /// (`pipeline::states`' `joint_velocity` with the spherical joint's `difference`,
 /// `log(q_i⁻¹ q_j)`): central inside, one-sided second order at the ends, the one difference
 /// for two frames.
-fn body_angular_velocity(q: &[Frame], dt: f64, out: &mut Vec<Vector3<f64>>) {
+fn body_angular_velocity(q: &[UnitQuaternion<f64>], dt: f64, out: &mut Vec<Vector3<f64>>) {
     let n = q.len();
-    let diff = |i: usize, j: usize| (q[i].0.inverse() * q[j].0).scaled_axis();
+    let diff = |i: usize, j: usize| (q[i].inverse() * q[j]).scaled_axis();
     out.clear();
     match n {
         0 => {}
@@ -206,6 +262,56 @@ fn body_angular_velocity(q: &[Frame], dt: f64, out: &mut Vec<Vector3<f64>>) {
 mod tests {
     use super::*;
     use std::f64::consts::FRAC_PI_2;
+
+    /// The hinges' axes read from the rotation are the axes of the angles on either branch,
+    /// whatever the turns added, near the lock and far from it, in every order.
+    #[test]
+    fn hinge_axes_from_the_rotation_are_the_angles_axes() {
+        use crate::rotation::{euler_to_quaternion, hinge_axes};
+        use std::f64::consts::PI;
+        fn at<const I: usize, const J: usize, const K: usize>(
+            r: &Matrix3<f64>,
+            x: [f64; 3],
+        ) -> Matrix3<f64> {
+            hinge_axes_at::<I, J, K>(r, x)
+        }
+        let mut worst: f64 = 0.0;
+        for order in EulerOrder::ALL {
+            for a2 in [
+                0.0,
+                0.4,
+                -1.2,
+                1.55,
+                FRAC_PI_2 - 0.011,
+                FRAC_PI_2 - 0.009,
+                -FRAC_PI_2 + 2e-4,
+            ] {
+                for (a1, a3) in [(0.3, -2.1), (-2.9, 0.7), (1.6, 3.0)] {
+                    let x = [a1, a2, a3];
+                    let r = euler_to_quaternion(order, x)
+                        .to_rotation_matrix()
+                        .into_inner();
+                    // the other branch, and whole turns on every angle
+                    let other = [a1 + PI, PI - a2, a3 + PI];
+                    let turned = [a1 - 2.0 * PI, a2 + 4.0 * PI, a3 + 2.0 * PI];
+                    for y in [x, other, turned] {
+                        let want = hinge_axes(Matrix3::identity(), order, y);
+                        let got = with_axes!(order, at(&r, y));
+                        worst = worst.max((got - want).amax());
+                    }
+                }
+            }
+        }
+        assert!(worst < 1e-13, "{worst:e}");
+    }
+
+    #[test]
+    fn cos_sign_is_the_sign_of_cos() {
+        for k in -4000..4000 {
+            let a = k as f64 * 0.01 + 0.003;
+            assert_eq!(cos_sign(a), a.cos().signum(), "{a}");
+        }
+    }
 
     #[test]
     fn the_lock_test_without_cos_answers_as_cos_does() {

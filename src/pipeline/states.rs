@@ -9,7 +9,7 @@ use super::{GLITCH_SPEED, NEAR_LOCK, States};
 use crate::error::Error;
 use crate::io::bvh::Bvh;
 use crate::model::bvh::BvhMap;
-use crate::model::{JointKind, Model};
+use crate::model::{EulerTriple, JointKind, Model};
 use crate::motion::euler::{TripleScratch, at_gimbal_lock, smooth_triple, triple_rates};
 use crate::motion::smooth::{SmoothSpec, Smoother};
 use crate::motion::unwrap::{AngleUnit, unwrap_angles};
@@ -57,18 +57,27 @@ pub fn take_states_marked(
     };
     done(Stage::Coordinates);
     let dt = bvh.frame_time;
+    let triples = model.euler_triples();
     let mut notes = euler_continuity(bvh, map, &mut cols);
     unwrap_revolute(model, &mut cols);
     done(Stage::Unwrap);
-    smooth_columns(model, &mut cols, dt, smooth, &mut |f| keep_going(0.9 * f))?;
+    let mut rotations = TripleRotations::new(triples.len(), n);
+    smooth_columns(
+        model,
+        &triples,
+        &mut cols,
+        &mut rotations,
+        dt,
+        smooth,
+        &mut |f| keep_going(0.9 * f),
+    )?;
     done(Stage::Smooth);
     if !keep_going(0.9) {
         return Err(Error::Cancelled);
     }
-    let (v, a, locked) = derivative_columns(model, &cols, dt);
+    let (v, a, locked) = derivative_columns(model, &triples, &cols, Some(&rotations), dt);
     notes.extend(locked.iter().map(|&(b, frames)| {
-        let name = &model.joint_names[b];
-        let joint = name.rsplit_once('.').map_or(name.as_str(), |(j, _)| j);
+        let joint = bvh_joint_name(bvh, map, model.idx_q[b]);
         format!(
             "`{joint}` reaches gimbal lock at {frames} frame(s) (its middle angle within \
              0.00001° of ±90°): there its rates cannot come from its rotation, so its \
@@ -84,6 +93,39 @@ pub fn take_states_marked(
     };
     done(Stage::Derivatives);
     Ok((states, notes))
+}
+
+/// The name of the BVH joint whose rotation channel sets coordinate `iq` (an euler joint's
+/// first hinge).
+fn bvh_joint_name<'a>(bvh: &'a Bvh, map: &BvhMap, iq: usize) -> &'a str {
+    map.joints
+        .iter()
+        .position(|jm| jm.channels.iter().any(|c| c.q == Some(iq)))
+        .map_or("?", |j| bvh.joints[j].name.as_str())
+}
+
+/// The rotation of every euler joint ([`Model::euler_triples`], in that order) at every
+/// frame, as [`smooth_triple`] leaves it (smoothed): triple `t`'s frames are
+/// `data[t·frames .. (t+1)·frames]`. The derivatives take the joints' rates from these, not
+/// from rotations rebuilt from the angles written back.
+struct TripleRotations {
+    frames: usize,
+    data: Vec<UnitQuaternion<f64>>,
+}
+
+impl TripleRotations {
+    /// Room for `triples` joints of `frames` frames.
+    fn new(triples: usize, frames: usize) -> Self {
+        Self {
+            frames,
+            data: vec![UnitQuaternion::identity(); triples * frames],
+        }
+    }
+
+    /// Triple `t`'s rotations.
+    fn of(&self, t: usize) -> &[UnitQuaternion<f64>] {
+        &self.data[t * self.frames..(t + 1) * self.frames]
+    }
 }
 
 /// Configurations stored by coordinate: column `j` (every frame of coordinate `j`) is
@@ -330,7 +372,17 @@ pub fn unwrap_and_smooth_with(
     }
     let mut cols = Columns::of_rows(q, model.nq);
     unwrap_revolute(model, &mut cols);
-    smooth_columns(model, &mut cols, dt, smooth, keep_going)?;
+    let triples = model.euler_triples();
+    let mut rotations = TripleRotations::new(triples.len(), cols.frames);
+    smooth_columns(
+        model,
+        &triples,
+        &mut cols,
+        &mut rotations,
+        dt,
+        smooth,
+        keep_going,
+    )?;
     cols.to_rows(q);
     Ok(())
 }
@@ -341,6 +393,8 @@ pub fn unwrap_and_smooth_with(
 struct JointColumns<'a> {
     kind: Group,
     cols: &'a mut [f64],
+    /// An euler joint's rotation at every frame ([`TripleRotations`]); empty for the others.
+    rotations: &'a mut [UnitQuaternion<f64>],
 }
 
 /// What a group of coordinates is.
@@ -357,18 +411,21 @@ enum Group {
 /// Scalar coordinates smoothed side by side in one group.
 const SIDE_BY_SIDE: usize = 4;
 
-/// What one worker smooths with: its filter's buffers and a rotation trajectory.
+/// What one worker smooths with: its filter's buffers and a ball joint's rotations.
 struct SmoothScratch {
     smoother: Smoother,
-    triple: TripleScratch,
+    quats: Vec<UnitQuaternion<f64>>,
 }
 
 /// Smooths every joint's coordinates, groups in parallel (a ball or free joint alone, up to
 /// four consecutive scalar coordinates together); `keep_going` is told once per group (in
-/// coordinate order) and stops the work with [`Error::Cancelled`].
+/// coordinate order) and stops the work with [`Error::Cancelled`]. The euler joints'
+/// rotations (`triples`, [`Model::euler_triples`]) are left in `rotations`.
 fn smooth_columns(
     model: &Model,
+    triples: &[EulerTriple],
     cols: &mut Columns,
+    rotations: &mut TripleRotations,
     dt: f64,
     smooth: &SmoothSpec,
     keep_going: &mut dyn FnMut(f64) -> bool,
@@ -381,7 +438,6 @@ fn smooth_columns(
     // the groups of columns: consecutive scalar coordinates up to four together, each ball
     // or free joint alone (coordinate order: idx_q grows with the body index)
     // and each euler joint's three hinges alone
-    let triples = model.euler_triples();
     let mut triples = triples.iter().peekable();
     let mut groups: Vec<(usize, usize, Group)> = vec![];
     let mut i = 1;
@@ -404,13 +460,24 @@ fn smooth_columns(
     }
     let mut joints = Vec::with_capacity(groups.len());
     let mut rest: &mut [f64] = &mut cols.data;
+    let mut rest_rotations: &mut [UnitQuaternion<f64>] = &mut rotations.data;
     let mut at = 0;
     for (iq, m, kind) in groups {
         debug_assert!(iq >= at, "coordinates in body order");
         let (_, tail) = std::mem::take(&mut rest).split_at_mut((iq - at) * n);
         let (mine, tail) = tail.split_at_mut(m * n);
-        joints.push(JointColumns { kind, cols: mine });
-        rest = tail;
+        let frames = if matches!(kind, Group::Euler(_)) {
+            n
+        } else {
+            0
+        };
+        let (rotations, tail_rotations) = std::mem::take(&mut rest_rotations).split_at_mut(frames);
+        joints.push(JointColumns {
+            kind,
+            cols: mine,
+            rotations,
+        });
+        (rest, rest_rotations) = (tail, tail_rotations);
         at = iq + m;
     }
     let mut scratch = par::scratch(|| {
@@ -418,7 +485,7 @@ fn smooth_columns(
         smoother.reserve(n);
         SmoothScratch {
             smoother,
-            triple: TripleScratch::with_capacity(n),
+            quats: Vec::with_capacity(n),
         }
     });
     let total = joints.len();
@@ -449,7 +516,7 @@ fn smooth_joint(s: &mut SmoothScratch, j: &mut JointColumns, n: usize) {
         Group::Euler(order) => {
             let (c0, rest) = j.cols.split_at_mut(n);
             let (c1, c2) = rest.split_at_mut(n);
-            smooth_triple(&mut s.smoother, &mut s.triple, order, [c0, c1, c2]);
+            smooth_triple(&mut s.smoother, order, [c0, c1, c2], j.rotations);
             return;
         }
         Group::Joint(JointKind::Free) => {
@@ -461,7 +528,7 @@ fn smooth_joint(s: &mut SmoothScratch, j: &mut JointColumns, n: usize) {
     };
     // quaternions [x, y, z, w] on the rotation manifold
     let c = &mut j.cols[quat_at..quat_at + 4 * n];
-    let quats = &mut s.triple.quats;
+    let quats = &mut s.quats;
     quats.clear();
     quats.extend((0..n).map(|k| {
         UnitQuaternion::new_normalize(Quaternion::new(c[3 * n + k], c[k], c[n + k], c[2 * n + k]))
@@ -518,7 +585,7 @@ fn world_translation_rates(model: &Model, q: &Columns, dt: f64, v: &mut Columns,
 /// [`derivative_columns`] on the rows' columns.
 pub fn derivatives(model: &Model, q: &[Vec<f64>], dt: f64) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
     let cols = Columns::of_rows(q, model.nq);
-    let (v, a, _) = derivative_columns(model, &cols, dt);
+    let (v, a, _) = derivative_columns(model, &model.euler_triples(), &cols, None, dt);
     (v.rows(), a.rows())
 }
 
@@ -527,6 +594,8 @@ pub fn derivatives(model: &Model, q: &[Vec<f64>], dt: f64) -> (Vec<Vec<f64>>, Ve
 struct JointRates<'a> {
     body: usize,
     euler: Option<EulerOrder>,
+    /// An euler joint's rotations ([`TripleRotations`]; `None`: its angles').
+    rotations: Option<&'a [UnitQuaternion<f64>]>,
     v: &'a mut [f64],
     a: &'a mut [f64],
     /// An euler joint's frames at gimbal lock, whose rates are its angles' differences (its
@@ -536,7 +605,8 @@ struct JointRates<'a> {
 
 /// [`derivatives`] on columns: joints in parallel for v (scalar joints column by column,
 /// ball and free joints through [`Model::difference`]'s joint formula frame by frame, euler
-/// joints from their rotation with their a, [`triple_rates`]), then every other v column in
+/// joints from their rotation with their a, [`triple_rates`], the rotations `rotations` the
+/// smoothing left or else their angles'), then every other v column in
 /// parallel for a. Each value is computed by the same expression as frame by frame, so the
 /// result does not depend on the layout or the number of threads. Also returns, for each
 /// euler joint that comes within [`LOCK_DET`](crate::motion::euler::LOCK_DET) of gimbal lock,
@@ -544,7 +614,9 @@ struct JointRates<'a> {
 /// differences.
 fn derivative_columns(
     model: &Model,
+    triples: &[EulerTriple],
     q: &Columns,
+    rotations: Option<&TripleRotations>,
     dt: f64,
 ) -> (Columns, Columns, Vec<(usize, usize)>) {
     let (n, nv) = (q.frames, model.nv);
@@ -561,14 +633,14 @@ fn derivative_columns(
     }
     // each joint's v and a columns, split off in velocity order (idx_v grows with the body
     // index), an euler joint's three hinges together
-    let triples = model.euler_triples();
-    let mut triples = triples.iter().peekable();
+    let mut triples = triples.iter().enumerate().peekable();
     let mut joints = Vec::with_capacity(model.nbodies());
     let (mut rest_v, mut rest_a): (&mut [f64], &mut [f64]) = (&mut v.data, &mut a.data);
     let mut at = 0;
     let mut i = 1;
     while i < model.nbodies() {
-        let euler = triples.next_if(|t| t.body == i).map(|t| t.order);
+        let triple = triples.next_if(|(_, t)| t.body == i);
+        let euler = triple.map(|(_, t)| t.order);
         let bodies = if euler.is_some() { 3 } else { 1 };
         let iv = model.idx_v[i];
         let nvj: usize = (i..i + bodies).map(|b| model.joints[b].nv()).sum();
@@ -579,6 +651,7 @@ fn derivative_columns(
         joints.push(JointRates {
             body: i,
             euler,
+            rotations: triple.and_then(|(t, _)| rotations.map(|r| r.of(t))),
             v: mine_v,
             a: mine_a,
             locked_frames: 0,
@@ -645,7 +718,8 @@ fn joint_rates(model: &Model, q: &Columns, dt: f64, s: &mut TripleScratch, j: &m
         let (a0, rest) = j.a.split_at_mut(n);
         let (a1, a2) = rest.split_at_mut(n);
         let cols = [q.col(iq), q.col(iq + 1), q.col(iq + 2)];
-        j.locked_frames = triple_rates(s, order, cols, dt, [v0, v1, v2], [a0, a1, a2]);
+        let (v, a) = ([v0, v1, v2], [a0, a1, a2]);
+        j.locked_frames = triple_rates(s, order, cols, j.rotations, dt, v, a);
         if j.locked_frames > 0 {
             // at gimbal lock: the angles' differences, v first, then a from the whole v
             let locked = |k: usize| at_gimbal_lock(cols[1][k]);
