@@ -74,3 +74,17 @@ fn an_edit_that_changes_nothing_or_a_set_without_edit_is_refused() {
             .failure();
     }
 }
+
+/// Regression: a take given relative to the working folder was read relative to its own
+/// folder a second time (`data/data/demo_walk.bvh: No such file`).
+#[test]
+fn a_take_given_by_a_relative_path_is_found() {
+    let out = articula()
+        .current_dir(common::repo(""))
+        .args(["bench", "data/demo_walk.bvh", "--edit", "body.mass=80,70"])
+        .args(["--contact", "none", "--repeat", "1"])
+        .assert()
+        .success();
+    let text = String::from_utf8_lossy(&out.get_output().stdout).into_owned();
+    assert!(text.contains("480 frames"), "{text}");
+}

@@ -10,7 +10,9 @@ use crate::dynamics::residual::{
     FORCE_SHARE, MOMENT_SHARE, ResidualFigures, counted_frames, external_forces, residual_figures,
     split_norms,
 };
-use crate::dynamics::rra::{Ground, Motion, ReductionBounds, Trunk, com_heights, reduce_residuals};
+use crate::dynamics::rra::{
+    Ground, Motion, ReductionBounds, Seed, Started, Trunk, com_heights, reduce_residuals,
+};
 use crate::error::Error;
 use crate::motion::contact::ContactParams;
 use nalgebra::Vector3;
@@ -42,6 +44,8 @@ pub struct Adjustments {
     /// The knot spacing (s) of the pelvis offset's refinement near the foot changes, when the
     /// smooth adjustments left the take beyond the thresholds (`dynamics::rra`).
     pub refined_knot_spacing_s: Option<f64>,
+    /// How the reduction started: cold, or from a seed of the same take (`dynamics::rra`).
+    pub started: Started,
 }
 
 impl Adjustments {
@@ -141,17 +145,21 @@ pub fn consistent_take(
     reduce: bool,
     measured: Option<&FootLoads>,
 ) -> Result<(Option<Take>, GroundReactions, Consistency), Error> {
-    consistent_take_keeping(take, reduce, measured, &[])
+    consistent_take_keeping(take, reduce, measured, &[], None).map(|(t, g, c, _)| (t, g, c))
 }
 
 /// [`consistent_take`] whose estimate keeps the net moments on `moment_bodies`
-/// ([`GroundReactions::moments`], for the anatomical series) when the take is not reduced.
+/// ([`GroundReactions::moments`], for the anatomical series) when the take is not reduced,
+/// and whose residual reduction starts from `seed` when it fits (what an earlier reduction of
+/// the same take found: `dynamics::rra::Seed`, kept by a session between edits of the
+/// masses). Returns besides what the reduction found to start the next one from.
 pub fn consistent_take_keeping(
     take: &Take,
     reduce: bool,
     measured: Option<&FootLoads>,
     moment_bodies: &[usize],
-) -> Result<(Option<Take>, GroundReactions, Consistency), Error> {
+    seed: Option<&Seed>,
+) -> Result<(Option<Take>, GroundReactions, Consistency, Option<Seed>), Error> {
     let s = &take.states;
     let up = take.up.index();
     // the moments of the take as it is are read only when it stays as it is
@@ -169,7 +177,7 @@ pub fn consistent_take_keeping(
     let travel = pelvis_travel(&before.pelvis, up);
     if !reduce {
         let c = finish(fig_before, None, None, mass_kg, &before, counted, travel);
-        return Ok((None, before, c));
+        return Ok((None, before, c, None));
     }
     let duration = s.time.last().copied().unwrap_or(0.0) - s.time.first().copied().unwrap_or(0.0);
     let bounds = ReductionBounds::for_take(duration, take.bvh.frame_time);
@@ -201,6 +209,7 @@ pub fn consistent_take_keeping(
         up,
         &counted,
         &bounds,
+        seed,
     )
     .map_err(|e| Error::Invalid(format!("{}: {e}", take.path.display())))?;
     let heights = com_heights(&r.model, &r.q, r.ground.up, r.ground.floor);
@@ -218,6 +227,7 @@ pub fn consistent_take_keeping(
         bounded: r.bounded.clone(),
         bounds,
         refined_knot_spacing_s: r.refined_knot_spacing_s,
+        started: r.started,
     };
     let c = finish(
         fig_before,
@@ -233,7 +243,7 @@ pub fn consistent_take_keeping(
     adjusted.states.q = r.q;
     adjusted.states.v = r.v;
     adjusted.states.a = r.a;
-    Ok((Some(adjusted), r.ground, c))
+    Ok((Some(adjusted), r.ground, c, r.seed))
 }
 
 fn figures(g: &GroundReactions, heights: &[f64], counted: &[bool]) -> ResidualFigures {

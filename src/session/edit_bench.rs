@@ -104,13 +104,14 @@ pub fn bench_edit(
     opts: &TakeOptions,
     settings: &EditSettings,
 ) -> Result<EditBench, Error> {
+    // the workbench reads relative to the take's folder: the take is its file name there
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut wb = Workbench::new(Arc::new(Builtin), dir, dir);
     wb.params.take = opts.clone();
     command(
         &mut wb,
         Command::Load {
-            path: path.to_path_buf(),
+            path: path.file_name().map_or(path.to_path_buf(), Into::into),
             name: None,
         },
     )?;

@@ -38,6 +38,7 @@
 
 mod problem;
 mod root;
+mod seed;
 
 use super::grf::measured::FootLoads;
 use super::grf::{GroundReactions, floating_root};
@@ -48,8 +49,10 @@ use crate::model::Model;
 use crate::motion::contact::{ContactParams, Foot};
 use crate::motion::spline::UniformBSpline;
 use nalgebra::{DVector, Vector3};
-use problem::{Evaluated, Problem};
+use problem::{Adjusted, Evaluated, Problem};
 use root::{root_rotation, root_translation};
+pub use seed::Seed;
+use seed::{Key, RefinedSeed, Start};
 
 /// How far residual reduction may change the model and the motion (OpenSim's guidelines for
 /// RRA, "Simulation with OpenSim — Best Practices": kinematics within 2 cm and 2° RMS, 5 cm
@@ -168,6 +171,22 @@ pub struct Reduction {
     /// ([`refine`]); `None`: not refined (the take met the thresholds without it, or it did
     /// not lower the residuals).
     pub refined_knot_spacing_s: Option<f64>,
+    /// What starts the next reduction of the same take ([`Seed`]); `None` against measured
+    /// ground reactions.
+    pub seed: Option<Seed>,
+    /// How the reduction started.
+    pub started: Started,
+}
+
+/// How a reduction started ([`reduce_residuals`]'s `seed`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Started {
+    /// Gauss–Newton from zero (no seed, or one of another take or settings).
+    Cold,
+    /// Every mass and inertia the seed's times one factor: its adjustments, evaluated.
+    Scaled,
+    /// Other masses: Gauss–Newton from the seed's adjustments.
+    Warm,
 }
 
 impl Reduction {
@@ -211,10 +230,13 @@ impl Trunk<'_> {
 
 /// Residual reduction (module doc) of the motion `motion` of `model` against the ground
 /// reactions `ground`, with the trunk `trunk` (whose mass centre may move across it) and the
-/// frames `counted` ([`super::residual::counted_frames`]).
+/// frames `counted` ([`super::residual::counted_frames`]); from `seed`, what an earlier
+/// reduction found, when it is of the same problem ([`Seed`]: its adjustments evaluated for a
+/// body scaled alike, Gauss–Newton from them for other masses, else from zero).
 ///
 /// Errors: those of the ground reactions' estimate or application; a model without a floating
 /// root whose translation is three prismatic joints or a free joint; a motion of one instant.
+#[allow(clippy::too_many_arguments)]
 pub fn reduce_residuals(
     model: &Model,
     ground: Ground,
@@ -223,6 +245,7 @@ pub fn reduce_residuals(
     up: usize,
     counted: &[bool],
     bounds: &ReductionBounds,
+    seed: Option<&Seed>,
 ) -> Result<Reduction, Error> {
     let translation = root_translation(model).ok_or_else(|| {
         Error::Invalid(format!(
@@ -260,32 +283,21 @@ pub fn reduce_residuals(
         base_pelvis: &[],
         free: None,
     };
-    // the translations first, then the rotations from there: each stage keeps only steps
-    // that lower the residuals, so adding the rotations never ends above the translations
-    let x0 = DVector::zeros(problem.layout().len);
-    let mut e = problem.evaluate(&x0)?;
-    problem.height = mean_com_height(problem.model, &e, problem.counted);
-    e.cost = problem.cost(&e.ground);
-    let (mut x, mut e) = solve(&problem, bounds, x0, e)?;
-    if let Some(r) = root_rotation(model) {
-        let from = problem.layout();
-        problem.rotation = Some(r);
-        let to = problem.layout();
-        let mut wider = DVector::zeros(to.len);
-        wider
-            .rows_mut(0, from.translation + 2 * problem.spline.len())
-            .copy_from(&x.rows(0, from.translation + 2 * problem.spline.len()));
-        if let (Some(a), Some(b)) = (from.mass, to.mass) {
-            wider[b] = x[a];
-        }
-        (x, e) = solve(&problem, bounds, wider, e)?;
-    }
+    let key = Key::of(model, &ground, &trunk, &motion, up, counted, bounds);
+    let (found, started) = match Start::of(seed, key.as_ref(), model) {
+        Start::Cold => (cold(&mut problem, bounds)?, Started::Cold),
+        Start::Warm(s) => (warm(&mut problem, bounds, s)?, Started::Warm),
+        Start::Scaled(s) => (scaled(&mut problem, s)?, Started::Scaled),
+    };
+    let Found {
+        x,
+        mu,
+        e,
+        pelvis,
+        refined,
+        floor,
+    } = found;
     let rotation = problem.rotation.map(|_| problem.pelvis_rotation(&x));
-    let mut pelvis = problem.pelvis(&x);
-    let mut refined_knot_spacing_s = None;
-    if let Some(r) = refine(&problem, bounds, &pelvis, &e)? {
-        (pelvis, e, refined_knot_spacing_s) = (r.pelvis, r.evaluated, Some(r.spacing_s));
-    }
     // the bounds the adjustments end against (within a tenth of them)
     let (peak, rms) = peak_rms(&pelvis);
     let (rpeak, rrms) = rotation.as_deref().map_or((0.0, 0.0), peak_rms);
@@ -311,11 +323,23 @@ pub fn reduce_residuals(
             bounded.push(name);
         }
     }
+    let refined_knot_spacing_s = refined.as_ref().map(|r| r.spacing_s);
+    let trunk_offset = problem.trunk_offset(&x);
+    let seed = key.map(|key| Seed {
+        key,
+        inertia: model.inertia.clone(),
+        x,
+        mu,
+        height: problem.height,
+        floor,
+        refined,
+        steps: e.steps,
+    });
     Ok(Reduction {
         pelvis,
         rotation,
         mass_scale,
-        trunk_offset: problem.trunk_offset(&x),
+        trunk_offset,
         trunk_mass_kg: trunk.bodies.iter().map(|&b| model.inertia[b].mass).sum(),
         model: e.model,
         q: e.q,
@@ -325,6 +349,140 @@ pub fn reduce_residuals(
         bounded,
         steps: e.steps,
         refined_knot_spacing_s,
+        seed,
+        started,
+    })
+}
+
+/// What a reduction found, however it started: the smooth adjustments `x` and their Tikhonov
+/// weights, the final evaluation (refined or not), the total pelvis offset per frame (m,
+/// world), the refinement kept, and the floor under the unadjusted motion.
+struct Found {
+    x: DVector<f64>,
+    mu: [f64; 4],
+    e: Evaluated,
+    pelvis: Vec<Vector3<f64>>,
+    refined: Option<RefinedSeed>,
+    floor: f64,
+}
+
+/// Gauss–Newton from zero: the translations first, then the rotations from there (each stage
+/// keeps only steps that lower the residuals, so adding the rotations never ends above the
+/// translations), then the refinement near the foot changes ([`refine`]).
+fn cold(problem: &mut Problem, bounds: &ReductionBounds) -> Result<Found, Error> {
+    problem.rotation = None;
+    let x0 = DVector::zeros(problem.layout().len);
+    let mut e = problem.evaluate(&x0)?;
+    let floor = e.ground.floor;
+    problem.height = mean_com_height(problem.model, &e.q, problem.counted, e.ground.up, floor);
+    e.cost = problem.cost(&e.ground);
+    let mut mu = [MU0; 4];
+    let (mut x, mut e) = solve(problem, bounds, x0, e, &mut mu)?;
+    if let Some(r) = root_rotation(problem.model) {
+        let from = problem.layout();
+        problem.rotation = Some(r);
+        let to = problem.layout();
+        let mut wider = DVector::zeros(to.len);
+        wider
+            .rows_mut(0, from.translation + 2 * problem.spline.len())
+            .copy_from(&x.rows(0, from.translation + 2 * problem.spline.len()));
+        if let (Some(a), Some(b)) = (from.mass, to.mass) {
+            wider[b] = x[a];
+        }
+        mu = [MU0; 4];
+        (x, e) = solve(problem, bounds, wider, e, &mut mu)?;
+    }
+    finish(problem, bounds, x, mu, e, floor, None)
+}
+
+/// Gauss–Newton from the seed's adjustments and weights (a model whose inertias changed
+/// otherwise than all alike), the rotations free from the start, then the refinement from the
+/// seed's. The residual force's weight is this model's mean COM height over the seed's floor.
+fn warm(problem: &mut Problem, bounds: &ReductionBounds, seed: &Seed) -> Result<Found, Error> {
+    problem.rotation = root_rotation(problem.model);
+    if problem.layout().len != seed.x.len() {
+        return cold(problem, bounds);
+    }
+    problem.height = mean_com_height(
+        problem.model,
+        problem.motion.q,
+        problem.counted,
+        problem.up,
+        seed.floor,
+    );
+    let mut mu = seed.mu;
+    let e = problem.evaluate(&seed.x)?;
+    let (x, e) = solve(problem, bounds, seed.x.clone(), e, &mut mu)?;
+    finish(problem, bounds, x, mu, e, seed.floor, seed.refined.as_ref())
+}
+
+/// The seed's adjustments on a model whose every mass and inertia is the seed's times one
+/// factor: by the reduction's invariance they are this model's, so they are evaluated (the
+/// refined ones when the seed was refined) and nothing is solved.
+fn scaled(problem: &mut Problem, seed: &Seed) -> Result<Found, Error> {
+    problem.rotation = root_rotation(problem.model);
+    problem.height = seed.height;
+    let x = seed.x.clone();
+    let pelvis = problem.pelvis(&x);
+    let (mut e, pelvis, refined) = match &seed.refined {
+        None => (problem.evaluate(&x)?, pelvis, None),
+        Some(r) => {
+            let Adjusted { model, q, v, a } = problem.adjusted(&x)?;
+            let Ground::Estimated { params, .. } = problem.ground else {
+                unreachable!("a seed is of estimated ground reactions (Key::of)")
+            };
+            let fine = fine_spacing(problem, params)
+                .and_then(|h| fine_problem_of(problem, &model, [&q, &v, &a], &pelvis, h))
+                .filter(|f| f.spline.spacing == r.spacing_s && f.layout().len == r.x.len())
+                .ok_or_else(|| {
+                    Error::Invalid("residual reduction: the seed's refinement does not fit".into())
+                })?;
+            (fine.evaluate(&r.x)?, fine.pelvis(&r.x), Some(r.clone()))
+        }
+    };
+    e.steps = seed.steps;
+    Ok(Found {
+        x,
+        mu: seed.mu,
+        e,
+        pelvis,
+        refined,
+        floor: seed.floor,
+    })
+}
+
+/// The Tikhonov weights' start (per block, times the block's mean `JᵀJ` diagonal).
+const MU0: f64 = 1e-4;
+
+/// The smooth adjustments `x` (evaluated as `e`) refined near the foot changes when that
+/// lowers the residuals (from `warm`'s refinement when given).
+fn finish(
+    problem: &Problem,
+    bounds: &ReductionBounds,
+    x: DVector<f64>,
+    mu: [f64; 4],
+    e: Evaluated,
+    floor: f64,
+    warm: Option<&RefinedSeed>,
+) -> Result<Found, Error> {
+    let pelvis = problem.pelvis(&x);
+    Ok(match refine(problem, bounds, &pelvis, &e, warm)? {
+        Some(r) => Found {
+            x,
+            mu,
+            e: r.evaluated,
+            pelvis: r.pelvis,
+            refined: Some(r.seed),
+            floor,
+        },
+        None => Found {
+            x,
+            mu,
+            e,
+            pelvis,
+            refined: None,
+            floor,
+        },
     })
 }
 
@@ -335,14 +493,16 @@ pub fn reduce_residuals(
 /// (a contact starting or ending): there the smoothed accelerations move the force of one
 /// contact phase into the next, and the residual lies in runs of a few frames that the
 /// 0.15 s knots cannot follow. The trunk's mass centre, the smooth offset and the rotation
-/// are held; the bounds count both offsets together. `None` when the take meets the
-/// thresholds already (its adjustments stay low-frequency), the ground reactions are
-/// measured, no foot changes, or the refinement does not lower the residuals.
+/// are held; the bounds count both offsets together. Gauss–Newton from zero, or from `warm`'s
+/// parameters where they are free. `None` when the take meets the thresholds already (its
+/// adjustments stay low-frequency), the ground reactions are measured, no foot changes, or
+/// the refinement does not lower the residuals.
 fn refine(
     coarse: &Problem,
     bounds: &ReductionBounds,
     pelvis: &[Vector3<f64>],
     e: &Evaluated,
+    warm: Option<&RefinedSeed>,
 ) -> Result<Option<Refined>, Error> {
     let Ground::Estimated { params, .. } = coarse.ground else {
         return Ok(None);
@@ -354,35 +514,93 @@ fn refine(
     }
     let time = coarse.motion.time;
     let changes = foot_changes(time, &e.ground.contact);
-    let (Some(&t0), Some(&t1), Some(dt)) =
-        (time.first(), time.last(), time.get(1).map(|t| t - time[0]))
-    else {
-        return Ok(None);
-    };
     if changes.is_empty() {
         return Ok(None);
     }
-    let spacing = (0.5 * params.spread_s)
-        .max(3.0 * dt)
-        .max((t1 - t0) / MAX_KNOTS as f64);
-    // whole intervals no shorter than that (the spline would shrink them to fit)
-    let intervals = ((t1 - t0) / spacing).floor().max(1.0);
-    let Some(spline) = UniformBSpline::new(t0, t1, (t1 - t0) / intervals * (1.0 + 1e-9)) else {
+    let Some(spacing) = fine_spacing(coarse, params) else {
         return Ok(None);
     };
-    let mut fine = Problem {
-        model: &e.model,
+    let Some(mut fine) = fine_problem_of(coarse, &e.model, [&e.q, &e.v, &e.a], pelvis, spacing)
+    else {
+        return Ok(None);
+    };
+    let layout = fine.layout();
+    let (t0, nb, h) = (time[0], fine.spline.len(), fine.spline.spacing);
+    // basis function i is non-zero over (t0 + (i − 3) h, t0 + (i + 1) h)
+    let near = |i: usize| {
+        let (a, b) = (
+            t0 + (i as f64 - 3.0) * h - params.spread_s,
+            t0 + (i as f64 + 1.0) * h + params.spread_s,
+        );
+        changes.iter().any(|&t| a < t && t < b)
+    };
+    let free: Vec<bool> = (0..layout.len)
+        .map(|i| {
+            i >= layout.translation
+                && i < layout.translation + 2 * nb
+                && near((i - layout.translation) % nb)
+        })
+        .collect();
+    // from zero, or from the seed's refinement where it is free
+    let (x0, mut mu) = match warm.filter(|w| w.x.len() == layout.len && w.spacing_s == h) {
+        Some(w) => (
+            DVector::from_fn(layout.len, |i, _| if free[i] { w.x[i] } else { 0.0 }),
+            w.mu,
+        ),
+        None => (DVector::zeros(layout.len), [MU0; 4]),
+    };
+    fine.free = Some(free);
+    let start = fine.evaluate(&x0)?;
+    let (x, mut refined) = solve(&fine, bounds, x0, start, &mut mu)?;
+    if refined.cost >= e.cost {
+        return Ok(None);
+    }
+    refined.steps += e.steps;
+    Ok(Some(Refined {
+        pelvis: fine.pelvis(&x),
+        evaluated: refined,
+        seed: RefinedSeed {
+            x,
+            spacing_s: h,
+            mu,
+        },
+    }))
+}
+
+/// The refinement's knot spacing (s, before the spline fits it to whole intervals): half the
+/// estimator's spread, at least three frames, at most [`MAX_KNOTS`] knots.
+fn fine_spacing(coarse: &Problem, params: &ContactParams) -> Option<f64> {
+    let time = coarse.motion.time;
+    let (&t0, &t1, dt) = (time.first()?, time.last()?, time.get(1)? - time[0]);
+    Some(
+        (0.5 * params.spread_s)
+            .max(3.0 * dt)
+            .max((t1 - t0) / MAX_KNOTS as f64),
+    )
+}
+
+/// The refinement's problem ([`refine`]) over the coarse adjustments' `model` and motion,
+/// whose total pelvis offset is `pelvis`, its knots every `spacing` s at least (whole
+/// intervals: the spline would shrink them to fit); every parameter free.
+fn fine_problem_of<'a>(
+    coarse: &Problem<'a>,
+    model: &'a Model,
+    [q, v, a]: [&'a [Vec<f64>]; 3],
+    pelvis: &'a [Vector3<f64>],
+    spacing: f64,
+) -> Option<Problem<'a>> {
+    let time = coarse.motion.time;
+    let (&t0, &t1) = (time.first()?, time.last()?);
+    let intervals = ((t1 - t0) / spacing).floor().max(1.0);
+    let spline = UniformBSpline::new(t0, t1, (t1 - t0) / intervals * (1.0 + 1e-9))?;
+    Some(Problem {
+        model,
         ground: coarse.ground,
         trunk: Trunk {
             bodies: &[],
             across: [Vector3::zeros(); 2],
         },
-        motion: Motion {
-            time,
-            q: &e.q,
-            v: &e.v,
-            a: &e.a,
-        },
+        motion: Motion { time, q, v, a },
         up: coarse.up,
         counted: coarse.counted,
         spline,
@@ -392,46 +610,15 @@ fn refine(
         height: coarse.height,
         base_pelvis: pelvis,
         free: None,
-    };
-    let layout = fine.layout();
-    let (nb, h) = (spline.len(), spline.spacing);
-    // basis function i is non-zero over (t0 + (i − 3) h, t0 + (i + 1) h)
-    let near = |i: usize| {
-        let (a, b) = (
-            t0 + (i as f64 - 3.0) * h - params.spread_s,
-            t0 + (i as f64 + 1.0) * h + params.spread_s,
-        );
-        changes.iter().any(|&t| a < t && t < b)
-    };
-    fine.free = Some(
-        (0..layout.len)
-            .map(|i| {
-                i >= layout.translation
-                    && i < layout.translation + 2 * nb
-                    && near((i - layout.translation) % nb)
-            })
-            .collect(),
-    );
-    let x0 = DVector::zeros(layout.len);
-    let start = fine.evaluate(&x0)?;
-    let (x, mut refined) = solve(&fine, bounds, x0, start)?;
-    if refined.steps == 0 || refined.cost >= e.cost {
-        return Ok(None);
-    }
-    refined.steps += e.steps;
-    Ok(Some(Refined {
-        pelvis: fine.pelvis(&x),
-        evaluated: refined,
-        spacing_s: h,
-    }))
+    })
 }
 
 /// What [`refine`] found: the total pelvis offset per frame (m, world), the refined
-/// evaluation and the refinement's knot spacing (s).
+/// evaluation and what starts the next refinement.
 struct Refined {
     pelvis: Vec<Vector3<f64>>,
     evaluated: Evaluated,
-    spacing_s: f64,
+    seed: RefinedSeed,
 }
 
 /// The times (s) where a foot's contact starts or ends: midway between the two frames.
@@ -445,7 +632,8 @@ fn foot_changes(time: &[f64], contact: &[Vec<bool>]) -> Vec<f64> {
     out
 }
 
-/// Gauss–Newton from `x` (evaluated as `e`): each step kept only if the re-evaluated
+/// Gauss–Newton from `x` (evaluated as `e`) with the Tikhonov weights `mu` (raised as the
+/// bounds ask; left where they end): each step kept only if the re-evaluated
 /// residuals fall (halved until they do, eight times at most); stops when a step gains less
 /// than a thousandth.
 fn solve(
@@ -453,10 +641,10 @@ fn solve(
     bounds: &ReductionBounds,
     mut x: DVector<f64>,
     mut e: Evaluated,
+    mu: &mut [f64; 4],
 ) -> Result<(DVector<f64>, Evaluated), Error> {
-    let mut mu = [1e-4; 4];
     for _ in 0..bounds.iterations {
-        let Some(next) = problem.step(&x, &e, bounds, &mut mu) else {
+        let Some(next) = problem.step(&x, &e, bounds, mu) else {
             break;
         };
         let mut accepted = None;
@@ -484,8 +672,8 @@ fn solve(
 }
 
 /// Mean height of the whole-body centre of mass over the floor, over the counted frames (m).
-fn mean_com_height(model: &Model, e: &Evaluated, counted: &[bool]) -> f64 {
-    com_heights(model, &e.q, e.ground.up, e.ground.floor)
+fn mean_com_height(model: &Model, q: &[Vec<f64>], counted: &[bool], up: usize, floor: f64) -> f64 {
+    com_heights(model, q, up, floor)
         .iter()
         .zip(counted)
         .filter(|(_, c)| **c)

@@ -57,6 +57,14 @@ pub(super) struct Evaluated {
     pub steps: usize,
 }
 
+/// The model and motion adjusted by some `x` ([`Problem::adjusted`]).
+pub(super) struct Adjusted {
+    pub model: Model,
+    pub q: Vec<Vec<f64>>,
+    pub v: Vec<Vec<f64>>,
+    pub a: Vec<Vec<f64>>,
+}
+
 /// Where the parameter blocks start in `x`, and its length.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Layout {
@@ -160,6 +168,38 @@ impl Problem<'_> {
 
     /// The model and motion adjusted by `x`, their ground reactions and cost.
     pub fn evaluate(&self, x: &DVector<f64>) -> Result<Evaluated, Error> {
+        let Adjusted { model, q, v, a } = self.adjusted(x)?;
+        let time = self.motion.time;
+        let ground = match self.ground {
+            Ground::Estimated { feet, params } => estimate_ground_reactions_progress(
+                &model,
+                feet,
+                time,
+                &q,
+                &v,
+                &a,
+                self.up,
+                params,
+                &mut |_| true,
+            )?,
+            Ground::Measured(loads) => {
+                apply_ground_reactions(&model, loads, time, &q, &v, &a, self.up)?
+            }
+        };
+        let cost = self.cost(&ground);
+        Ok(Evaluated {
+            model,
+            q,
+            v,
+            a,
+            ground,
+            cost,
+            steps: 0,
+        })
+    }
+
+    /// The model and motion adjusted by `x` (no ground reactions).
+    pub fn adjusted(&self, x: &DVector<f64>) -> Result<Adjusted, Error> {
         let trunk = with_trunk_offset(self.model, self.trunk.bodies, &self.trunk_offset(x));
         let s = self.mass_scale(x);
         let model = if s == 1.0 {
@@ -199,33 +239,7 @@ impl Problem<'_> {
                 }
             }
         }
-        let time = self.motion.time;
-        let ground = match self.ground {
-            Ground::Estimated { feet, params } => estimate_ground_reactions_progress(
-                &model,
-                feet,
-                time,
-                &q,
-                &v,
-                &a,
-                self.up,
-                params,
-                &mut |_| true,
-            )?,
-            Ground::Measured(loads) => {
-                apply_ground_reactions(&model, loads, time, &q, &v, &a, self.up)?
-            }
-        };
-        let cost = self.cost(&ground);
-        Ok(Evaluated {
-            model,
-            q,
-            v,
-            a,
-            ground,
-            cost,
-            steps: 0,
-        })
+        Ok(Adjusted { model, q, v, a })
     }
 
     /// `Σ |n|² + h² |f|²` over the counted frames.

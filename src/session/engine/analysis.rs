@@ -142,6 +142,11 @@ pub struct Analysis {
     /// (`pipeline::resolve_contact_after`), reused by an edit of masses alone; `None` when the
     /// contact was not `auto`.
     pub contact_auto: Option<(pipeline::Contact, String)>,
+    /// What residual reduction found for these results (`dynamics::rra::Seed`), where the
+    /// next edit's reduction starts: an edit that scales every mass alike reuses its
+    /// adjustments, one that changes masses otherwise starts Gauss–Newton there; `None`
+    /// without reduction.
+    pub reduction: Option<Arc<crate::dynamics::rra::Seed>>,
 }
 
 /// Why a frame's accelerations and torques are left out of the figures quoted from them.

@@ -152,6 +152,7 @@ impl Engine for Builtin {
             source: extras.source,
             calibration: extras.calibration,
             contact_auto: extras.contact_auto,
+            reduction: extras.reduction,
             reference: Table::default(),
         })
     }
@@ -230,6 +231,7 @@ impl Engine for Builtin {
             source: None,
             calibration: None,
             contact_auto: None,
+            reduction: None,
             reference,
         })
     }
@@ -306,6 +308,7 @@ struct Extras {
     source: Option<Arc<pipeline::Take>>,
     calibration: Option<Arc<pipeline::anatomy::Calibration>>,
     contact_auto: Option<(pipeline::Contact, String)>,
+    reduction: Option<Arc<crate::dynamics::rra::Seed>>,
 }
 
 /// A BVH take through the pipeline's stages: axes and unit, model, q, unwrap, smooth,
@@ -339,7 +342,7 @@ fn bvh_inverse_dynamics(
     x.contact_auto = pipeline::resolve_contact_after(&mut t, settled);
     x.left_out = edge_marks(&t, params);
     x.note = summarize_notes(&t.notes);
-    let (t, g) = contact(t, params, &mut x, ctl)?;
+    let (t, g) = contact(t, params, previous, &mut x, ctl)?;
     ctl.check()?;
     let tau = anatomy_and_torques(&t, g.as_ref(), previous, &mut x, ctl)?;
     ctl.check()?;
@@ -363,12 +366,13 @@ fn edge_marks(t: &pipeline::Take, params: &Params) -> Vec<Option<LeftOut>> {
 
 /// With `contact feet`: the estimated ground reactions (and how far the feet could give the
 /// ground force the motion needs) of the take made consistent unless `consistent off`
-/// (residual reduction); the frames beyond the feet marked [`LeftOut::Beyond`], the verdicts
+/// (residual reduction, started from what `previous` found when it fits: [`crate::dynamics::rra::Seed`]); the frames beyond the feet marked [`LeftOut::Beyond`], the verdicts
 /// in the note and brief. The estimate keeps the net moments of the bodies the anatomical
 /// series read. Without contact, the take as it is.
 fn contact(
     t: pipeline::Take,
     params: &Params,
+    previous: Option<&Analysis>,
     x: &mut Extras,
     ctl: &Control,
 ) -> Result<
@@ -386,8 +390,12 @@ fn contact(
         Err(_) => vec![],
     };
     let reduce = params.consistent.unwrap_or(true);
-    let (adjusted, g, c) =
-        pipeline::consistency::consistent_take_keeping(&t, reduce, None, &bodies)?;
+    // residual reduction from what the last results' found, when they are of the same take
+    // (the seed itself checks that nothing but the masses changed)
+    let seed = previous.and_then(|p| p.reduction.as_deref());
+    let (adjusted, g, c, found) =
+        pipeline::consistency::consistent_take_keeping(&t, reduce, None, &bodies, seed)?;
+    x.reduction = found.map(Arc::new);
     for (k, b) in c.beyond.iter().enumerate() {
         if *b && k < x.left_out.len() {
             x.left_out[k] = Some(LeftOut::Beyond);

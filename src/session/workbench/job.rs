@@ -228,6 +228,24 @@ impl Job {
             .inverse_dynamics_after(take, params, previous, ctl)?)
     }
 
+    /// [`inverse_dynamics`](Self::inverse_dynamics) whose residual reduction starts cold: a
+    /// batch over settings (`compare weights`) gives the same results whatever the session
+    /// computed before it.
+    fn inverse_dynamics_cold_reduction(
+        &self,
+        take: &Take,
+        params: &Params,
+        ctl: &Control,
+    ) -> Result<Analysis, SessionError> {
+        let previous = self.previous.as_deref().map(|p| Analysis {
+            reduction: None,
+            ..p.clone()
+        });
+        Ok(self
+            .engine
+            .inverse_dynamics_after(take, params, previous.as_ref(), ctl)?)
+    }
+
     /// The selection once `analysis` (computed by this job) is stored ([`selection_for`]).
     fn selection(&self, analysis: &Option<Arc<Analysis>>) -> Option<String> {
         match analysis {
@@ -601,7 +619,7 @@ impl Job {
             ctl.set_span(i as f64 / n, (i + 1) as f64 / n);
             let mut params = self.params.clone();
             params.take.body.mass_kg = mass_kg;
-            let r = self.inverse_dynamics(take, &params, ctl)?;
+            let r = self.inverse_dynamics_cold_reduction(take, &params, ctl)?;
             scale = r.scale;
             let tau = torque_series(&r, coord)
                 .ok_or_else(|| err(format!("no coordinate '{coord}' in the model")))?;
