@@ -6,11 +6,6 @@
 //! - a smoothing edit reruns the smoothing and all that follows;
 //! - a gain, integrator or step edit is the simulation's: inverse dynamics stays fresh.
 //!
-//! With contact, residual reduction is off here (`set consistent off`): with it on, a mass
-//! edit starts the reduction from what the last one found, which equals a full recompute to
-//! 1e-9 when every mass scales alike and within the solver's tolerance otherwise
-//! (`tests/warm_reduction.rs`), not bit for bit.
-//!
 //! Stage runs are counted through the pipeline's `done(Stage)` hook (`Control::done`,
 //! `Workbench::stage_runs`), never timed.
 
@@ -63,7 +58,6 @@ fn a_mass_edit_reruns_inverse_dynamics_but_not_the_smoothing_and_equals_a_full_r
         let mut wb = wb_in(dir.path());
         ok(&mut wb, "load demo:walk");
         ok(&mut wb, contact);
-        ok(&mut wb, "set consistent off");
         ok(&mut wb, "run id");
         let first = results(&wb);
         let (smooth, model, id) = (
@@ -93,12 +87,7 @@ fn a_mass_edit_reruns_inverse_dynamics_but_not_the_smoothing_and_equals_a_full_r
         assert_ne!(bits(&first), bits(&edited), "{contact}");
         let full = full_recompute(
             dir.path(),
-            &[
-                contact,
-                "set consistent off",
-                "set body.mass 91",
-                "set link.LeftLeg.mass 4.5",
-            ],
+            &[contact, "set body.mass 91", "set link.LeftLeg.mass 4.5"],
         );
         assert!(bits(&edited) == bits(&full), "{contact}: not bit-identical");
         assert_eq!(edited.note, full.note);

@@ -185,8 +185,6 @@ pub enum Started {
     Cold,
     /// Every mass and inertia the seed's times one factor: its adjustments, evaluated.
     Scaled,
-    /// Other masses: Gauss–Newton from the seed's adjustments.
-    Warm,
 }
 
 impl Reduction {
@@ -286,12 +284,10 @@ pub fn reduce_residuals(
     let key = Key::of(model, &ground, &trunk, &motion, up, counted, bounds);
     let (found, started) = match Start::of(seed, key.as_ref(), model) {
         Start::Cold => (cold(&mut problem, bounds)?, Started::Cold),
-        Start::Warm(s) => (warm(&mut problem, bounds, s)?, Started::Warm),
         Start::Scaled(s) => (scaled(&mut problem, s)?, Started::Scaled),
     };
     let Found {
         x,
-        mu,
         e,
         pelvis,
         refined,
@@ -329,7 +325,6 @@ pub fn reduce_residuals(
         key,
         inertia: model.inertia.clone(),
         x,
-        mu,
         height: problem.height,
         floor,
         refined,
@@ -354,12 +349,10 @@ pub fn reduce_residuals(
     })
 }
 
-/// What a reduction found, however it started: the smooth adjustments `x` and their Tikhonov
-/// weights, the final evaluation (refined or not), the total pelvis offset per frame (m,
+/// What a reduction found, however it started: the smooth adjustments `x`, the final evaluation (refined or not), the total pelvis offset per frame (m,
 /// world), the refinement kept, and the floor under the unadjusted motion.
 struct Found {
     x: DVector<f64>,
-    mu: [f64; 4],
     e: Evaluated,
     pelvis: Vec<Vector3<f64>>,
     refined: Option<RefinedSeed>,
@@ -392,28 +385,7 @@ fn cold(problem: &mut Problem, bounds: &ReductionBounds) -> Result<Found, Error>
         mu = [MU0; 4];
         (x, e) = solve(problem, bounds, wider, e, &mut mu)?;
     }
-    finish(problem, bounds, x, mu, e, floor, None)
-}
-
-/// Gauss–Newton from the seed's adjustments and weights (a model whose inertias changed
-/// otherwise than all alike), the rotations free from the start, then the refinement from the
-/// seed's. The residual force's weight is this model's mean COM height over the seed's floor.
-fn warm(problem: &mut Problem, bounds: &ReductionBounds, seed: &Seed) -> Result<Found, Error> {
-    problem.rotation = root_rotation(problem.model);
-    if problem.layout().len != seed.x.len() {
-        return cold(problem, bounds);
-    }
-    problem.height = mean_com_height(
-        problem.model,
-        problem.motion.q,
-        problem.counted,
-        problem.up,
-        seed.floor,
-    );
-    let mut mu = seed.mu;
-    let e = problem.evaluate(&seed.x)?;
-    let (x, e) = solve(problem, bounds, seed.x.clone(), e, &mut mu)?;
-    finish(problem, bounds, x, mu, e, seed.floor, seed.refined.as_ref())
+    finish(problem, bounds, x, e, floor)
 }
 
 /// The seed's adjustments on a model whose every mass and inertia is the seed's times one
@@ -443,7 +415,6 @@ fn scaled(problem: &mut Problem, seed: &Seed) -> Result<Found, Error> {
     e.steps = seed.steps;
     Ok(Found {
         x,
-        mu: seed.mu,
         e,
         pelvis,
         refined,
@@ -455,21 +426,18 @@ fn scaled(problem: &mut Problem, seed: &Seed) -> Result<Found, Error> {
 const MU0: f64 = 1e-4;
 
 /// The smooth adjustments `x` (evaluated as `e`) refined near the foot changes when that
-/// lowers the residuals (from `warm`'s refinement when given).
+/// lowers the residuals.
 fn finish(
     problem: &Problem,
     bounds: &ReductionBounds,
     x: DVector<f64>,
-    mu: [f64; 4],
     e: Evaluated,
     floor: f64,
-    warm: Option<&RefinedSeed>,
 ) -> Result<Found, Error> {
     let pelvis = problem.pelvis(&x);
-    Ok(match refine(problem, bounds, &pelvis, &e, warm)? {
+    Ok(match refine(problem, bounds, &pelvis, &e)? {
         Some(r) => Found {
             x,
-            mu,
             e: r.evaluated,
             pelvis: r.pelvis,
             refined: Some(r.seed),
@@ -477,7 +445,6 @@ fn finish(
         },
         None => Found {
             x,
-            mu,
             e,
             pelvis,
             refined: None,
@@ -493,8 +460,7 @@ fn finish(
 /// (a contact starting or ending): there the smoothed accelerations move the force of one
 /// contact phase into the next, and the residual lies in runs of a few frames that the
 /// 0.15 s knots cannot follow. The trunk's mass centre, the smooth offset and the rotation
-/// are held; the bounds count both offsets together. Gauss–Newton from zero, or from `warm`'s
-/// parameters where they are free. `None` when the take meets the thresholds already (its
+/// are held; the bounds count both offsets together. Gauss–Newton from zero. `None` when the take meets the thresholds already (its
 /// adjustments stay low-frequency), the ground reactions are measured, no foot changes, or
 /// the refinement does not lower the residuals.
 fn refine(
@@ -502,7 +468,6 @@ fn refine(
     bounds: &ReductionBounds,
     pelvis: &[Vector3<f64>],
     e: &Evaluated,
-    warm: Option<&RefinedSeed>,
 ) -> Result<Option<Refined>, Error> {
     let Ground::Estimated { params, .. } = coarse.ground else {
         return Ok(None);
@@ -541,29 +506,18 @@ fn refine(
                 && near((i - layout.translation) % nb)
         })
         .collect();
-    // from zero, or from the seed's refinement where it is free
-    let (x0, mut mu) = match warm.filter(|w| w.x.len() == layout.len && w.spacing_s == h) {
-        Some(w) => (
-            DVector::from_fn(layout.len, |i, _| if free[i] { w.x[i] } else { 0.0 }),
-            w.mu,
-        ),
-        None => (DVector::zeros(layout.len), [MU0; 4]),
-    };
+    let (x0, mut mu) = (DVector::zeros(layout.len), [MU0; 4]);
     fine.free = Some(free);
     let start = fine.evaluate(&x0)?;
     let (x, mut refined) = solve(&fine, bounds, x0, start, &mut mu)?;
-    if refined.cost >= e.cost {
+    if refined.steps == 0 || refined.cost >= e.cost {
         return Ok(None);
     }
     refined.steps += e.steps;
     Ok(Some(Refined {
         pelvis: fine.pelvis(&x),
         evaluated: refined,
-        seed: RefinedSeed {
-            x,
-            spacing_s: h,
-            mu,
-        },
+        seed: RefinedSeed { x, spacing_s: h },
     }))
 }
 

@@ -260,10 +260,10 @@ pub trait Engine: Send + Sync {
     /// [`inverse_dynamics`](Self::inverse_dynamics) after `previous`, earlier results of the
     /// same take: what the edit since does not change is reused (the built-in engine keeps
     /// the smoothed states of an edit of masses, contact or quoted frames). The results are
-    /// those of `inverse_dynamics`, bit for bit, but for residual reduction, which starts from
-    /// what `previous`'s found (`Analysis::reduction`, `dynamics::rra::Seed`): equal to a cold
-    /// start to 1e-9 when every mass scales alike, within the solver's tolerance otherwise.
-    /// By default, computes everything.
+    /// those of `inverse_dynamics`, bit for bit, but for residual reduction when every mass is
+    /// `previous`'s times one factor: then it reuses what `previous`'s found
+    /// (`Analysis::reduction`, `dynamics::rra::Seed`), equal to a cold start to 1e-9 of the
+    /// peaks. By default, computes everything.
     fn inverse_dynamics_after(
         &self,
         take: &Take,
