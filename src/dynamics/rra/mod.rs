@@ -369,8 +369,7 @@ fn cold(problem: &mut Problem, bounds: &ReductionBounds) -> Result<Found, Error>
     let floor = e.ground.floor;
     problem.height = mean_com_height(problem.model, &e.q, problem.counted, e.ground.up, floor);
     e.cost = problem.cost(&e.ground);
-    let mut mu = [MU0; 4];
-    let (mut x, mut e) = solve(problem, bounds, x0, e, &mut mu)?;
+    let (mut x, mut e) = solve(problem, bounds, x0, e)?;
     if let Some(r) = root_rotation(problem.model) {
         let from = problem.layout();
         problem.rotation = Some(r);
@@ -382,8 +381,7 @@ fn cold(problem: &mut Problem, bounds: &ReductionBounds) -> Result<Found, Error>
         if let (Some(a), Some(b)) = (from.mass, to.mass) {
             wider[b] = x[a];
         }
-        mu = [MU0; 4];
-        (x, e) = solve(problem, bounds, wider, e, &mut mu)?;
+        (x, e) = solve(problem, bounds, wider, e)?;
     }
     finish(problem, bounds, x, e, floor)
 }
@@ -506,10 +504,10 @@ fn refine(
                 && near((i - layout.translation) % nb)
         })
         .collect();
-    let (x0, mut mu) = (DVector::zeros(layout.len), [MU0; 4]);
+    let x0 = DVector::zeros(layout.len);
     fine.free = Some(free);
     let start = fine.evaluate(&x0)?;
-    let (x, mut refined) = solve(&fine, bounds, x0, start, &mut mu)?;
+    let (x, mut refined) = solve(&fine, bounds, x0, start)?;
     if refined.steps == 0 || refined.cost >= e.cost {
         return Ok(None);
     }
@@ -586,19 +584,18 @@ fn foot_changes(time: &[f64], contact: &[Vec<bool>]) -> Vec<f64> {
     out
 }
 
-/// Gauss–Newton from `x` (evaluated as `e`) with the Tikhonov weights `mu` (raised as the
-/// bounds ask; left where they end): each step kept only if the re-evaluated
-/// residuals fall (halved until they do, eight times at most); stops when a step gains less
+/// Gauss–Newton from `x` (evaluated as `e`), the Tikhonov weights from [`MU0`] (raised as
+/// the bounds ask): each step kept only if the re-evaluated residuals fall (halved until they do, eight times at most); stops when a step gains less
 /// than a thousandth.
 fn solve(
     problem: &Problem,
     bounds: &ReductionBounds,
     mut x: DVector<f64>,
     mut e: Evaluated,
-    mu: &mut [f64; 4],
 ) -> Result<(DVector<f64>, Evaluated), Error> {
+    let mut mu = [MU0; 4];
     for _ in 0..bounds.iterations {
-        let Some(next) = problem.step(&x, &e, bounds, mu) else {
+        let Some(next) = problem.step(&x, &e, bounds, &mut mu) else {
             break;
         };
         let mut accepted = None;
