@@ -61,16 +61,9 @@ pub fn take_states_marked(
     let mut notes = euler_continuity(bvh, map, &mut cols);
     unwrap_revolute(model, &mut cols);
     done(Stage::Unwrap);
-    let mut rotations = TripleRotations::new(triples.len(), n);
-    smooth_columns(
-        model,
-        &triples,
-        &mut cols,
-        &mut rotations,
-        dt,
-        smooth,
-        &mut |f| keep_going(0.9 * f),
-    )?;
+    let rotations = smooth_columns(model, &triples, &mut cols, dt, smooth, &mut |f| {
+        keep_going(0.9 * f)
+    })?;
     done(Stage::Smooth);
     if !keep_going(0.9) {
         return Err(Error::Cancelled);
@@ -372,13 +365,10 @@ pub fn unwrap_and_smooth_with(
     }
     let mut cols = Columns::of_rows(q, model.nq);
     unwrap_revolute(model, &mut cols);
-    let triples = model.euler_triples();
-    let mut rotations = TripleRotations::new(triples.len(), cols.frames);
     smooth_columns(
         model,
-        &triples,
+        &model.euler_triples(),
         &mut cols,
-        &mut rotations,
         dt,
         smooth,
         keep_going,
@@ -419,20 +409,20 @@ struct SmoothScratch {
 
 /// Smooths every joint's coordinates, groups in parallel (a ball or free joint alone, up to
 /// four consecutive scalar coordinates together); `keep_going` is told once per group (in
-/// coordinate order) and stops the work with [`Error::Cancelled`]. The euler joints'
-/// rotations (`triples`, [`Model::euler_triples`]) are left in `rotations`.
+/// coordinate order) and stops the work with [`Error::Cancelled`]. Returns the euler joints'
+/// smoothed rotations (`triples`, [`Model::euler_triples`]).
 fn smooth_columns(
     model: &Model,
     triples: &[EulerTriple],
     cols: &mut Columns,
-    rotations: &mut TripleRotations,
     dt: f64,
     smooth: &SmoothSpec,
     keep_going: &mut dyn FnMut(f64) -> bool,
-) -> Result<(), Error> {
+) -> Result<TripleRotations, Error> {
     let n = cols.frames;
+    let mut rotations = TripleRotations::new(triples.len(), n);
     if n == 0 {
-        return Ok(());
+        return Ok(rotations);
     }
     let smoother = Smoother::new(*smooth, dt)?;
     // the groups of columns: consecutive scalar coordinates up to four together, each ball
@@ -503,7 +493,7 @@ fn smooth_columns(
     if reached < total {
         return Err(Error::Cancelled);
     }
-    Ok(())
+    Ok(rotations)
 }
 
 /// One group of [`smooth_columns`].
