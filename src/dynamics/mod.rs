@@ -35,7 +35,7 @@ pub use diagnose::{Consistency, forward_inverse_residual};
 pub use energy::{kinetic_energy, potential_energy, spatial_momentum};
 pub use forward::{ForwardMethod, forward_dynamics, forward_dynamics_cholesky};
 pub use integrate::{ButcherTableau, Integrator, Stepper};
-pub use kinematics::forward_kinematics;
+pub use kinematics::{forward_kinematics, forward_kinematics_through, last_root_level_body};
 pub use rnea::rnea;
 pub use simulate::{SimOptions, SimResult, floating_root_nv, simulate};
 pub use workspace::Workspace;

@@ -13,7 +13,9 @@ use crate::dynamics::grf::{
     GroundReactions, about, estimate_ground_reactions_progress, root_wrench,
 };
 use crate::dynamics::residual::{centre_of_mass, with_trunk_offset};
-use crate::dynamics::{Workspace, forward_kinematics, rnea};
+use crate::dynamics::{
+    Workspace, forward_kinematics, forward_kinematics_through, last_root_level_body, rnea,
+};
 use crate::error::Error;
 use crate::model::Model;
 use crate::motion::spline::UniformBSpline;
@@ -216,7 +218,7 @@ impl Problem<'_> {
         for k in 0..q.len() {
             let t = self.motion.time[k];
             let [p, dp, ddp] = self.pelvis_at(x, t);
-            forward_kinematics(&model, &mut ws, &q[k]);
+            forward_kinematics_through(&model, &mut ws, &q[k], self.root);
             let rot = ws.o_x_i[self.root].rot;
             shift_root(
                 &self.translation,
@@ -334,24 +336,43 @@ impl Pass {
     }
 }
 
-/// One frame's Jacobian: its columns' indices in `x` and their entries (`[n; h f]`).
+/// The most columns a frame's Jacobian has: the trunk's, four spline basis functions per
+/// pelvis axis (two offsets, three rotations), the mass.
+const FRAME_COLUMNS: usize = NT + 4 * (2 + 3) + 1;
+
+/// One frame's Jacobian: its columns' indices in `x` and their entries (`[n; h f]`), the
+/// first `len` of each; fixed arrays, so a take's frames are one allocation.
+#[derive(Clone, Copy)]
 struct Local {
-    cols: Vec<usize>,
-    jac: Vec<[f64; 6]>,
+    len: usize,
+    cols: [usize; FRAME_COLUMNS],
+    jac: [[f64; 6]; FRAME_COLUMNS],
 }
 
 impl Local {
+    const EMPTY: Self = Self {
+        len: 0,
+        cols: [0; FRAME_COLUMNS],
+        jac: [[0.0; 6]; FRAME_COLUMNS],
+    };
+
+    fn clear(&mut self) {
+        self.len = 0;
+    }
+
     fn push(&mut self, col: usize, entries: [f64; 6]) {
-        self.cols.push(col);
-        self.jac.push(entries);
+        self.cols[self.len] = col;
+        self.jac[self.len] = entries;
+        self.len += 1;
     }
 
     /// `JᵀJ += JₖᵀJₖ`, `Jᵀr += Jₖᵀrₖ`.
     fn accumulate(&self, rk: &[f64; 6], jtj: &mut DMatrix<f64>, jtr: &mut DVector<f64>) {
         let dot = |a: &[f64; 6], b: &[f64; 6]| (0..6).map(|r| a[r] * b[r]).sum::<f64>();
-        for (a, ja) in self.cols.iter().zip(&self.jac) {
+        let (cols, jac) = (&self.cols[..self.len], &self.jac[..self.len]);
+        for (a, ja) in cols.iter().zip(jac) {
             jtr[*a] += dot(ja, rk);
-            for (b, jb) in self.cols.iter().zip(&self.jac) {
+            for (b, jb) in cols.iter().zip(jac) {
                 jtj[(*a, *b)] += dot(ja, jb);
             }
         }
@@ -368,6 +389,9 @@ struct Shared {
     weight: f64,
     /// Whether the ground reactions are measured.
     measured: bool,
+    /// The last root-level body: the poses through it are all the root's wrench reads
+    /// after RNEA (`last_root_level_body`).
+    root_level: usize,
 }
 
 /// Scratch for one frame's finite differences, allocated once per normal equations.
@@ -388,6 +412,7 @@ impl Problem<'_> {
             mass,
             weight: mass * e.model.gravity.norm(),
             measured: matches!(self.ground, Ground::Measured(_)),
+            root_level: last_root_level_body(&e.model),
         }
     }
 
@@ -413,20 +438,34 @@ impl Problem<'_> {
                 if s == 1.0 { m } else { with_mass_scale(&m, s) }
             })
             .collect();
-        let mut ws = Workspace::new(&e.model);
-        let mut scratch = Scratch {
-            ws: Workspace::new(&e.model),
-            q: vec![0.0; e.model.nq],
-            v: vec![0.0; e.model.nv],
-            a: vec![0.0; e.model.nv],
-        };
-        let mut local = Local {
-            cols: Vec::with_capacity(NT + 21),
-            jac: Vec::with_capacity(NT + 21),
-        };
-        for k in (0..e.q.len()).filter(|&k| self.counted[k]) {
-            self.frame_jacobian(&shared, e, k, &moved, &mut ws, &mut scratch, &mut local);
-            let rk = self.weighted(&e.ground.residual[k]);
+        // each counted frame's Jacobian, frames in parallel (each computes the same operations
+        // whatever thread runs it), then summed in frame order: the same bits on any number
+        // of threads (`crate::par`)
+        let frames: Vec<usize> = (0..e.q.len()).filter(|&k| self.counted[k]).collect();
+        let mut locals: Vec<(usize, Local)> = frames.iter().map(|&k| (k, Local::EMPTY)).collect();
+        let mut scratch = crate::par::scratch(|| {
+            (
+                Workspace::new(&e.model),
+                Scratch {
+                    ws: Workspace::new(&e.model),
+                    q: vec![0.0; e.model.nq],
+                    v: vec![0.0; e.model.nv],
+                    a: vec![0.0; e.model.nv],
+                },
+            )
+        });
+        crate::par::for_each_block(
+            &mut locals,
+            crate::par::even_block(frames.len()),
+            &mut scratch,
+            |(ws, scratch), _, block| {
+                for (k, local) in block.iter_mut() {
+                    self.frame_jacobian(&shared, e, *k, &moved, ws, scratch, local);
+                }
+            },
+        );
+        for (k, local) in &locals {
+            let rk = self.weighted(&e.ground.residual[*k]);
             local.accumulate(&rk, &mut jtj, &mut jtr);
         }
         (jtj, jtr)
@@ -446,8 +485,7 @@ impl Problem<'_> {
         local: &mut Local,
     ) {
         let layout = &shared.layout;
-        local.cols.clear();
-        local.jac.clear();
+        local.clear();
         forward_kinematics(&e.model, ws, &e.q[k]);
         let pelvis = ws.o_x_i[self.root].trans;
         let pass = Pass::new(
@@ -462,7 +500,7 @@ impl Problem<'_> {
         // trunk: finite differences of the needed wrench
         for (j, m) in moved.iter().enumerate() {
             let sw = &mut scratch.ws;
-            forward_kinematics(m, sw, &e.q[k]);
+            forward_kinematics_through(m, sw, &e.q[k], shared.root_level);
             rnea(m, sw, &e.q[k], &e.v[k], &e.a[k], None);
             let w = about(&root_wrench(m, sw), &pelvis);
             let d: [f64; 6] = std::array::from_fn(|c| (w[c] - needed[c]) / TRUNK_STEP);
@@ -471,7 +509,10 @@ impl Problem<'_> {
         self.pelvis_columns(shared, &e.model, ws, &e.ground, k, &pass, local);
         if let (Some(at), Some(r)) = (layout.rotation, &self.rotation) {
             let rot = ws.o_x_i[self.root].rot;
-            self.rotation_columns(e, k, at, r, &rot, &pelvis, &pass, scratch, local);
+            let root_level = shared.root_level;
+            self.rotation_columns(
+                e, k, at, r, &rot, &pelvis, &pass, root_level, scratch, local,
+            );
         }
         if let Some(at) = layout.mass {
             // the needed wrench is linear in the inertial parameters
@@ -524,6 +565,7 @@ impl Problem<'_> {
         rot: &Matrix3<f64>,
         pelvis: &Vector3<f64>,
         pass: &Pass,
+        root_level: usize,
         scratch: &mut Scratch,
         local: &mut Local,
     ) {
@@ -553,7 +595,7 @@ impl Problem<'_> {
                     continue;
                 }
                 let sw = &mut scratch.ws;
-                forward_kinematics(&e.model, sw, &scratch.q);
+                forward_kinematics_through(&e.model, sw, &scratch.q, root_level);
                 rnea(&e.model, sw, &scratch.q, &scratch.v, &scratch.a, None);
                 let w = about(&root_wrench(&e.model, sw), pelvis);
                 *dk = std::array::from_fn(|c| (w[c] - needed[c]) / ROTATION_STEP);
@@ -727,10 +769,7 @@ mod tests {
             v: vec![0.0; model.nv],
             a: vec![0.0; model.nv],
         };
-        let mut local = Local {
-            cols: vec![],
-            jac: vec![],
-        };
+        let mut local = Local::EMPTY;
         let shared = problem.shared(&x0, &e0);
         for k in 0..n {
             problem.frame_jacobian(&shared, &e0, k, &[], &mut ws, &mut scratch, &mut local);
@@ -739,10 +778,9 @@ mod tests {
                 problem.weighted(&e1.ground.residual[k]),
             );
             for row in 0..6 {
-                let predicted: f64 = local
-                    .cols
+                let predicted: f64 = local.cols[..local.len]
                     .iter()
-                    .zip(&local.jac)
+                    .zip(&local.jac[..local.len])
                     .map(|(c, j)| j[row] * dx[*c])
                     .sum();
                 let actual = r1[row] - r0[row];
