@@ -5,11 +5,14 @@
 //! has no rotation, two mixed columns when it has); any other axis — negative, oblique, not of
 //! unit length — takes the generic one. Turning `e_k` into `−e_k` and negating that
 //! coordinate's q, q̇, q̈ and τ describes the same motion through the generic path, so RNEA,
-//! CRBA and ABA must agree to rounding between the two models. Bodies without mass or inertia
+//! CRBA and ABA (and forward kinematics, which crosses joints as they do) must agree to
+//! rounding between the two models. Bodies without mass or inertia
 //! (skipped in RNEA's inertial terms) are mixed in, as in a BVH euler model.
 
 use articula::dynamics::samples::{SplitMix64, random_configuration, random_tree, random_vector};
-use articula::dynamics::{Workspace, aba, crba, rnea};
+use articula::dynamics::{
+    Workspace, aba, crba, forward_kinematics, forward_kinematics_through, rnea,
+};
 use articula::model::{JointKind, Model};
 use articula::spatial::{SpatialInertia, SpatialTransform};
 use nalgebra::{Matrix3, Vector3};
@@ -103,6 +106,27 @@ fn coordinate_axis_joints_agree_with_the_generic_path() {
                 flip(&a, &|i| m.idx_v[i]),
             );
             let signed = |x: &[f64]| x.iter().zip(&sign).map(|(x, s)| x * s).collect::<Vec<_>>();
+
+            // forward kinematics: the same world poses; a prefix pass writes the prefix's
+            forward_kinematics(&m, &mut wm, &q);
+            forward_kinematics(&n, &mut wn, &qn);
+            for i in 1..m.nbodies() {
+                let (x, y) = (&wm.o_x_i[i], &wn.o_x_i[i]);
+                let e = (x.rot - y.rot).abs().max() + (x.trans - y.trans).abs().max();
+                assert!(
+                    e < 1e-12,
+                    "forward kinematics, body {i}, seed {seed}: {e:e}"
+                );
+            }
+            let mut prefix = Workspace::new(&m);
+            let last = m.nbodies() / 2;
+            forward_kinematics_through(&m, &mut prefix, &q, last);
+            assert_eq!(prefix.o_x_i[..=last], wm.o_x_i[..=last], "seed {seed}");
+            assert!(
+                prefix.o_x_i[last + 1..]
+                    .iter()
+                    .all(|x| *x == SpatialTransform::IDENTITY)
+            );
 
             let tm = rnea(&m, &mut wm, &q, &v, &a, None).as_slice().to_vec();
             let tn = rnea(&n, &mut wn, &qn, &vn, &an, None).as_slice().to_vec();

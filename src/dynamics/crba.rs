@@ -1,12 +1,10 @@
 //! The joint-space inertia (mass) matrix by the composite rigid body algorithm.
 
-use super::Workspace;
 use super::rnea::JointStep;
 use super::workspace::NO_DOF;
+use super::{Workspace, forward_kinematics};
 use crate::model::Model;
-use crate::spatial::{
-    AxisRotation, FastTransform, ForceVec, MotionVec, SpatialInertia, SpatialTransform,
-};
+use crate::spatial::{ForceVec, MotionVec, SpatialInertia, SpatialTransform};
 use nalgebra::{DMatrix, Vector3};
 
 /// A rigid-body (or composite) spatial inertia in world axes about a fixed point O, in the 10
@@ -167,84 +165,17 @@ pub fn crba<'w>(model: &Model, ws: &'w mut Workspace, q: &[f64]) -> &'w DMatrix<
     &ws.mass_matrix
 }
 
-/// The forward pass of the world-axes algorithms (CRBA, ABA): `ws.o_x_i[i] = 0X_λ λX_i` for
-/// every body, and the origin of the first body with mass (an avatar's pelvis, an arm's base),
+/// The forward pass of the world-axes algorithms (CRBA, ABA): [`forward_kinematics`] (every
+/// `ws.o_x_i`), and the origin of the first body with mass (an avatar's pelvis, an arm's base),
 /// which the caller takes as the reference point of its world-axes sums so that lever arms stay
 /// short wherever a take walks to (world-frame sums lose digits as |lever|²; the shift itself
 /// is exact to round-off). Zero when no body has mass.
-///
-/// Each joint is crossed as `rnea` crosses it ([`JointStep`], decided once per model): a
-/// revolute joint about a coordinate axis under an unrotated placement mixes two columns of the
-/// parent's rotation (the axis a constant, no branch on it) and adds the placement's
-/// translation only when it has one; any other joint composes [`Model::parent_transform`].
 #[inline]
 pub(crate) fn world_poses(model: &Model, ws: &mut Workspace, q: &[f64]) -> Vector3<f64> {
-    let n = model.nbodies();
-    let (parent, idx_q, placement) = (&model.parent[..n], &model.idx_q[..n], &model.placement[..n]);
-    let (steps, o_x_i) = (&ws.joint_steps[..n], &mut ws.o_x_i[..n]);
-    let mut first_massive = None;
-    for i in 1..n {
-        let op = &o_x_i[parent[i]];
-        let o = match steps[i] {
-            JointStep::Axis { k, shifted }
-            | JointStep::Triple {
-                k: [k, _, _],
-                shifted,
-            } => axis_pose(k, op, shifted.then_some(&placement[i].trans), q[idx_q[i]]),
-            JointStep::InTriple { k } => axis_pose(k, op, None, q[idx_q[i]]),
-            JointStep::General => then(op, &model.parent_transform(i, q)),
-        };
-        if first_massive.is_none() && !model.inertia[i].is_zero() {
-            first_massive = Some(i);
-        }
-        o_x_i[i] = o;
-    }
-    first_massive.map_or(Vector3::zeros(), |b| o_x_i[b].trans)
-}
-
-/// `0X_i = 0X_λ λX_i` across a revolute joint about coordinate axis `k` (angle `angle`) after
-/// the translation `t` (none: zero).
-#[inline(always)]
-fn axis_pose(
-    k: usize,
-    op: &SpatialTransform,
-    t: Option<&Vector3<f64>>,
-    angle: f64,
-) -> SpatialTransform {
-    match k {
-        0 => axis_pose_k::<0>(op, t, angle),
-        1 => axis_pose_k::<1>(op, t, angle),
-        _ => axis_pose_k::<2>(op, t, angle),
-    }
-}
-
-/// [`axis_pose`] with the axis a constant: two columns of the parent's rotation mixed.
-#[inline(always)]
-fn axis_pose_k<const K: usize>(
-    op: &SpatialTransform,
-    t: Option<&Vector3<f64>>,
-    angle: f64,
-) -> SpatialTransform {
-    let rot = AxisRotation {
-        axis: K,
-        ..AxisRotation::new(K, angle)
-    };
-    SpatialTransform::new(
-        rot.premul(&op.rot),
-        t.map_or(op.trans, |t| op.trans + op.rot * t),
-    )
-}
-
-/// `0X_i = 0X_λ · λX_i` with `λX_i` in fast form (a coordinate-axis rotation mixes two columns).
-#[inline]
-fn then(o_parent: &SpatialTransform, x: &FastTransform) -> SpatialTransform {
-    match x {
-        FastTransform::Axis { trans, rot } => SpatialTransform::new(
-            rot.premul(&o_parent.rot),
-            o_parent.trans + o_parent.rot * trans,
-        ),
-        FastTransform::General(x) => o_parent.compose(x),
-    }
+    forward_kinematics(model, ws, q);
+    (1..model.nbodies())
+        .find(|&i| !model.inertia[i].is_zero())
+        .map_or(Vector3::zeros(), |b| ws.o_x_i[b].trans)
 }
 
 #[cfg(test)]

@@ -1,11 +1,19 @@
 //! Forward kinematics: the world pose of every body.
 
 use super::Workspace;
+use super::rnea::JointStep;
 use crate::model::Model;
+use crate::spatial::{AxisRotation, FastTransform, SpatialTransform};
+use nalgebra::Vector3;
 
 /// World pose of every body at configuration `q` (Featherstone 2008, §4.1):
-/// `λ(i)X_i = X_tree(i) · X_J(q_i)`, `0X_i = 0X_λ(i) · λ(i)X_i`.
-/// Writes `ws.li_x_i` and `ws.o_x_i`.
+/// `0X_i = 0X_λ(i) · λ(i)X_i`, `λ(i)X_i = X_tree(i) · X_J(q_i)`. Writes `ws.o_x_i`.
+///
+/// Each joint is crossed as `rnea` crosses it ([`JointStep`], decided once per model): a
+/// revolute joint about a coordinate axis under an unrotated placement mixes two columns of the
+/// parent's rotation (the axis a constant, no branch on it) and adds the placement's
+/// translation only when it has one; any other joint composes [`Model::parent_transform`].
+/// CRBA and ABA start from this pass (`crba::world_poses`).
 pub fn forward_kinematics(model: &Model, ws: &mut Workspace, q: &[f64]) {
     forward_kinematics_through(model, ws, q, model.nbodies() - 1);
 }
@@ -16,11 +24,65 @@ pub fn forward_kinematics(model: &Model, ws: &mut Workspace, q: &[f64]) {
 /// or the root-level bodies' poses that [`root_wrench`](super::grf) reads after RNEA (which
 /// works in body frames and writes no world pose).
 pub fn forward_kinematics_through(model: &Model, ws: &mut Workspace, q: &[f64], last: usize) {
-    for i in 1..=last.min(model.nbodies() - 1) {
-        let joint = &model.joints[i];
-        let iq = model.idx_q[i];
-        ws.li_x_i[i] = model.placement[i].compose(&joint.transform(&q[iq..iq + joint.nq()]));
-        ws.o_x_i[i] = ws.o_x_i[model.parent[i]].compose(&ws.li_x_i[i]);
+    let n = (last + 1).min(model.nbodies());
+    let (parent, idx_q, placement) = (&model.parent[..n], &model.idx_q[..n], &model.placement[..n]);
+    let (steps, o_x_i) = (&ws.joint_steps[..n], &mut ws.o_x_i[..n]);
+    for i in 1..n {
+        let op = &o_x_i[parent[i]];
+        o_x_i[i] = match steps[i] {
+            JointStep::Axis { k, shifted }
+            | JointStep::Triple {
+                k: [k, _, _],
+                shifted,
+            } => axis_pose(k, op, shifted.then_some(&placement[i].trans), q[idx_q[i]]),
+            JointStep::InTriple { k } => axis_pose(k, op, None, q[idx_q[i]]),
+            JointStep::General => then(op, &model.parent_transform(i, q)),
+        };
+    }
+}
+
+/// `0X_i = 0X_λ λX_i` across a revolute joint about coordinate axis `k` (angle `angle`) after
+/// the translation `t` (none: zero).
+#[inline(always)]
+fn axis_pose(
+    k: usize,
+    op: &SpatialTransform,
+    t: Option<&Vector3<f64>>,
+    angle: f64,
+) -> SpatialTransform {
+    match k {
+        0 => axis_pose_k::<0>(op, t, angle),
+        1 => axis_pose_k::<1>(op, t, angle),
+        _ => axis_pose_k::<2>(op, t, angle),
+    }
+}
+
+/// [`axis_pose`] with the axis a constant: two columns of the parent's rotation mixed.
+#[inline(always)]
+fn axis_pose_k<const K: usize>(
+    op: &SpatialTransform,
+    t: Option<&Vector3<f64>>,
+    angle: f64,
+) -> SpatialTransform {
+    let rot = AxisRotation {
+        axis: K,
+        ..AxisRotation::new(K, angle)
+    };
+    SpatialTransform::new(
+        rot.premul(&op.rot),
+        t.map_or(op.trans, |t| op.trans + op.rot * t),
+    )
+}
+
+/// `0X_i = 0X_λ · λX_i` with `λX_i` in fast form (a coordinate-axis rotation mixes two columns).
+#[inline]
+fn then(o_parent: &SpatialTransform, x: &FastTransform) -> SpatialTransform {
+    match x {
+        FastTransform::Axis { trans, rot } => SpatialTransform::new(
+            rot.premul(&o_parent.rot),
+            o_parent.trans + o_parent.rot * trans,
+        ),
+        FastTransform::General(x) => o_parent.compose(x),
     }
 }
 

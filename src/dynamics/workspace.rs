@@ -15,8 +15,8 @@ pub const NO_DOF: usize = usize::MAX;
 /// Scratch and results of the dynamics algorithms for one model.
 #[derive(Debug, Clone)]
 pub struct Workspace {
-    /// Pose of body i in its parent's frame at the current q (`nbodies`); written by
-    /// `forward_kinematics` and the energy functions.
+    /// Pose of body i in its parent's frame at the current q (`nbodies`); written by the
+    /// energy functions (`forward_kinematics` writes the world poses only).
     pub li_x_i: Vec<SpatialTransform>,
     /// The same pose in the fast form of `Model::parent_transform` (`nbodies`); written by
     /// `rnea` for the joints of [`JointStep::General`] (the others' is `joint_rot`).
