@@ -4,8 +4,8 @@
 //! column and every frame computes what the serial path computes, in the same order, so the
 //! results do not depend on the number of threads.
 
+use super::States;
 use super::stages::Stage;
-use super::{GLITCH_SPEED, NEAR_LOCK, States};
 use crate::error::Error;
 use crate::io::bvh::Bvh;
 use crate::model::bvh::BvhMap;
@@ -16,6 +16,13 @@ use crate::motion::unwrap::{AngleUnit, unwrap_angles};
 use crate::par::{self, for_each_block, rounds};
 use crate::rotation::EulerOrder;
 use nalgebra::{Quaternion, UnitQuaternion};
+
+/// A turn of more than 90° in one frame is a capture glitch only this fast (rad/s): 90° a
+/// frame at 20 fps. Slower, it is a keyframed or low-rate take's ordinary step.
+const GLITCH_SPEED: f64 = 1800.0 * std::f64::consts::PI / 180.0;
+
+/// An Euler triple whose middle angle is within this of ±90° is near gimbal lock (rad).
+const NEAR_LOCK: f64 = 5.0 * std::f64::consts::PI / 180.0;
 
 /// Stages 5–7: channels → q (unwrapped), smoothed, then v and a.
 pub fn take_states(
