@@ -50,7 +50,6 @@ impl Info<'_> {
         })
     }
 
-    /// The human-readable description.
     /// Which joints the skeleton's shape makes the pelvis, the legs' hip, knee and ankle, the
     /// lumbar joint, thorax and head, and the arms' shoulder, elbow and wrist; or why it is not
     /// a human's.
@@ -94,6 +93,7 @@ impl Info<'_> {
         s
     }
 
+    /// The human-readable description.
     pub fn text(&self) -> String {
         use std::fmt::Write;
         let t = self.take;
@@ -156,11 +156,23 @@ impl Info<'_> {
                 "masses      by bone volume (no joint name reads as a trunk)"
             ),
         };
+        self.joints(&mut s);
+        for n in &t.notes {
+            let _ = writeln!(s, "note        {n}");
+        }
+        s
+    }
+
+    /// The `joints` lines of [`Info::text`]: each joint's channels, rotation order, position
+    /// channels and whether they were welded.
+    fn joints(&self, s: &mut String) {
+        use std::fmt::Write;
+        let t = self.take;
         let _ = writeln!(
             s,
             "joints      (name: channels [rotation order] position channels)"
         );
-        for (i, (j, pos)) in b.joints.iter().zip(&t.positions).enumerate() {
+        for (i, (j, pos)) in t.bvh.joints.iter().zip(&t.positions).enumerate() {
             let chans: Vec<&str> = j.channels.iter().map(|c| c.name()).collect();
             let order = j
                 .euler_order()
@@ -180,9 +192,5 @@ impl Info<'_> {
             };
             let _ = writeln!(s, "  {}: {}{order}{p}{held}", j.name, chans.join(" "));
         }
-        for n in &t.notes {
-            let _ = writeln!(s, "note        {n}");
-        }
-        s
     }
 }

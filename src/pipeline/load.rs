@@ -150,67 +150,151 @@ pub fn take_from_bvh_reusing(
     keep_going: &mut dyn FnMut(f64) -> bool,
     done: &mut dyn FnMut(Stage),
 ) -> Result<Take, Error> {
-    // axes and unit
     let mut notes = vec![];
+    let found = axes_and_unit(path, &bvh, opts, &mut notes)?;
+    let built = model_stage(path, &mut bvh, opts, found, &mut notes)?;
+    let Built {
+        found,
+        mut model,
+        map,
+        segments,
+        fold,
+        welded,
+        twists,
+        auto_lock,
+    } = built;
+    apply_damping(&mut model, &opts.damping).map_err(|e| at_file(path, e))?;
+
+    // q, smooth, v, a
+    if !keep_going(0.1) {
+        return Err(Error::Cancelled);
+    }
+    let smooth = chosen_smoothing(opts, bvh.frame_time, &mut notes);
+    done(Stage::Model);
+    let same_states = |p: &&Take| {
+        p.smooth == smooth
+            && p.model.q_names == model.q_names
+            && p.model.v_names == model.v_names
+            && p.model.joints == model.joints
+            && p.model.parent == model.parent
+            && p.model.idx_q == model.idx_q
+            && p.map == map
+            && p.bvh == bvh
+    };
+    let (states, passages) = match previous.filter(same_states) {
+        Some(p) => (p.states.clone(), p.passages.clone()),
+        None => take_states_marked(
+            &bvh,
+            &model,
+            &map,
+            &smooth,
+            &mut |f| keep_going(0.1 + 0.9 * f),
+            done,
+        )?,
+    };
+    notes.extend(passages.iter().cloned());
+    let take = Take {
+        path: path.to_path_buf(),
+        bvh,
+        options: opts.clone(),
+        up: found.up,
+        unit: found.unit,
+        scale_to_m: found.scale_to_m,
+        stature_m: found.stature_m,
+        segments,
+        positions: found.positions,
+        model,
+        map,
+        smooth,
+        fold,
+        welded,
+        twists,
+        states,
+        passages,
+        notes,
+        human: found.landmarks,
+    };
+    match auto_lock {
+        Some(tol) => reduce::lock_auto(take, tol),
+        None => Ok(take),
+    }
+}
+
+/// The smoothing given, or the default that fits the take ([`default_smoothing`]; a note when
+/// that is none).
+fn chosen_smoothing(opts: &TakeOptions, frame_time: f64, notes: &mut Vec<String>) -> SmoothSpec {
+    match opts.smooth {
+        Some(s) => s,
+        None => {
+            let (s, note) = default_smoothing(frame_time);
+            notes.extend(note);
+            s
+        }
+    }
+}
+
+/// What stages 2 and 3 find on a take, before its model is built.
+struct Found {
+    /// Each joint's position channel semantics.
+    positions: Vec<ResolvedPosition>,
+    /// The skeleton's geometry as the model holds it (`motion::weld::held_shape`: below the
+    /// body's root, position channels at their mean in the OFFSETs) and its semantics; `None`:
+    /// the take's own.
+    held_shape: Option<(Bvh, Vec<ResolvedPosition>)>,
+    up: UpAxis,
+    /// The unit used (detected or given).
+    unit: String,
+    /// Metres per file length unit.
+    scale_to_m: f64,
+    /// Rest-pose stature (m) after scaling, or a human's standing height.
+    stature_m: f64,
+    /// A joint name reads as a trunk.
+    trunk: bool,
+    /// The skeleton's human landmarks, or why it is not a human's.
+    landmarks: Result<crate::model::skeleton::Human, String>,
+}
+
+impl Found {
+    /// The skeleton's geometry as the model holds it ([`Found::held_shape`], else `bvh`).
+    fn shape<'a>(&'a self, bvh: &'a Bvh) -> &'a Bvh {
+        match &self.held_shape {
+            Some((b, _)) => b,
+            None => bvh,
+        }
+    }
+}
+
+/// Stages 2–3: position semantics, up axis, whether the skeleton is a human's (by its names,
+/// else by its shape), unit and stature, landmarks; `notes` gets what was assumed.
+fn axes_and_unit(
+    path: &Path,
+    bvh: &Bvh,
+    opts: &TakeOptions,
+    notes: &mut Vec<String>,
+) -> Result<Found, Error> {
+    // axes and unit
     let named_human =
         crate::model::anthropometry::looks_human(bvh.joints.iter().map(|j| j.name.as_str()));
-    let positions = bvh::resolve_position_modes(&bvh, opts.positions);
+    let positions = bvh::resolve_position_modes(bvh, opts.positions);
     // the skeleton's geometry as the model holds it and any BVH written of the take says it:
     // below the body's root, position channels at their mean in the OFFSETs
     // (`motion::weld::held_shape`; with `--joint-translations keep` too, where the channels
     // move about that mean), so that the take written and read back gets the same up axis,
     // unit, stature, landmarks and segments
-    let held_shape = crate::motion::weld::held_shape(&bvh, opts.positions);
+    let held_shape = crate::motion::weld::held_shape(bvh, opts.positions);
     let (shape, shape_positions) = match &held_shape {
         Some((b, m)) => (b, m.as_slice()),
-        None => (&bvh, positions.as_slice()),
+        None => (bvh, positions.as_slice()),
     };
-    let up = match opts.up {
-        Some(u) => u,
-        // hips stand over the feet, however the body bends
-        None if named_human => {
-            let joints: Vec<(&str, Option<usize>)> = bvh
-                .joints
-                .iter()
-                .map(|j| (j.name.as_str(), j.parent))
-                .collect();
-            let (hips, feet) = crate::model::anthropometry::hips_and_feet(&joints);
-            bvh::detect_up_by_legs(shape, &hips, &feet).unwrap_or_else(|| bvh::detect_up(shape))
-        }
-        // a quadruped is longer than tall: its feet tell where the floor is
-        None => bvh::detect_up_by_feet(shape).unwrap_or_else(|| bvh::detect_up(shape)),
-    };
+    let mut up = up_axis(bvh, shape, named_human, opts.up);
     // a human whose names say nothing (`J1`, `J2`, …) is one by its shape: two legs under an
     // upright trunk (`model::skeleton`); then the hips stand over its ankles
-    let mut up = up;
     let mut human = named_human;
     // (about the axis along which its trunk stands most upright)
     let sampled = anatomy::sample_bvh_poses(shape, shape_positions);
-    if !named_human {
-        let axes = match opts.up {
-            Some(u) => vec![u],
-            None => vec![UpAxis::X, UpAxis::Y, UpAxis::Z],
-        };
-        if let Some((axis, h)) = axes
-            .into_iter()
-            .filter_map(|a| {
-                anatomy::human_of_bvh(shape, &sampled, a)
-                    .ok()
-                    .map(|h| (a, h))
-            })
-            // about another axis than the detected one, only a body that stands (its trunk
-            // within 30° of the vertical in the median frame): an animal on its side does not
-            .filter(|(a, h)| *a == up || h.lean < 30f64.to_radians())
-            .min_by(|a, b| a.1.lean.total_cmp(&b.1.lean))
-        {
-            human = true;
-            let hips = [h.legs[0].hip, h.legs[1].hip];
-            let ankles = [h.legs[0].ankle, h.legs[1].ankle];
-            up = match opts.up {
-                Some(u) => u,
-                None => bvh::detect_up_by_legs(shape, &hips, &ankles).unwrap_or(axis),
-            };
-        }
+    if !named_human && let Some(u) = human_by_shape(shape, &sampled, up, opts.up) {
+        human = true;
+        up = u;
     }
     let scale = bvh::choose_scale(shape, up, opts.unit, opts.stature_m, human)
         .map_err(|e| at_file(path, e))?;
@@ -245,6 +329,74 @@ pub fn take_from_bvh_reusing(
         stature_m = h.standing_height;
     }
     notes.extend(scale.note);
+    notes.extend(timing_notes(bvh));
+    Ok(Found {
+        positions,
+        held_shape,
+        up,
+        unit,
+        scale_to_m,
+        stature_m,
+        trunk,
+        landmarks,
+    })
+}
+
+/// The up axis: `given`, else detected on `shape` — a human's hips stand over its feet
+/// however the body bends, a quadruped's feet tell where the floor is.
+fn up_axis(bvh: &Bvh, shape: &Bvh, named_human: bool, given: Option<UpAxis>) -> UpAxis {
+    match given {
+        Some(u) => u,
+        // hips stand over the feet, however the body bends
+        None if named_human => {
+            let joints: Vec<(&str, Option<usize>)> = bvh
+                .joints
+                .iter()
+                .map(|j| (j.name.as_str(), j.parent))
+                .collect();
+            let (hips, feet) = crate::model::anthropometry::hips_and_feet(&joints);
+            bvh::detect_up_by_legs(shape, &hips, &feet).unwrap_or_else(|| bvh::detect_up(shape))
+        }
+        // a quadruped is longer than tall: its feet tell where the floor is
+        None => bvh::detect_up_by_feet(shape).unwrap_or_else(|| bvh::detect_up(shape)),
+    }
+}
+
+/// The up axis of a skeleton whose names say nothing when its shape is a human's (about the
+/// axis along which its trunk stands most upright; `up`, the detected one, or `given`);
+/// `None`: not a human's.
+fn human_by_shape(
+    shape: &Bvh,
+    sampled: &[crate::model::skeleton::Pose],
+    up: UpAxis,
+    given: Option<UpAxis>,
+) -> Option<UpAxis> {
+    let axes = match given {
+        Some(u) => vec![u],
+        None => vec![UpAxis::X, UpAxis::Y, UpAxis::Z],
+    };
+    let (axis, h) = axes
+        .into_iter()
+        .filter_map(|a| {
+            anatomy::human_of_bvh(shape, sampled, a)
+                .ok()
+                .map(|h| (a, h))
+        })
+        // about another axis than the detected one, only a body that stands (its trunk
+        // within 30° of the vertical in the median frame): an animal on its side does not
+        .filter(|(a, h)| *a == up || h.lean < 30f64.to_radians())
+        .min_by(|a, b| a.1.lean.total_cmp(&b.1.lean))?;
+    let hips = [h.legs[0].hip, h.legs[1].hip];
+    let ankles = [h.legs[0].ankle, h.legs[1].ankle];
+    Some(match given {
+        Some(u) => u,
+        None => bvh::detect_up_by_legs(shape, &hips, &ankles).unwrap_or(axis),
+    })
+}
+
+/// Notes on a frame time no capture system has and on a take too short to differentiate.
+fn timing_notes(bvh: &Bvh) -> Vec<String> {
+    let mut notes = vec![];
     if bvh.frame_time < MIN_PLAUSIBLE_FRAME_TIME_S {
         notes.push(format!(
             "the frame time, {} s ({:.0} fps), is shorter than any capture system's: check the \
@@ -266,7 +418,32 @@ pub fn take_from_bvh_reusing(
             }
         ));
     }
+    notes
+}
 
+/// What stage 4 makes of a take: its model and how its motion was changed to fit it.
+struct Built {
+    found: Found,
+    model: Model,
+    map: BvhMap,
+    segments: Option<SegmentTable>,
+    fold: Option<crate::motion::fold::Fold>,
+    welded: Vec<crate::motion::weld::Welded>,
+    twists: Vec<crate::motion::twist::Twist>,
+    /// `--lock auto:TOL`, applied once the take's states are known.
+    auto_lock: Option<reduce::Tolerance>,
+}
+
+/// Stage 4: the model at the take's stature, with de Leva's masses, its branch helpers and
+/// props welded; then, folded into `bvh` and the model built again, a massless helper root,
+/// the joint translations held at their mean, the twist helpers inside long bones.
+fn model_stage(
+    path: &Path,
+    bvh: &mut Bvh,
+    opts: &TakeOptions,
+    found: Found,
+    notes: &mut Vec<String>,
+) -> Result<Built, Error> {
     // model
     let name = path
         .file_stem()
@@ -274,10 +451,10 @@ pub fn take_from_bvh_reusing(
         .unwrap_or_else(|| "take".into());
     // the body at the take's stature (the regression's second variable)
     let body = BodyParams {
-        height_m: Some(stature_m),
+        height_m: Some(found.stature_m),
         ..opts.body.clone()
     };
-    let segments = if trunk || landmarks.is_ok() {
+    let segments = if found.trunk || found.landmarks.is_ok() {
         let masses =
             crate::model::anthropometry::segment_masses(&body).map_err(|e| at_file(path, e))?;
         notes.extend(masses.notes);
@@ -290,11 +467,12 @@ pub fn take_from_bvh_reusing(
     };
     // `--lock auto:TOL` applies once the take's states are known (below)
     let (auto_lock, named_locks) = reduce::split_lock(&opts.lock)?;
+    let positions = &found.positions;
     let mut mopts = BvhModelOptions {
         name,
         joints: opts.joints,
-        scale_to_m,
-        up,
+        scale_to_m: found.scale_to_m,
+        up: found.up,
         positions: positions.clone(),
         body,
         lock: named_locks,
@@ -302,49 +480,99 @@ pub fn take_from_bvh_reusing(
         segments: None,
         held_positions: vec![],
         folded: vec![],
-        bone_offsets: (held_shape.as_ref())
+        bone_offsets: (found.held_shape.as_ref())
             .map(|(b, _)| b.joints.iter().map(|j| j.offset).collect())
             .unwrap_or_default(),
     };
-    let human = landmarks;
-    if let Ok(h) = &human {
-        let (segments, props, branches) = anatomy::segments_of(shape, h);
-        mopts.segments = Some(segments);
-        if !branches.is_empty() {
-            notes.push(format!(
-                "massless and welded (they branch off a long bone between two joints of a limb: \
-                 twist or deformation helpers, no body part; the segment's mass stays on the \
-                 limb's own joints): {}",
-                branches.join(", ")
-            ));
-            for b in branches {
-                if !mopts.lock.contains(&b) {
-                    mopts.lock.push(b);
-                }
-            }
+    if let Ok(h) = &found.landmarks {
+        weld_non_segments(found.shape(bvh), h, &mut mopts, notes);
+    }
+    let (mut model, mut map) = build_bvh_model(bvh, &mopts).map_err(|e| at_file(path, e))?;
+    let (fold, pelvis) = fold_helper_root(bvh, positions, &model, &map, opts, &mut mopts, notes);
+
+    // bones do not stretch: the position channels of the joints below the body's root are
+    // held at their mean, in the frames and in the model (`motion::weld`)
+    let welded = match opts.joint_translations {
+        JointTranslations::Weld => {
+            crate::motion::weld::weld_at_mean(bvh, positions, found.scale_to_m, pelvis)
         }
-        if !props.is_empty() {
-            notes.push(format!(
-                "massless and welded (they reach farther than half a thigh from a hand, foot or \
-                 head: a prop or a marker, not a body part; a massless joint would make D(q) \
-                 singular): {}",
-                props.join(", ")
-            ));
-            for p in props {
-                if !mopts.lock.contains(&p) {
-                    mopts.lock.push(p);
-                }
+        JointTranslations::Keep => vec![],
+    };
+    notes.extend(crate::motion::weld::note(bvh, &welded));
+    let twists = fold_twist_helpers(bvh, &found, &welded, &mopts);
+    notes.extend(crate::motion::twist::note(bvh, &twists));
+    mopts.folded = crate::motion::twist::folded(&twists);
+    if fold.is_some() || !welded.is_empty() || !mopts.folded.is_empty() {
+        mopts.held_positions = crate::motion::weld::held_positions(&welded, bvh.joints.len());
+        (model, map) = build_bvh_model(bvh, &mopts).map_err(|e| at_file(path, e))?;
+    }
+    Ok(Built {
+        found,
+        model,
+        map,
+        segments,
+        fold,
+        welded,
+        twists,
+        auto_lock,
+    })
+}
+
+/// A human's joints that are no body part are made massless and welded (added to
+/// `mopts.lock`), with a note each kind: helpers branching off a long bone, props and markers
+/// reaching away from a hand, foot or head; the segments by topology go to `mopts.segments`.
+fn weld_non_segments(
+    shape: &Bvh,
+    h: &crate::model::skeleton::Human,
+    mopts: &mut BvhModelOptions,
+    notes: &mut Vec<String>,
+) {
+    let (segments, props, branches) = anatomy::segments_of(shape, h);
+    mopts.segments = Some(segments);
+    if !branches.is_empty() {
+        notes.push(format!(
+            "massless and welded (they branch off a long bone between two joints of a limb: \
+             twist or deformation helpers, no body part; the segment's mass stays on the \
+             limb's own joints): {}",
+            branches.join(", ")
+        ));
+        for b in branches {
+            if !mopts.lock.contains(&b) {
+                mopts.lock.push(b);
             }
         }
     }
-    let (mut model, mut map) = build_bvh_model(&bvh, &mopts).map_err(|e| at_file(path, e))?;
+    if !props.is_empty() {
+        notes.push(format!(
+            "massless and welded (they reach farther than half a thigh from a hand, foot or \
+             head: a prop or a marker, not a body part; a massless joint would make D(q) \
+             singular): {}",
+            props.join(", ")
+        ));
+        for p in props {
+            if !mopts.lock.contains(&p) {
+                mopts.lock.push(p);
+            }
+        }
+    }
+}
 
-    // a massless helper root whose only child has six channels of its own (Bandai's
-    // `joint_Root` above `Hips`) duplicates the child's coordinates and makes D(q) singular:
-    // fold its motion into the child and weld it (`motion::fold`)
+/// A massless helper root whose only child has six channels of its own (Bandai's
+/// `joint_Root` above `Hips`) duplicates the child's coordinates and makes D(q) singular: its
+/// motion is folded into the child and it is welded (`motion::fold`). Returns the fold, and
+/// the child when it carries the body below a helper root (for `motion::weld`).
+fn fold_helper_root(
+    bvh: &mut Bvh,
+    positions: &[ResolvedPosition],
+    model: &Model,
+    map: &BvhMap,
+    opts: &TakeOptions,
+    mopts: &mut BvhModelOptions,
+    notes: &mut Vec<String>,
+) -> (Option<crate::motion::fold::Fold>, Option<usize>) {
     let mut fold = None;
     let mut pelvis = None; // below a helper root: it carries the body too (`motion::weld`)
-    if let Some(c) = crate::motion::fold::redundant_root_child(&bvh) {
+    if let Some(c) = crate::motion::fold::redundant_root_child(bvh) {
         let root_body = map.joints[0].body;
         let root = bvh.joints[0].name.clone();
         let overridden = opts.body.link_mass.contains_key(&root);
@@ -353,8 +581,8 @@ pub fn take_from_bvh_reusing(
             pelvis = Some(c);
         }
         if massless && !overridden {
-            fold = Some(crate::motion::fold::Fold::record(&bvh, c));
-            crate::motion::fold::fold_root_into_child(&mut bvh, &positions, c);
+            fold = Some(crate::motion::fold::Fold::record(bvh, c));
+            crate::motion::fold::fold_root_into_child(bvh, positions, c);
             mopts.lock.push(root.clone());
             notes.push(format!(
                 "root `{root}` is massless and `{}` has six channels of its own: its motion \
@@ -363,106 +591,33 @@ pub fn take_from_bvh_reusing(
             ));
         }
     }
+    (fold, pelvis)
+}
 
-    // bones do not stretch: the position channels of the joints below the body's root are
-    // held at their mean, in the frames and in the model (`motion::weld`)
-    let welded = match opts.joint_translations {
-        JointTranslations::Weld => {
-            crate::motion::weld::weld_at_mean(&mut bvh, &positions, scale_to_m, pelvis)
-        }
-        JointTranslations::Keep => vec![],
+/// Twist helpers inside a human's long bone (no segment of their own) folded into the next
+/// joint when they only turn the limb about the bone, and made massless (`motion::twist`); a
+/// helper whose translation is a coordinate (`--joint-translations keep`) stays.
+fn fold_twist_helpers(
+    bvh: &mut Bvh,
+    found: &Found,
+    welded: &[crate::motion::weld::Welded],
+    mopts: &BvhModelOptions,
+) -> Vec<crate::motion::twist::Twist> {
+    let Ok(h) = &found.landmarks else {
+        return vec![];
     };
-    notes.extend(crate::motion::weld::note(&bvh, &welded));
-
-    // twist helpers inside a long bone (no segment of their own) are folded into the next
-    // joint when they only turn the limb about the bone, and made massless (`motion::twist`);
-    // a helper whose translation is a coordinate (`--joint-translations keep`) stays
-    let twists = match &human {
-        Ok(h) => {
-            let names: Vec<&str> = bvh.joints.iter().map(|j| j.name.as_str()).collect();
-            let parent: Vec<Option<usize>> = bvh.joints.iter().map(|j| j.parent).collect();
-            let topo = crate::model::skeleton::Topology {
-                names: &names,
-                parent: &parent,
-            };
-            let held =
-                |j: usize| !bvh.joints[j].has_position() || welded.iter().any(|w| w.joint == j);
-            let inside: Vec<usize> = crate::model::skeleton::inside_long_bones(&topo, h)
-                .into_iter()
-                .filter(|&j| held(j) && !mopts.lock.contains(&bvh.joints[j].name))
-                .collect();
-            crate::motion::twist::fold_twists(&mut bvh, &positions, scale_to_m, &inside)
-        }
-        Err(_) => vec![],
+    let names: Vec<&str> = bvh.joints.iter().map(|j| j.name.as_str()).collect();
+    let parent: Vec<Option<usize>> = bvh.joints.iter().map(|j| j.parent).collect();
+    let topo = crate::model::skeleton::Topology {
+        names: &names,
+        parent: &parent,
     };
-    notes.extend(crate::motion::twist::note(&bvh, &twists));
-    mopts.folded = crate::motion::twist::folded(&twists);
-    if fold.is_some() || !welded.is_empty() || !mopts.folded.is_empty() {
-        mopts.held_positions = crate::motion::weld::held_positions(&welded, bvh.joints.len());
-        (model, map) = build_bvh_model(&bvh, &mopts).map_err(|e| at_file(path, e))?;
-    }
-    apply_damping(&mut model, &opts.damping).map_err(|e| at_file(path, e))?;
-
-    // q, smooth, v, a
-    if !keep_going(0.1) {
-        return Err(Error::Cancelled);
-    }
-    let smooth = match opts.smooth {
-        Some(s) => s,
-        None => {
-            let (s, note) = default_smoothing(bvh.frame_time);
-            notes.extend(note);
-            s
-        }
-    };
-    done(Stage::Model);
-    let same_states = |p: &&Take| {
-        p.smooth == smooth
-            && p.model.q_names == model.q_names
-            && p.model.v_names == model.v_names
-            && p.model.joints == model.joints
-            && p.model.parent == model.parent
-            && p.model.idx_q == model.idx_q
-            && p.map == map
-            && p.bvh == bvh
-    };
-    let (states, passages) = match previous.filter(same_states) {
-        Some(p) => (p.states.clone(), p.passages.clone()),
-        None => take_states_marked(
-            &bvh,
-            &model,
-            &map,
-            &smooth,
-            &mut |f| keep_going(0.1 + 0.9 * f),
-            done,
-        )?,
-    };
-    notes.extend(passages.iter().cloned());
-    let take = Take {
-        path: path.to_path_buf(),
-        bvh,
-        options: opts.clone(),
-        up,
-        unit,
-        scale_to_m,
-        stature_m,
-        segments,
-        positions,
-        model,
-        map,
-        smooth,
-        fold,
-        welded,
-        twists,
-        states,
-        passages,
-        notes,
-        human,
-    };
-    match auto_lock {
-        Some(tol) => reduce::lock_auto(take, tol),
-        None => Ok(take),
-    }
+    let held = |j: usize| !bvh.joints[j].has_position() || welded.iter().any(|w| w.joint == j);
+    let inside: Vec<usize> = crate::model::skeleton::inside_long_bones(&topo, h)
+        .into_iter()
+        .filter(|&j| held(j) && !mopts.lock.contains(&bvh.joints[j].name))
+        .collect();
+    crate::motion::twist::fold_twists(bvh, &found.positions, found.scale_to_m, &inside)
 }
 
 pub(crate) fn at_file(path: &Path, e: Error) -> Error {
