@@ -151,9 +151,17 @@ pub(super) fn derivative_columns(
     if n == 2 {
         return (v, a, locked);
     }
-    // a: the same second-order differences on each other v column
+    accelerations(&v, &mut a, &done, dt);
+    world_translation_rates(model, q, dt, &mut v, &mut a);
+    (v, a, locked)
+}
+
+/// a: the same second-order differences on each v column not `done` (`n ≥ 3` frames), columns
+/// in parallel.
+fn accelerations(v: &Columns, a: &mut Columns, done: &[bool], dt: f64) {
+    let n = v.frames;
+    let nv = done.len();
     let h2 = 2.0 * dt;
-    let vr = &v;
     let block = n * par::even_block(nv);
     for_each_block(
         &mut a.data,
@@ -164,7 +172,7 @@ pub(super) fn derivative_columns(
                 if done[first / n + c] {
                     continue;
                 }
-                let vc = vr.col(first / n + c);
+                let vc = v.col(first / n + c);
                 ac[0] = (-3.0 * vc[0] + 4.0 * vc[1] - vc[2]) / h2;
                 for k in 1..n - 1 {
                     ac[k] = (vc[k + 1] - vc[k - 1]) / h2;
@@ -173,8 +181,6 @@ pub(super) fn derivative_columns(
             }
         },
     );
-    world_translation_rates(model, q, dt, &mut v, &mut a);
-    (v, a, locked)
 }
 
 /// One joint of [`derivative_columns`]: an euler joint's v and a from its rotation

@@ -117,29 +117,7 @@ pub(super) fn smooth_columns(
         return Ok(rotations);
     }
     let smoother = Smoother::new(*smooth, dt)?;
-    // the groups of columns: consecutive scalar coordinates up to four together, each ball
-    // or free joint alone (coordinate order: idx_q grows with the body index)
-    // and each euler joint's three hinges alone
-    let mut triples = triples.iter().peekable();
-    let mut groups: Vec<(usize, usize, Group)> = vec![];
-    let mut i = 1;
-    while i < model.nbodies() {
-        let (iq, nq, kind) = (model.idx_q[i], model.joints[i].nq(), model.joints[i]);
-        if let Some(t) = triples.next_if(|t| t.body == i) {
-            groups.push((iq, 3, Group::Euler(t.order)));
-            i += 3;
-            continue;
-        }
-        match kind {
-            JointKind::Fixed => {}
-            JointKind::Revolute { .. } | JointKind::Prismatic { .. } => match groups.last_mut() {
-                Some((at, m, Group::Scalars)) if *at + *m == iq && *m < SIDE_BY_SIDE => *m += 1,
-                _ => groups.push((iq, nq, Group::Scalars)),
-            },
-            JointKind::Spherical | JointKind::Free => groups.push((iq, nq, Group::Joint(kind))),
-        }
-        i += 1;
-    }
+    let groups = smoothing_groups(model, triples);
     let mut joints = Vec::with_capacity(groups.len());
     let mut rest: &mut [f64] = &mut cols.data;
     let mut rest_rotations: &mut [UnitQuaternion<f64>] = &mut rotations.data;
@@ -186,6 +164,34 @@ pub(super) fn smooth_columns(
         return Err(Error::Cancelled);
     }
     Ok(rotations)
+}
+
+/// The groups of columns [`smooth_columns`] smooths, as (first coordinate, coordinates, what
+/// they are): consecutive scalar coordinates up to four together, each ball or free joint
+/// alone and each euler joint's three hinges alone (coordinate order: idx_q grows with the body
+/// index).
+fn smoothing_groups(model: &Model, triples: &[EulerTriple]) -> Vec<(usize, usize, Group)> {
+    let mut triples = triples.iter().peekable();
+    let mut groups: Vec<(usize, usize, Group)> = vec![];
+    let mut i = 1;
+    while i < model.nbodies() {
+        let (iq, nq, kind) = (model.idx_q[i], model.joints[i].nq(), model.joints[i]);
+        if let Some(t) = triples.next_if(|t| t.body == i) {
+            groups.push((iq, 3, Group::Euler(t.order)));
+            i += 3;
+            continue;
+        }
+        match kind {
+            JointKind::Fixed => {}
+            JointKind::Revolute { .. } | JointKind::Prismatic { .. } => match groups.last_mut() {
+                Some((at, m, Group::Scalars)) if *at + *m == iq && *m < SIDE_BY_SIDE => *m += 1,
+                _ => groups.push((iq, nq, Group::Scalars)),
+            },
+            JointKind::Spherical | JointKind::Free => groups.push((iq, nq, Group::Joint(kind))),
+        }
+        i += 1;
+    }
+    groups
 }
 
 /// One group of [`smooth_columns`].
