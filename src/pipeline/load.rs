@@ -1,7 +1,7 @@
 //! Stages 1–4 of the module doc, and the [`Take`] they make: read the BVH (a rest pose as
 //! frame 0 dropped), then axes, unit and stature, position semantics, the model (de Leva masses,
 //! a helper root folded, joint translations welded, twist helpers folded), and the states of
-//! stages 5–7 (`states.rs`), reused from a previous take of the same motion when they would be
+//! stages 5–7 (`states/`), reused from a previous take of the same motion when they would be
 //! the same.
 
 use super::anatomy;

@@ -18,7 +18,7 @@
 //!    of v.
 //!
 //! Where each part lives: `options.rs` (the take's options, the flags validated, the default
-//! smoothing, per-joint settings), `load.rs` (stages 1–4 and the [`Take`]), `states.rs` (stages
+//! smoothing, per-joint settings), `load.rs` (stages 1–4 and the [`Take`]), `states/` (stages
 //! 5–7), `job.rs` (a model and states to run an algorithm on, a take's or a robot's),
 //! `torques.rs` (inverse and forward dynamics and the mass matrix over a job, and their files),
 //! `states_csv.rs` (the states CSV read back), `export.rs` (states, joint positions, URDF, the
