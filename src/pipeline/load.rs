@@ -153,17 +153,6 @@ pub fn take_from_bvh_reusing(
     let mut notes = vec![];
     let found = axes_and_unit(path, &bvh, opts, &mut notes)?;
     let built = model_stage(path, &mut bvh, opts, found, &mut notes)?;
-    let Built {
-        found,
-        mut model,
-        map,
-        segments,
-        fold,
-        welded,
-        twists,
-        auto_lock,
-    } = built;
-    apply_damping(&mut model, &opts.damping).map_err(|e| at_file(path, e))?;
 
     // q, smooth, v, a
     if !keep_going(0.1) {
@@ -173,20 +162,20 @@ pub fn take_from_bvh_reusing(
     done(Stage::Model);
     let same_states = |p: &&Take| {
         p.smooth == smooth
-            && p.model.q_names == model.q_names
-            && p.model.v_names == model.v_names
-            && p.model.joints == model.joints
-            && p.model.parent == model.parent
-            && p.model.idx_q == model.idx_q
-            && p.map == map
+            && p.model.q_names == built.model.q_names
+            && p.model.v_names == built.model.v_names
+            && p.model.joints == built.model.joints
+            && p.model.parent == built.model.parent
+            && p.model.idx_q == built.model.idx_q
+            && p.map == built.map
             && p.bvh == bvh
     };
     let (states, passages) = match previous.filter(same_states) {
         Some(p) => (p.states.clone(), p.passages.clone()),
         None => take_states_marked(
             &bvh,
-            &model,
-            &map,
+            &built.model,
+            &built.map,
             &smooth,
             &mut |f| keep_going(0.1 + 0.9 * f),
             done,
@@ -197,24 +186,24 @@ pub fn take_from_bvh_reusing(
         path: path.to_path_buf(),
         bvh,
         options: opts.clone(),
-        up: found.up,
-        unit: found.unit,
-        scale_to_m: found.scale_to_m,
-        stature_m: found.stature_m,
-        segments,
-        positions: found.positions,
-        model,
-        map,
+        up: built.found.up,
+        unit: built.found.unit,
+        scale_to_m: built.found.scale_to_m,
+        stature_m: built.found.stature_m,
+        segments: built.segments,
+        positions: built.found.positions,
+        model: built.model,
+        map: built.map,
         smooth,
-        fold,
-        welded,
-        twists,
+        fold: built.fold,
+        welded: built.welded,
+        twists: built.twists,
         states,
         passages,
         notes,
-        human: found.landmarks,
+        human: built.found.landmarks,
     };
-    match auto_lock {
+    match built.auto_lock {
         Some(tol) => reduce::lock_auto(take, tol),
         None => Ok(take),
     }
@@ -436,7 +425,8 @@ struct Built {
 
 /// Stage 4: the model at the take's stature, with de Leva's masses, its branch helpers and
 /// props welded; then, folded into `bvh` and the model built again, a massless helper root,
-/// the joint translations held at their mean, the twist helpers inside long bones.
+/// the joint translations held at their mean, the twist helpers inside long bones; last, the
+/// joints' damping.
 fn model_stage(
     path: &Path,
     bvh: &mut Bvh,
@@ -506,6 +496,7 @@ fn model_stage(
         mopts.held_positions = crate::motion::weld::held_positions(&welded, bvh.joints.len());
         (model, map) = build_bvh_model(bvh, &mopts).map_err(|e| at_file(path, e))?;
     }
+    apply_damping(&mut model, &opts.damping).map_err(|e| at_file(path, e))?;
     Ok(Built {
         found,
         model,
