@@ -25,6 +25,8 @@ impl Info<'_> {
     /// `auto` settled by [`resolve_contact`]), notes (a list of strings: what the pipeline
     /// assumed, changed or found, as `info` prints them) and skeleton (every joint: name,
     /// parent, channels, rotation_order, offset_m; [`summary::skeleton`]).
+    ///
+    /// [`resolve_contact`]: super::resolve_contact
     pub fn json(&self) -> serde_json::Value {
         let t = self.take;
         let regression = t.segments == Some(SegmentTable::Regression);

@@ -28,10 +28,15 @@ pub struct Job {
     pub take: Option<Take>,
     /// Measured ground reactions (`id --grf`, [`measured::use_measured_grf`]), used instead
     /// of the estimate.
+    ///
+    /// [`measured::use_measured_grf`]: super::measured::use_measured_grf
     pub measured: Option<crate::dynamics::grf::GroundReactions>,
     /// The ground reactions estimated on `take` as it is, kept by
     /// [`consistency::consistent_job`] (which needs them for its figures) so that
     /// [`job_torques`] does not estimate them a second time.
+    ///
+    /// [`consistency::consistent_job`]: super::consistency::consistent_job
+    /// [`job_torques`]: super::job_torques
     pub estimated: Option<crate::dynamics::grf::GroundReactions>,
 }
 

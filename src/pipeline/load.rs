@@ -114,6 +114,8 @@ pub fn take_from_bvh(path: &Path, bvh: Bvh, opts: &TakeOptions) -> Result<Take, 
 /// [`take_from_bvh`] that reports its progress (0‥1) to `keep_going` (the smoothing once per
 /// coordinate group, [`unwrap_and_smooth_with`]) and stops with [`Error::Cancelled`] when it
 /// returns false.
+///
+/// [`unwrap_and_smooth_with`]: super::unwrap_and_smooth_with
 pub fn take_from_bvh_with(
     path: &Path,
     bvh: Bvh,

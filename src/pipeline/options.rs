@@ -44,6 +44,8 @@ pub struct TakeOptions {
     pub contact: Contact,
     /// Keep frame 0 even when it is a rest pose before the motion (`motion::trim`); by
     /// default [`load_take`] drops it.
+    ///
+    /// [`load_take`]: super::load_take
     pub keep_first_frame: bool,
     /// Viscous joint friction `b q̇` set on the model (`Model::damping`); never on the 6 root
     /// coordinates of a floating avatar.
