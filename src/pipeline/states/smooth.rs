@@ -1,0 +1,228 @@
+//! Stages 5–6 on columns: revolute coordinates unwrapped, then every coordinate smoothed —
+//! scalar ones up to four side by side, ball and free joints' quaternions on the rotation
+//! manifold, an euler joint's three hinges as its rotation — groups in parallel.
+
+use super::{Columns, TripleRotations};
+use crate::error::Error;
+use crate::model::{EulerTriple, JointKind, Model};
+use crate::motion::euler::smooth_triple;
+use crate::motion::smooth::{SmoothSpec, Smoother};
+use crate::motion::unwrap::{AngleUnit, unwrap_angles};
+use crate::par::{self, for_each_block, rounds};
+use crate::rotation::EulerOrder;
+use nalgebra::{Quaternion, UnitQuaternion};
+
+/// Unwraps every revolute coordinate (±2π jumps), columns in parallel.
+pub(super) fn unwrap_revolute(model: &Model, cols: &mut Columns) {
+    let mut revolute: Vec<&mut [f64]> = vec![];
+    let mut slots = cols.each_mut();
+    for i in 1..model.nbodies() {
+        if matches!(model.joints[i], JointKind::Revolute { .. })
+            && let Some(c) = slots[model.idx_q[i]].take()
+        {
+            revolute.push(c);
+        }
+    }
+    let block = par::even_block(revolute.len());
+    for_each_block(&mut revolute, block, &mut par::scratch(|| ()), |_, _, b| {
+        for c in b {
+            unwrap_angles(AngleUnit::Radians, c);
+        }
+    });
+}
+
+/// Unwraps revolute coordinates (±2π jumps) and smooths every coordinate: scalar coordinates
+/// column by column, quaternions of ball and free joints on the rotation manifold.
+pub fn unwrap_and_smooth(
+    model: &Model,
+    q: &mut [Vec<f64>],
+    dt: f64,
+    smooth: &SmoothSpec,
+) -> Result<(), Error> {
+    unwrap_and_smooth_with(model, q, dt, smooth, &mut |_| true)
+}
+
+/// [`unwrap_and_smooth`] that reports its progress (0‥1) to `keep_going` once per ball or free
+/// joint and per group of up to four scalar coordinates (smoothed side by side) and stops with [`Error::Cancelled`] when it returns false (`q` is then partly
+/// smoothed: the caller drops it).
+pub fn unwrap_and_smooth_with(
+    model: &Model,
+    q: &mut [Vec<f64>],
+    dt: f64,
+    smooth: &SmoothSpec,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<(), Error> {
+    if q.is_empty() {
+        return Ok(());
+    }
+    let mut cols = Columns::of_rows(q, model.nq);
+    unwrap_revolute(model, &mut cols);
+    smooth_columns(
+        model,
+        &model.euler_triples(),
+        &mut cols,
+        dt,
+        smooth,
+        keep_going,
+    )?;
+    cols.to_rows(q);
+    Ok(())
+}
+
+/// Coordinates (columns side by side) to smooth: one ball or free joint's, one euler joint's
+/// three hinges ([`Model::euler_triples`]), or up to four consecutive scalar coordinates,
+/// which the filter runs side by side.
+struct JointColumns<'a> {
+    kind: Group,
+    cols: &'a mut [f64],
+    /// An euler joint's rotation at every frame ([`TripleRotations`]); empty for the others.
+    rotations: &'a mut [UnitQuaternion<f64>],
+}
+
+/// What a group of coordinates is.
+#[derive(Clone, Copy)]
+enum Group {
+    /// Scalar coordinates, filtered side by side.
+    Scalars,
+    /// A ball or free joint.
+    Joint(JointKind),
+    /// Three hinges that make one ball joint: smoothed as its rotation.
+    Euler(EulerOrder),
+}
+
+/// Scalar coordinates smoothed side by side in one group.
+const SIDE_BY_SIDE: usize = 4;
+
+/// What one worker smooths with: its filter's buffers and a ball joint's rotations.
+struct SmoothScratch {
+    smoother: Smoother,
+    quats: Vec<UnitQuaternion<f64>>,
+}
+
+/// Smooths every joint's coordinates, groups in parallel (a ball or free joint alone, up to
+/// four consecutive scalar coordinates together); `keep_going` is told once per group (in
+/// coordinate order) and stops the work with [`Error::Cancelled`]. Returns the euler joints'
+/// smoothed rotations (`triples`, [`Model::euler_triples`]).
+pub(super) fn smooth_columns(
+    model: &Model,
+    triples: &[EulerTriple],
+    cols: &mut Columns,
+    dt: f64,
+    smooth: &SmoothSpec,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<TripleRotations, Error> {
+    let n = cols.frames;
+    let mut rotations = TripleRotations::new(triples.len(), n);
+    if n == 0 {
+        return Ok(rotations);
+    }
+    let smoother = Smoother::new(*smooth, dt)?;
+    let groups = smoothing_groups(model, triples);
+    let mut joints = Vec::with_capacity(groups.len());
+    let mut rest: &mut [f64] = &mut cols.data;
+    let mut rest_rotations: &mut [UnitQuaternion<f64>] = &mut rotations.data;
+    let mut at = 0;
+    for (iq, m, kind) in groups {
+        debug_assert!(iq >= at, "coordinates in body order");
+        let (_, tail) = std::mem::take(&mut rest).split_at_mut((iq - at) * n);
+        let (mine, tail) = tail.split_at_mut(m * n);
+        let frames = if matches!(kind, Group::Euler(_)) {
+            n
+        } else {
+            0
+        };
+        let (rotations, tail_rotations) = std::mem::take(&mut rest_rotations).split_at_mut(frames);
+        joints.push(JointColumns {
+            kind,
+            cols: mine,
+            rotations,
+        });
+        (rest, rest_rotations) = (tail, tail_rotations);
+        at = iq + m;
+    }
+    let mut scratch = par::scratch(|| {
+        let mut smoother = smoother.clone();
+        smoother.reserve(n);
+        SmoothScratch {
+            smoother,
+            quats: Vec::with_capacity(n),
+        }
+    });
+    let total = joints.len();
+    let reached = rounds(
+        &mut joints,
+        1,
+        &mut scratch,
+        |s, _, block| {
+            for j in block {
+                smooth_joint(s, j, n);
+            }
+        },
+        &mut |k| keep_going(k as f64 / total as f64),
+    );
+    if reached < total {
+        return Err(Error::Cancelled);
+    }
+    Ok(rotations)
+}
+
+/// The groups of columns [`smooth_columns`] smooths, as (first coordinate, coordinates, what
+/// they are): consecutive scalar coordinates up to four together, each ball or free joint
+/// alone and each euler joint's three hinges alone (coordinate order: idx_q grows with the body
+/// index).
+fn smoothing_groups(model: &Model, triples: &[EulerTriple]) -> Vec<(usize, usize, Group)> {
+    let mut triples = triples.iter().peekable();
+    let mut groups: Vec<(usize, usize, Group)> = vec![];
+    let mut i = 1;
+    while i < model.nbodies() {
+        let (iq, nq, kind) = (model.idx_q[i], model.joints[i].nq(), model.joints[i]);
+        if let Some(t) = triples.next_if(|t| t.body == i) {
+            groups.push((iq, 3, Group::Euler(t.order)));
+            i += 3;
+            continue;
+        }
+        match kind {
+            JointKind::Fixed => {}
+            JointKind::Revolute { .. } | JointKind::Prismatic { .. } => match groups.last_mut() {
+                Some((at, m, Group::Scalars)) if *at + *m == iq && *m < SIDE_BY_SIDE => *m += 1,
+                _ => groups.push((iq, nq, Group::Scalars)),
+            },
+            JointKind::Spherical | JointKind::Free => groups.push((iq, nq, Group::Joint(kind))),
+        }
+        i += 1;
+    }
+    groups
+}
+
+/// One group of [`smooth_columns`].
+fn smooth_joint(s: &mut SmoothScratch, j: &mut JointColumns, n: usize) {
+    let quat_at = match j.kind {
+        Group::Scalars => {
+            s.smoother.smooth_side_by_side(j.cols, n);
+            return;
+        }
+        Group::Euler(order) => {
+            let (c0, rest) = j.cols.split_at_mut(n);
+            let (c1, c2) = rest.split_at_mut(n);
+            smooth_triple(&mut s.smoother, order, [c0, c1, c2], j.rotations);
+            return;
+        }
+        Group::Joint(JointKind::Free) => {
+            s.smoother.smooth_side_by_side(&mut j.cols[..3 * n], n);
+            3 * n
+        }
+        Group::Joint(JointKind::Spherical) => 0,
+        Group::Joint(_) => return,
+    };
+    // quaternions [x, y, z, w] on the rotation manifold
+    let c = &mut j.cols[quat_at..quat_at + 4 * n];
+    let quats = &mut s.quats;
+    quats.clear();
+    quats.extend((0..n).map(|k| {
+        UnitQuaternion::new_normalize(Quaternion::new(c[3 * n + k], c[k], c[n + k], c[2 * n + k]))
+    }));
+    s.smoother.smooth_quaternions(quats);
+    for (k, r) in quats.iter().enumerate() {
+        (c[k], c[n + k], c[2 * n + k], c[3 * n + k]) = (r.i, r.j, r.k, r.w);
+    }
+}
