@@ -334,11 +334,12 @@ pub fn fit_heel_points(
             .iter()
             .map(|x| x.transform_point(&foot.ankle_point)[up])
             .collect();
-        let mut sorted = heights.clone();
-        sorted.sort_by(f64::total_cmp);
-        let Some(&cut) = sorted.get(sorted.len() / 10) else {
+        if heights.is_empty() {
             continue;
-        };
+        }
+        let mut order = heights.clone();
+        let tenth = order.len() / 10;
+        let cut = *order.select_nth_unstable_by(tenth, f64::total_cmp).1;
         let (mut sum, mut height, mut count) = (Vector3::zeros(), 0.0, 0.0);
         for (x, h) in poses.iter().zip(&heights).filter(|(_, h)| **h <= cut) {
             sum += x.rot.tr_mul(&down);
