@@ -505,3 +505,57 @@ fn a_shared_walk_turned_to_gimbal_lock_reduces_like_the_unturned_one() {
     let (_, _, cb) = consistent_take(&ball, true, None).unwrap();
     assert_eq!(cb.after.unwrap().meets(), a1.meets(), "{}", cb.text());
 }
+
+#[test]
+fn the_residual_without_the_torques_is_what_rnea_with_the_feet_leaves() {
+    // residual reduction evaluates its trials without the third pass: the needed wrench less
+    // the feet's must be the root's wrench of RNEA with the feet's loads, to rounding, and
+    // everything else the same bits
+    use articula::dynamics::grf::{estimate_ground_reactions_progress, estimate_ground_residuals};
+    use articula::motion::contact::ContactParams;
+    let ball = TakeOptions {
+        joints: articula::model::bvh::JointModel::Ball,
+        ..opts()
+    };
+    let ball = pipeline::load_take(&common::repo("data/demo_walk.bvh"), &ball).unwrap();
+    for take in [demo(), ball] {
+        let (s, up) = (&take.states, take.up.index());
+        let feet = pipeline::contact_feet(&take);
+        let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time).unwrap();
+        let full = estimate_ground_reactions_progress(
+            &take.model,
+            &feet,
+            &s.time,
+            &s.q,
+            &s.v,
+            &s.a,
+            up,
+            &params,
+            &mut |_| true,
+        )
+        .unwrap();
+        let quick =
+            estimate_ground_residuals(&take.model, &feet, &s.time, [&s.q, &s.v, &s.a], up, &params)
+                .unwrap();
+        assert!(quick.tau.is_empty() && full.tau.len() == s.len());
+        assert_eq!((&quick.grf, &quick.cop), (&full.grf, &full.cop));
+        assert_eq!(
+            (&quick.contact, &quick.wrench),
+            (&full.contact, &full.wrench)
+        );
+        let weight = take.model.total_mass() * 9.81;
+        let mut largest = 0.0_f64;
+        for (a, b) in quick.residual.iter().zip(&full.residual) {
+            for c in 0..6 {
+                largest = largest.max((a[c] - b[c]).abs());
+            }
+        }
+        // a wrong sign or a missing foot is of the order of the weight
+        assert!(largest < 1e-9 * weight, "{largest:e} N (N·m)");
+        assert!(
+            full.residual
+                .iter()
+                .any(|r| r.iter().any(|x| x.abs() > 1e-3 * weight))
+        );
+    }
+}

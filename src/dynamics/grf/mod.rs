@@ -338,12 +338,67 @@ pub fn estimate_ground_reactions_keeping(
     model: &Model,
     feet: &[Foot],
     time: &[f64],
-    [q, v, a]: [&[Vec<f64>]; 3],
+    qva: [&[Vec<f64>]; 3],
     up: usize,
     params: &ContactParams,
     moment_bodies: &[usize],
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<GroundReactions, Error> {
+    let third = Third::Torques(moment_bodies);
+    estimate(model, feet, time, qva, up, params, third, keep_going)
+}
+
+/// [`estimate_ground_reactions_progress`] without the joint torques (`tau` and `moments`
+/// empty), what residual reduction evaluates at each trial of its adjustments: the residual
+/// is the needed wrench less the feet's (inverse dynamics is linear in the external forces),
+/// the same to rounding as what RNEA with the feet's loads leaves at the root, without that
+/// RNEA (a fifth of a cold reduction's instructions).
+#[allow(clippy::too_many_arguments)]
+pub fn estimate_ground_residuals(
+    model: &Model,
+    feet: &[Foot],
+    time: &[f64],
+    qva: [&[Vec<f64>]; 3],
+    up: usize,
+    params: &ContactParams,
+) -> Result<GroundReactions, Error> {
+    estimate(
+        model,
+        feet,
+        time,
+        qva,
+        up,
+        params,
+        Third::Residual,
+        &mut |_| true,
+    )
+}
+
+/// What the estimate's third pass computes.
+#[derive(Clone, Copy)]
+enum Third<'a> {
+    /// RNEA with the feet's loads: the joint torques, the residual, and the net moments of
+    /// these bodies.
+    Torques(&'a [usize]),
+    /// The residual only, as the needed wrench less the feet's.
+    Residual,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn estimate(
+    model: &Model,
+    feet: &[Foot],
+    time: &[f64],
+    [q, v, a]: [&[Vec<f64>]; 3],
+    up: usize,
+    params: &ContactParams,
+    third: Third,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<GroundReactions, Error> {
+    let moment_bodies = match third {
+        Third::Torques(b) => b,
+        Third::Residual => &[],
+    };
     let n = time.len();
     check_inputs(model, time, q, v, a, up)?;
     let root = floating_root(model).ok_or_else(|| {
@@ -403,7 +458,10 @@ pub fn estimate_ground_reactions_keeping(
         pelvis: vec![Vector3::zeros(); n],
         com,
         cop_gap: vec![0.0; n],
-        tau: vec![vec![0.0; model.nv]; n],
+        tau: match third {
+            Third::Torques(_) => vec![vec![0.0; model.nv]; n],
+            Third::Residual => vec![],
+        },
         moment_bodies: moment_bodies.to_vec(),
         moments: vec![Vector3::zeros(); n * moment_bodies.len()],
     };
@@ -412,6 +470,16 @@ pub fn estimate_ground_reactions_keeping(
         model, &feet, root, &poses, &needed, &shares, params, &mut out,
     );
 
+    if let Third::Residual = third {
+        for (k, r) in out.residual.iter_mut().enumerate() {
+            let mut w = needed[k];
+            for f in &wrenches[k * nf..(k + 1) * nf] {
+                w -= *f;
+            }
+            *r = about(&w, &out.pelvis[k]);
+        }
+        return Ok(out);
+    }
     // pass 3: inverse dynamics with the ground reactions (frames in parallel)
     let GroundReactions {
         bodies,

@@ -288,11 +288,12 @@ pub fn reduce_residuals(
     };
     let Found {
         x,
-        e,
+        mut e,
         pelvis,
         refined,
         floor,
     } = found;
+    problem.with_torques(&mut e)?;
     let rotation = problem.rotation.map(|_| problem.pelvis_rotation(&x));
     // the bounds the adjustments end against (within a tenth of them)
     let (peak, rms) = peak_rms(&pelvis);

@@ -10,7 +10,8 @@ use super::root::{BodyRotation, RootRotation, RootTranslation, rotate_root, shif
 use super::{Ground, Motion, ReductionBounds, Trunk, peak_rms};
 use crate::dynamics::grf::measured::apply_ground_reactions;
 use crate::dynamics::grf::{
-    GroundReactions, about, estimate_ground_reactions_progress, root_wrench,
+    GroundReactions, about, estimate_ground_reactions_progress, estimate_ground_residuals,
+    root_wrench,
 };
 use crate::dynamics::residual::{centre_of_mass, with_trunk_offset};
 use crate::dynamics::{
@@ -168,22 +169,16 @@ impl Problem<'_> {
             .collect()
     }
 
-    /// The model and motion adjusted by `x`, their ground reactions and cost.
+    /// The model and motion adjusted by `x`, their ground reactions and cost. Against
+    /// estimated forces without the joint torques (`estimate_ground_residuals`: what a trial
+    /// needs); [`Problem::with_torques`] completes the one kept.
     pub fn evaluate(&self, x: &DVector<f64>) -> Result<Evaluated, Error> {
         let Adjusted { model, q, v, a } = self.adjusted(x)?;
         let time = self.motion.time;
         let ground = match self.ground {
-            Ground::Estimated { feet, params } => estimate_ground_reactions_progress(
-                &model,
-                feet,
-                time,
-                &q,
-                &v,
-                &a,
-                self.up,
-                params,
-                &mut |_| true,
-            )?,
+            Ground::Estimated { feet, params } => {
+                estimate_ground_residuals(&model, feet, time, [&q, &v, &a], self.up, params)?
+            }
             Ground::Measured(loads) => {
                 apply_ground_reactions(&model, loads, time, &q, &v, &a, self.up)?
             }
@@ -198,6 +193,26 @@ impl Problem<'_> {
             cost,
             steps: 0,
         })
+    }
+
+    /// `e`'s ground reactions with the joint torques (and the residual that RNEA with the
+    /// feet's loads leaves), when they were estimated without them.
+    pub fn with_torques(&self, e: &mut Evaluated) -> Result<(), Error> {
+        if let Ground::Estimated { feet, params } = self.ground {
+            let (time, qva) = (self.motion.time, [&e.q[..], &e.v[..], &e.a[..]]);
+            e.ground = estimate_ground_reactions_progress(
+                &e.model,
+                feet,
+                time,
+                qva[0],
+                qva[1],
+                qva[2],
+                self.up,
+                params,
+                &mut |_| true,
+            )?;
+        }
+        Ok(())
     }
 
     /// The model and motion adjusted by `x` (no ground reactions).
