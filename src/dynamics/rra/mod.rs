@@ -350,8 +350,9 @@ pub fn reduce_residuals(
     })
 }
 
-/// What a reduction found, however it started: the smooth adjustments `x`, the final evaluation (refined or not), the total pelvis offset per frame (m,
-/// world), the refinement kept, and the floor under the unadjusted motion.
+/// What a reduction found, however it started: the smooth adjustments `x`, the final
+/// evaluation (refined or not), the total pelvis offset per frame (m, world), the refinement
+/// kept, and the floor under the unadjusted motion.
 struct Found {
     x: DVector<f64>,
     e: Evaluated,
@@ -459,9 +460,9 @@ fn finish(
 /// (a contact starting or ending): there the smoothed accelerations move the force of one
 /// contact phase into the next, and the residual lies in runs of a few frames that the
 /// 0.15 s knots cannot follow. The trunk's mass centre, the smooth offset and the rotation
-/// are held; the bounds count both offsets together. Gauss–Newton from zero. `None` when the take meets the thresholds already (its
-/// adjustments stay low-frequency), the ground reactions are measured, no foot changes, or
-/// the refinement does not lower the residuals.
+/// are held; the bounds count both offsets together. Gauss–Newton from zero. `None` when the
+/// take meets the thresholds already (its adjustments stay low-frequency), the ground
+/// reactions are measured, no foot changes, or the refinement does not lower the residuals.
 fn refine(
     coarse: &Problem,
     bounds: &ReductionBounds,
@@ -586,8 +587,8 @@ fn foot_changes(time: &[f64], contact: &[Vec<bool>]) -> Vec<f64> {
 }
 
 /// Gauss–Newton from `x` (evaluated as `e`), the Tikhonov weights from [`MU0`] (raised as
-/// the bounds ask): each step kept only if the re-evaluated residuals fall (halved until they do, eight times at most); stops when a step gains less
-/// than a thousandth.
+/// the bounds ask): each step kept only if the re-evaluated residuals fall (halved until they
+/// do, eight times at most); stops when a step gains less than a thousandth.
 fn solve(
     problem: &Problem,
     bounds: &ReductionBounds,

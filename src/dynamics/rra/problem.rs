@@ -199,15 +199,15 @@ impl Problem<'_> {
     /// feet's loads leaves), when they were estimated without them.
     pub fn with_torques(&self, e: &mut Evaluated) -> Result<(), Error> {
         if let Ground::Estimated { feet, params } = self.ground {
-            let (time, qva) = (self.motion.time, [&e.q[..], &e.v[..], &e.a[..]]);
+            let (time, up) = (self.motion.time, self.up);
             e.ground = estimate_ground_reactions_progress(
                 &e.model,
                 feet,
                 time,
-                qva[0],
-                qva[1],
-                qva[2],
-                self.up,
+                &e.q,
+                &e.v,
+                &e.a,
+                up,
                 params,
                 &mut |_| true,
             )?;
