@@ -385,10 +385,25 @@ impl Stepper {
     {
         let nv = self.nv;
         for (s, row) in tab.a.iter().enumerate() {
+            let kv_s = s * nv..(s + 1) * nv;
             // stage state: Ω = h Σ a_sj Ω̇_j, q_s = q ⊕ Ω, v_s = v + h Σ a_sj a_j
-            self.omega.fill(0.0);
-            self.v_stage.copy_from_slice(v);
-            for (j, &a) in row.iter().enumerate() {
+            let Some(j0) = row.iter().position(|&a| a != 0.0) else {
+                // the step's start (Ω = 0): q_s = q, v_s = v and Ω̇_s = dexp⁻¹_0(v) = v
+                f(t + tab.c[s] * h, q, v, &mut self.kv[kv_s.clone()])?;
+                self.kq[kv_s].copy_from_slice(v);
+                continue;
+            };
+            // the first term written, the others added, in stage order (the sums of
+            // `0 + Σ` and `v + Σ` term by term)
+            let ha = h * row[j0];
+            let (kq, kv) = (&self.kq[j0 * nv..][..nv], &self.kv[j0 * nv..][..nv]);
+            for (o, k) in self.omega.iter_mut().zip(kq) {
+                *o = 0.0 + ha * k;
+            }
+            for ((x, v), k) in self.v_stage.iter_mut().zip(v).zip(kv) {
+                *x = v + ha * k;
+            }
+            for (j, &a) in row.iter().enumerate().skip(j0 + 1) {
                 if a != 0.0 {
                     let ha = h * a;
                     let (kq, kv) = (&self.kq[j * nv..][..nv], &self.kv[j * nv..][..nv]);
@@ -407,14 +422,10 @@ impl Stepper {
                 t + tab.c[s] * h,
                 &self.q_stage,
                 &self.v_stage,
-                &mut self.kv[s * nv..][..nv],
+                &mut self.kv[kv_s.clone()],
             )?;
-            self.layout.tangent_rate(
-                model,
-                &self.omega,
-                &self.v_stage,
-                &mut self.kq[s * nv..][..nv],
-            );
+            self.layout
+                .tangent_rate(model, &self.omega, &self.v_stage, &mut self.kq[kv_s]);
         }
         // solution (and error estimate): Ω = h Σ b_s Ω̇_s, v₁ = v + h Σ b_s a_s
         self.omega.fill(0.0);
