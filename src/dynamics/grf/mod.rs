@@ -374,6 +374,67 @@ pub fn estimate_ground_residuals(
     )
 }
 
+/// Pass 1 of the estimate supplied by the caller: per frame, the whole-body wrench the motion
+/// needs (world axes, about the world origin, as RNEA without external forces gives it), the
+/// centre of mass (m, world), and the world poses of the bodies [`kept_bodies`] lists
+/// (`[frame * bodies + j]`). Residual reduction computes them from root-relative terms
+/// ([`crate::dynamics::rra`]) for each trial, without the frames' kinematics and RNEA.
+pub(crate) struct NeededWrenches {
+    pub needed: Vec<ForceVec>,
+    pub com: Vec<Vector3<f64>>,
+    pub poses: Vec<SpatialTransform>,
+}
+
+/// The bodies whose world poses the estimate reads after its first pass (each foot's ankle and
+/// toe body, the floating root, the bodies hung from the world), sorted; `None` without a
+/// floating root.
+pub(crate) fn kept_bodies(model: &Model, feet: &[Foot]) -> Option<Vec<usize>> {
+    Some(passes::Poses::bodies(model, feet, floating_root(model)?))
+}
+
+/// [`estimate_ground_residuals`] from a supplied pass 1 (`given`, over the frames of `time`,
+/// the poses of [`kept_bodies`]).
+pub(crate) fn estimate_ground_residuals_given(
+    model: &Model,
+    feet: &[Foot],
+    time: &[f64],
+    given: NeededWrenches,
+    up: usize,
+    params: &ContactParams,
+) -> Result<GroundReactions, Error> {
+    let (root, bodies) = match (floating_root(model), kept_bodies(model, feet)) {
+        (Some(r), Some(b)) => (r, b),
+        _ => {
+            return Err(Error::Invalid(
+                "ground contact needs a floating root".into(),
+            ));
+        }
+    };
+    let n = time.len();
+    if given.needed.len() != n || given.com.len() != n || given.poses.len() != n * bodies.len() {
+        return Err(Error::Invalid(format!(
+            "a supplied first pass of {} frames for a take of {n}",
+            given.needed.len()
+        )));
+    }
+    let pass1 = (
+        given.needed,
+        given.com,
+        passes::Poses::from_parts(bodies, given.poses),
+    );
+    estimate_from(
+        model,
+        feet,
+        time,
+        root,
+        pass1,
+        up,
+        params,
+        Third::Residual,
+        None,
+    )
+}
+
 /// What the estimate's third pass computes.
 #[derive(Clone, Copy)]
 enum Third<'a> {
@@ -395,10 +456,6 @@ fn estimate(
     third: Third,
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<GroundReactions, Error> {
-    let moment_bodies = match third {
-        Third::Torques(b) => b,
-        Third::Residual => &[],
-    };
     let n = time.len();
     check_inputs(model, time, q, v, a, up)?;
     let root = floating_root(model).ok_or_else(|| {
@@ -415,15 +472,41 @@ fn estimate(
             model.name
         )));
     }
-    let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
-
     // pass 1: the whole-body wrench each frame needs (world axes, about the world origin),
     // and the poses of the bodies every later step reads (frames in parallel: `passes`)
     let bodies = passes::Poses::bodies(model, feet, root);
-    let (needed, com, poses) = passes::needed_wrenches(model, bodies, q, v, a, &mut |k| {
+    let pass1 = passes::needed_wrenches(model, bodies, q, v, a, &mut |k| {
         keep_going(0.5 * k as f64 / n as f64)
     })
     .ok_or(Error::Cancelled)?;
+    let rest = Some(([q, v, a], keep_going));
+    estimate_from(model, feet, time, root, pass1, up, params, third, rest)
+}
+
+/// What pass 3 needs beyond the loads: the motion, and the progress to report to.
+type PassThree<'a, 'b> = ([&'a [Vec<f64>]; 3], &'b mut dyn FnMut(f64) -> bool);
+
+/// The estimate after its first pass (`pass1`: the needed wrenches, centre of mass and kept
+/// poses): the contact phases, the loads (pass 2) and, for [`Third::Torques`], RNEA with them
+/// (pass 3, over the motion and with the progress `rest` holds).
+#[allow(clippy::too_many_arguments)]
+fn estimate_from(
+    model: &Model,
+    feet: &[Foot],
+    time: &[f64],
+    root: usize,
+    (needed, com, poses): (Vec<ForceVec>, Vec<Vector3<f64>>, passes::Poses),
+    up: usize,
+    params: &ContactParams,
+    third: Third,
+    rest: Option<PassThree>,
+) -> Result<GroundReactions, Error> {
+    let moment_bodies = match third {
+        Third::Torques(b) => b,
+        Third::Residual => &[],
+    };
+    let n = time.len();
+    let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
 
     // contact phases from the heel and toe paths
     let mut feet = feet.to_vec();
@@ -481,6 +564,11 @@ fn estimate(
         return Ok(out);
     }
     // pass 3: inverse dynamics with the ground reactions (frames in parallel)
+    let Some(([q, v, a], keep_going)) = rest else {
+        return Err(Error::Invalid(
+            "the joint torques need the motion, not a supplied first pass".into(),
+        ));
+    };
     let GroundReactions {
         bodies,
         tau,

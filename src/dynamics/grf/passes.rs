@@ -65,6 +65,11 @@ impl Poses {
         &self.at[k * self.bodies.len() + j]
     }
 
+    /// Poses of `bodies` given (`[frame * bodies.len() + j]`).
+    pub(super) fn from_parts(bodies: Vec<usize>, at: Vec<SpatialTransform>) -> Self {
+        Self { bodies, at }
+    }
+
     /// Frames kept.
     pub(super) fn frames(&self) -> usize {
         self.at.len() / self.bodies.len().max(1)

@@ -37,6 +37,7 @@
 //! step is kept only if the re-evaluated residuals fall (the clamps are not linear).
 
 mod problem;
+mod relative;
 mod root;
 mod seed;
 
@@ -280,6 +281,7 @@ pub fn reduce_residuals(
         height: 1.0,
         base_pelvis: &[],
         free: None,
+        relative: std::sync::OnceLock::new(),
     };
     let key = Key::of(model, &ground, &trunk, &motion, up, counted, bounds);
     let (found, started) = match Start::of(seed, key.as_ref(), model) {
@@ -564,6 +566,7 @@ fn fine_problem_of<'a>(
         height: coarse.height,
         base_pelvis: pelvis,
         free: None,
+        relative: std::sync::OnceLock::new(),
     })
 }
 

@@ -6,12 +6,13 @@
 //! the root can be rotated, [`super::root::root_rotation`]); the mass scale (with measured
 //! ground reactions only: estimated ones carry whatever the motion needs).
 
+use super::relative::RootRelative;
 use super::root::{BodyRotation, RootRotation, RootTranslation, rotate_root, shift_root};
 use super::{Ground, Motion, ReductionBounds, Trunk, peak_rms};
 use crate::dynamics::grf::measured::apply_ground_reactions;
 use crate::dynamics::grf::{
     GroundReactions, about, estimate_ground_reactions_progress, estimate_ground_residuals,
-    root_wrench,
+    estimate_ground_residuals_given, kept_bodies, root_wrench,
 };
 use crate::dynamics::residual::{centre_of_mass, with_trunk_offset};
 use crate::dynamics::{
@@ -20,7 +21,7 @@ use crate::dynamics::{
 use crate::error::Error;
 use crate::model::Model;
 use crate::motion::spline::UniformBSpline;
-use crate::spatial::SpatialInertia;
+use crate::spatial::{ForceVec, SpatialInertia};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 /// The trunk offset's coordinates.
@@ -46,6 +47,9 @@ pub(super) struct Problem<'a> {
     pub base_pelvis: &'a [Vector3<f64>],
     /// Per parameter: whether it may change (`None`: all may); a held one stays where it is.
     pub free: Option<Vec<bool>>,
+    /// The motion's root-relative terms, made at the first trial against estimated forces
+    /// (`None` inside: a model they do not fit; trials then run the whole estimate).
+    pub relative: std::sync::OnceLock<Option<RootRelative>>,
 }
 
 /// One evaluation: the adjusted model, motion and their ground reactions.
@@ -176,9 +180,15 @@ impl Problem<'_> {
         let Adjusted { model, q, v, a } = self.adjusted(x)?;
         let time = self.motion.time;
         let ground = match self.ground {
-            Ground::Estimated { feet, params } => {
-                estimate_ground_residuals(&model, feet, time, [&q, &v, &a], self.up, params)?
-            }
+            Ground::Estimated { feet, params } => match self.relative(feet) {
+                Some(relative) => {
+                    let given = relative.needed(&model, self.mass_scale(x), [&q, &v, &a]);
+                    estimate_ground_residuals_given(&model, feet, time, given, self.up, params)?
+                }
+                None => {
+                    estimate_ground_residuals(&model, feet, time, [&q, &v, &a], self.up, params)?
+                }
+            },
             Ground::Measured(loads) => {
                 apply_ground_reactions(&model, loads, time, &q, &v, &a, self.up)?
             }
@@ -193,6 +203,23 @@ impl Problem<'_> {
             cost,
             steps: 0,
         })
+    }
+
+    /// The motion's root-relative terms ([`RootRelative`]), made once.
+    fn relative(&self, feet: &[crate::motion::contact::Foot]) -> Option<&RootRelative> {
+        self.relative
+            .get_or_init(|| {
+                let m = &self.motion;
+                let kept = kept_bodies(self.model, feet)?;
+                RootRelative::new(
+                    self.model,
+                    self.root,
+                    kept,
+                    self.trunk.bodies,
+                    [m.q, m.v, m.a],
+                )
+            })
+            .as_ref()
     }
 
     /// `e`'s ground reactions with the joint torques (and the residual that RNEA with the
@@ -501,7 +528,15 @@ impl Problem<'_> {
     ) {
         let layout = &shared.layout;
         local.clear();
-        forward_kinematics(&e.model, ws, &e.q[k]);
+        let relative = self.relative.get().and_then(Option::as_ref);
+        let qva = [&e.q[k][..], &e.v[k], &e.a[k]];
+        let com = match relative {
+            Some(r) => r.frame(k, &e.model, shared.mass_scale, qva, ws).1,
+            None => {
+                forward_kinematics(&e.model, ws, &e.q[k]);
+                centre_of_mass(&e.model, ws)
+            }
+        };
         let pelvis = ws.o_x_i[self.root].trans;
         let pass = Pass::new(
             &e.ground,
@@ -514,19 +549,16 @@ impl Problem<'_> {
         let needed = e.ground.wrench[k];
         // trunk: finite differences of the needed wrench
         for (j, m) in moved.iter().enumerate() {
-            let sw = &mut scratch.ws;
-            forward_kinematics_through(m, sw, &e.q[k], shared.root_level);
-            rnea(m, sw, &e.q[k], &e.v[k], &e.a[k], None);
-            let w = about(&root_wrench(m, sw), &pelvis);
+            let w = needed_wrench(relative, k, m, shared, qva, &mut scratch.ws);
+            let w = about(&w, &pelvis);
             let d: [f64; 6] = std::array::from_fn(|c| (w[c] - needed[c]) / TRUNK_STEP);
             local.push(j, pass.apply(v3(&d, 3), v3(&d, 0)));
         }
-        self.pelvis_columns(shared, &e.model, ws, &e.ground, k, &pass, local);
+        self.pelvis_columns(shared, &com, &pelvis, &e.ground, k, &pass, local);
         if let (Some(at), Some(r)) = (layout.rotation, &self.rotation) {
             let rot = ws.o_x_i[self.root].rot;
-            let root_level = shared.root_level;
             self.rotation_columns(
-                e, k, at, r, &rot, &pelvis, &pass, root_level, scratch, local,
+                e, k, at, r, &rot, &pelvis, &pass, shared, relative, scratch, local,
             );
         }
         if let Some(at) = layout.mass {
@@ -543,8 +575,8 @@ impl Problem<'_> {
     fn pelvis_columns(
         &self,
         shared: &Shared,
-        model: &Model,
-        ws: &Workspace,
+        com: &Vector3<f64>,
+        pelvis: &Vector3<f64>,
         g: &GroundReactions,
         k: usize,
         pass: &Pass,
@@ -552,7 +584,7 @@ impl Problem<'_> {
     ) {
         let nb = self.spline.len();
         let (at, mass, measured) = (shared.layout.translation, shared.mass, shared.measured);
-        let lever = centre_of_mass(model, ws) - ws.o_x_i[self.root].trans;
+        let lever = com - pelvis;
         let applied: Vector3<f64> = g.grf[k].iter().sum();
         let (i0, b) = self.spline.basis(self.motion.time[k]);
         for (h, axis) in self.horizontal().into_iter().enumerate() {
@@ -580,7 +612,8 @@ impl Problem<'_> {
         rot: &Matrix3<f64>,
         pelvis: &Vector3<f64>,
         pass: &Pass,
-        root_level: usize,
+        shared: &Shared,
+        relative: Option<&RootRelative>,
         scratch: &mut Scratch,
         local: &mut Local,
     ) {
@@ -609,10 +642,9 @@ impl Problem<'_> {
                 ) {
                     continue;
                 }
-                let sw = &mut scratch.ws;
-                forward_kinematics_through(&e.model, sw, &scratch.q, root_level);
-                rnea(&e.model, sw, &scratch.q, &scratch.v, &scratch.a, None);
-                let w = about(&root_wrench(&e.model, sw), pelvis);
+                let qva = [&scratch.q[..], &scratch.v, &scratch.a];
+                let w = needed_wrench(relative, k, &e.model, shared, qva, &mut scratch.ws);
+                let w = about(&w, pelvis);
                 *dk = std::array::from_fn(|c| (w[c] - needed[c]) / ROTATION_STEP);
             }
             for j in 0..4usize {
@@ -703,6 +735,27 @@ impl Problem<'_> {
 }
 
 /// Three entries of a wrench `[fx, fy, fz, tx, ty, tz]` from `at`.
+/// The wrench `model` needs at frame `k` over the state `qva` (world axes, about the world
+/// origin): from the root-relative terms when there are some, else by kinematics through the
+/// root-level bodies and RNEA.
+fn needed_wrench(
+    relative: Option<&RootRelative>,
+    k: usize,
+    model: &Model,
+    shared: &Shared,
+    [q, v, a]: [&[f64]; 3],
+    ws: &mut Workspace,
+) -> ForceVec {
+    match relative {
+        Some(r) => r.frame(k, model, shared.mass_scale, [q, v, a], ws).0,
+        None => {
+            forward_kinematics_through(model, ws, q, shared.root_level);
+            rnea(model, ws, q, v, a, None);
+            root_wrench(model, ws)
+        }
+    }
+}
+
 fn v3(w: &[f64; 6], at: usize) -> Vector3<f64> {
     Vector3::new(w[at], w[at + 1], w[at + 2])
 }
@@ -767,6 +820,7 @@ mod tests {
             height: 1.0,
             base_pelvis: &[],
             free: None,
+            relative: std::sync::OnceLock::new(),
         };
         let layout = problem.layout();
         assert!(layout.rotation.is_some() && layout.mass.is_some());

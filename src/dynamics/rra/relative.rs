@@ -1,0 +1,374 @@
+//! The whole body's motion relative to its root, once per take, so that each trial of residual
+//! reduction gets its needed wrenches, centre of mass and foot poses without the frames'
+//! kinematics and inverse dynamics.
+//!
+//! Residual reduction moves only the root (the pelvis offset and rotation), the trunk's mass
+//! centre and the mass scale; every other body keeps its motion relative to the root. Write
+//! the whole-body Newton–Euler equation in the root body `P`'s frame (Featherstone 2008,
+//! §2.13 and §9.4; the centroidal form of Orin, Goswami & Lee 2013, "Centroidal dynamics of a
+//! humanoid robot", *Auton. Robots* 35): with `Xᵢ = ᴾXᵢ` (body i in P's frame) and the body's
+//! velocity relative to the root `vᵢʳ` (body coordinates; its acceleration `aᵢʳ`), every body
+//! moves with `vᵢ = Xᵢ⁻¹ v_P + vᵢʳ` and `aᵢ = Xᵢ⁻¹ a_P + aᵢʳ + (Xᵢ⁻¹ v_P) × vᵢʳ`, so the wrench
+//! the root needs, `f_P = Σ Xᵢ* (Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ)`, is
+//!
+//! `f_P = I_C a_P + İ_C v_P + v_P ×* (I_C v_P + h) + ḣ`,
+//!
+//! `I_C = Σ Xᵢ* Iᵢ Xᵢ⁻¹` (the composite inertia in P's frame), `İ_C = Σ (ṽᵢ ×* Ĩᵢ − Ĩᵢ ṽᵢ×)`
+//! its rate (`ṽᵢ`, `Ĩᵢ`: the relative velocity and inertia in P's frame), `h = Σ Xᵢ* Iᵢ vᵢʳ`
+//! the relative momentum and `ḣ = Σ Xᵢ* (Iᵢ aᵢʳ + vᵢʳ ×* Iᵢ vᵢʳ)` its rate: each a function of
+//! the relative motion alone, computed once per frame here, with `a_P` the root's acceleration
+//! against gravity (RNEA's `a₀ = −g`). The trunk's bodies, whose inertia a trial moves, are kept
+//! apart (their `Xᵢ`, `vᵢʳ`, `aᵢʳ`) and added with the trial's inertia; the mass scale
+//! multiplies the rest (the equation is linear in the inertias). The same numbers as RNEA's to
+//! rounding (`tests/residual_reduction.rs`).
+
+use crate::dynamics::grf::NeededWrenches;
+use crate::dynamics::rnea::rnea_terms;
+use crate::dynamics::{Workspace, forward_kinematics, forward_kinematics_through};
+use crate::model::Model;
+use crate::spatial::{ForceVec, MotionVec, SpatialInertia, SpatialTransform};
+use nalgebra::{Matrix6, Vector3};
+
+/// One frame's terms of the bodies other than the trunk's, in P's frame.
+#[derive(Clone, Copy)]
+struct Rest {
+    /// `I_C` as a 6×6 matrix (angular first).
+    inertia: Matrix6<f64>,
+    /// `İ_C`.
+    inertia_rate: Matrix6<f64>,
+    /// `h` and `ḣ`.
+    momentum: ForceVec,
+    momentum_rate: ForceVec,
+    /// `Σ mᵢ cᵢ` (kg·m, P's frame) and `Σ mᵢ`.
+    first_moment: Vector3<f64>,
+    mass: f64,
+}
+
+/// One frame's motion of one trunk body relative to the root.
+#[derive(Clone, Copy)]
+struct Kept {
+    /// `ᴾXᵢ`.
+    pose: SpatialTransform,
+    v: MotionVec,
+    a: MotionVec,
+}
+
+/// The root-relative terms of a take (module doc), for the bodies the estimate keeps
+/// ([`crate::dynamics::grf::kept_bodies`]) and the trunk's.
+pub(super) struct RootRelative {
+    /// The root body P and its ancestors (the root's joints), P last.
+    chain: Vec<usize>,
+    /// Kept bodies, and per frame their poses relative to P (`[frame * kept.len() + j]`;
+    /// the chain's own poses come from the trial's kinematics).
+    kept: Vec<usize>,
+    kept_poses: Vec<SpatialTransform>,
+    trunk: Vec<usize>,
+    /// `[frame * trunk.len() + j]`.
+    trunk_motion: Vec<Kept>,
+    rest: Vec<Rest>,
+}
+
+/// `crm(m)`: the 6×6 matrix of `m ×ₘ` (Featherstone eq. 2.31).
+fn crm(m: &MotionVec) -> Matrix6<f64> {
+    let (w, v) = (crate::spatial::skew(&m.ang), crate::spatial::skew(&m.lin));
+    let mut x = Matrix6::zeros();
+    x.fixed_view_mut::<3, 3>(0, 0).copy_from(&w);
+    x.fixed_view_mut::<3, 3>(3, 3).copy_from(&w);
+    x.fixed_view_mut::<3, 3>(3, 0).copy_from(&v);
+    x
+}
+
+/// `I m` for a 6×6 inertia-like matrix (angular first).
+fn times(i: &Matrix6<f64>, m: &MotionVec) -> ForceVec {
+    ForceVec::from_vector6(&(i * m.to_vector6()))
+}
+
+/// A body's own terms `(I m, I a + v ×* I v)` in its frame.
+fn body_momentum(i: &SpatialInertia, v: &MotionVec, a: &MotionVec) -> (ForceVec, ForceVec) {
+    let h = i.mul_motion(v);
+    (h, i.mul_motion(a) + v.cross_force(&h))
+}
+
+impl RootRelative {
+    /// The terms of `model` (the unadjusted one) over the motion `q`, `v`, `a` with root body
+    /// `root`: `None` when the root's joints carry mass or a body hangs elsewhere than below
+    /// the root (then trials run the whole kinematics and RNEA).
+    pub fn new(
+        model: &Model,
+        root: usize,
+        kept: Vec<usize>,
+        trunk: &[usize],
+        [q, v, a]: [&[Vec<f64>]; 3],
+    ) -> Option<Self> {
+        let mut chain = vec![root];
+        while let Some(&b) = chain.last().filter(|&&b| model.parent[b] != 0) {
+            chain.push(model.parent[b]);
+        }
+        chain.reverse();
+        let on_chain = chain.clone();
+        let in_chain = |i: usize| on_chain.binary_search(&i).is_ok();
+        let below_root = |mut i: usize| {
+            while i > root {
+                i = model.parent[i];
+            }
+            i == root
+        };
+        let chain_massless = chain[..chain.len() - 1]
+            .iter()
+            .all(|&b| model.inertia[b].is_zero());
+        if !chain_massless || !(1..model.nbodies()).all(|i| in_chain(i) || below_root(i)) {
+            return None;
+        }
+        let mut ws = Workspace::new(model);
+        let (mut vr, mut ar) = (vec![0.0; model.nv], vec![0.0; model.nv]);
+        let chain_dofs: Vec<usize> = chain
+            .iter()
+            .flat_map(|&b| model.idx_v[b]..model.idx_v[b] + model.joints[b].nv())
+            .collect();
+        let nt = trunk.len();
+        let mut out = Self {
+            kept_poses: Vec::with_capacity(q.len() * kept.len()),
+            trunk_motion: vec![
+                Kept {
+                    pose: SpatialTransform::IDENTITY,
+                    v: MotionVec::ZERO,
+                    a: MotionVec::ZERO,
+                };
+                q.len() * trunk.len()
+            ],
+            rest: Vec::with_capacity(q.len()),
+            chain,
+            kept,
+            trunk: trunk.to_vec(),
+        };
+        for k in 0..q.len() {
+            forward_kinematics(model, &mut ws, &q[k]);
+            // the motion with the root's joints still: each body's velocity and acceleration
+            // relative to the root, in its own frame
+            vr.copy_from_slice(&v[k]);
+            ar.copy_from_slice(&a[k]);
+            for &d in &chain_dofs {
+                (vr[d], ar[d]) = (0.0, 0.0);
+            }
+            rnea_terms(model, &mut ws, &q[k], Some(&vr), Some(&ar), None, false);
+            let p_x_0 = ws.o_x_i[root].inverse();
+            let relative = |i: usize| p_x_0.compose(&ws.o_x_i[i]);
+            out.kept_poses.extend(out.kept.iter().map(|&b| {
+                if in_chain(b) {
+                    SpatialTransform::IDENTITY
+                } else {
+                    relative(b)
+                }
+            }));
+            let mut rest = Rest {
+                inertia: Matrix6::zeros(),
+                inertia_rate: Matrix6::zeros(),
+                momentum: ForceVec::ZERO,
+                momentum_rate: ForceVec::ZERO,
+                first_moment: Vector3::zeros(),
+                mass: 0.0,
+            };
+            for i in (1..model.nbodies()).filter(|&i| !in_chain(i) || i == root) {
+                let x = relative(i);
+                if let Some(j) = out.trunk.iter().position(|&b| b == i) {
+                    out.trunk_motion[k * nt + j] = Kept {
+                        pose: x,
+                        v: ws.v[i],
+                        a: ws.a[i],
+                    };
+                    continue;
+                }
+                let inertia = &model.inertia[i];
+                if inertia.is_zero() {
+                    continue;
+                }
+                let m = inertia.transformed(&x).to_matrix();
+                let c = crm(&x.act_motion(&ws.v[i]));
+                rest.inertia += m;
+                rest.inertia_rate -= c.transpose() * m + m * c;
+                let (h, dh) = body_momentum(inertia, &ws.v[i], &ws.a[i]);
+                rest.momentum += x.act_force(&h);
+                rest.momentum_rate += x.act_force(&dh);
+                rest.first_moment += x.transform_point(&inertia.com) * inertia.mass;
+                rest.mass += inertia.mass;
+            }
+            out.rest.push(rest);
+        }
+        Some(out)
+    }
+
+    /// Pass 1 of the ground-reaction estimate for a trial: `model` (the trial's: the trunk's
+    /// inertia moved, every mass scaled by `scale`) over the motion `q`, `v`, `a` (the trial's:
+    /// only the root's coordinates differ from the take's), from the kept terms.
+    pub fn needed(&self, model: &Model, scale: f64, [q, v, a]: [&[Vec<f64>]; 3]) -> NeededWrenches {
+        let n = q.len();
+        let root = self.root();
+        let nk = self.kept.len();
+        let mut ws = Workspace::new(model);
+        let mut out = NeededWrenches {
+            needed: Vec::with_capacity(n),
+            com: Vec::with_capacity(n),
+            poses: Vec::with_capacity(n * nk),
+        };
+        for k in 0..n {
+            let (w, com) = self.frame(k, model, scale, [&q[k], &v[k], &a[k]], &mut ws);
+            out.needed.push(w);
+            out.com.push(com);
+            let o_x_p = ws.o_x_i[root];
+            for (j, &b) in self.kept.iter().enumerate() {
+                out.poses.push(if self.chain.contains(&b) {
+                    ws.o_x_i[b]
+                } else {
+                    o_x_p.compose(&self.kept_poses[k * nk + j])
+                });
+            }
+        }
+        out
+    }
+
+    /// The root body P.
+    pub fn root(&self) -> usize {
+        *self.chain.last().expect("the root")
+    }
+
+    /// Frame `k` of a trial ([`RootRelative::needed`]): the wrench the whole body needs (world
+    /// axes, about the world origin, as RNEA's `root_wrench`) and its centre of mass (m,
+    /// world). Writes the world poses of the root and its joints' bodies into `ws.o_x_i`.
+    pub fn frame(
+        &self,
+        k: usize,
+        model: &Model,
+        scale: f64,
+        [q, v, a]: [&[f64]; 3],
+        ws: &mut Workspace,
+    ) -> (ForceVec, Vector3<f64>) {
+        let root = self.root();
+        let nt = self.trunk.len();
+        forward_kinematics_through(model, ws, q, root);
+        let o_x_p = ws.o_x_i[root];
+        let (vp, ap) = self.root_motion(model, q, v, a);
+        let rest = &self.rest[k];
+        let mut inertia_v = times(&rest.inertia, &vp) * scale;
+        let mut inertia_a = times(&rest.inertia, &ap) * scale;
+        let mut rate_v = times(&rest.inertia_rate, &vp) * scale;
+        let mut momentum = rest.momentum * scale;
+        let mut momentum_rate = rest.momentum_rate * scale;
+        let mut first_moment = rest.first_moment * scale;
+        let mut mass = rest.mass * scale;
+        for (j, &b) in self.trunk.iter().enumerate() {
+            let t = &self.trunk_motion[k * nt + j];
+            let inertia = model.inertia[b];
+            // the body's inertia and relative velocity in P's frame
+            let ip = inertia.transformed(&t.pose);
+            let vt = t.pose.act_motion(&t.v);
+            inertia_v += ip.mul_motion(&vp);
+            inertia_a += ip.mul_motion(&ap);
+            rate_v += vt.cross_force(&ip.mul_motion(&vp)) - ip.mul_motion(&vt.cross_motion(&vp));
+            let (h, dh) = body_momentum(&inertia, &t.v, &t.a);
+            momentum += t.pose.act_force(&h);
+            momentum_rate += t.pose.act_force(&dh);
+            first_moment += t.pose.transform_point(&inertia.com) * inertia.mass;
+            mass += inertia.mass;
+        }
+        let f = inertia_a + rate_v + vp.cross_force(&(inertia_v + momentum)) + momentum_rate;
+        (
+            o_x_p.act_force(&f),
+            o_x_p.transform_point(&(first_moment / mass.max(1e-12))),
+        )
+    }
+
+    /// The root body's velocity and acceleration against gravity (its frame) through the
+    /// root's joints: `vᵢ = λXᵢ⁻¹ v_λ + Sᵢ q̇ᵢ`, `aᵢ = λXᵢ⁻¹ a_λ + Sᵢ q̈ᵢ + vᵢ × Sᵢ q̇ᵢ` from
+    /// the world at rest accelerating at `−g` (RNEA's forward pass on the chain).
+    fn root_motion(
+        &self,
+        model: &Model,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+    ) -> (MotionVec, MotionVec) {
+        let (mut vi, mut ai) = (
+            MotionVec::ZERO,
+            MotionVec::new(Vector3::zeros(), -model.gravity),
+        );
+        for &i in &self.chain {
+            let x = model.parent_transform(i, q);
+            let (j, iv) = (&model.joints[i], model.idx_v[i]);
+            let (dq, ddq) = (&v[iv..iv + j.nv()], &a[iv..iv + j.nv()]);
+            let s_dq = j.motion(dq);
+            vi = x.act_inv_motion(&vi) + s_dq;
+            ai = x.act_inv_motion(&ai) + j.motion(ddq) + vi.cross_motion(&s_dq);
+        }
+        (vi, ai)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::grf::root_wrench;
+    use crate::dynamics::residual::{centre_of_mass, with_trunk_offset};
+    use crate::dynamics::rnea;
+
+    /// The kept terms give what the whole kinematics and RNEA give, on the demo walk with the
+    /// root moved, the trunk's inertia moved and the masses scaled, on both joint models.
+    #[test]
+    fn the_root_relative_terms_give_what_rnea_gives() {
+        use crate::model::bvh::JointModel;
+        for joints in [JointModel::Euler, JointModel::Ball] {
+            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/demo_walk.bvh");
+            let opts = crate::pipeline::TakeOptions {
+                joints,
+                ..Default::default()
+            };
+            let take = crate::pipeline::load_take(&path, &opts).unwrap();
+            let model = &take.model;
+            let root = crate::dynamics::grf::floating_root(model).unwrap();
+            let s = &take.states;
+            let kept: Vec<usize> = (1..model.nbodies()).collect();
+            let trunk: Vec<usize> = (1..model.nbodies())
+                .rev()
+                .filter(|&i| model.body_names[i].starts_with("Spine"))
+                .collect();
+            assert!(!trunk.is_empty());
+            let rel = RootRelative::new(model, root, kept.clone(), &trunk, [&s.q, &s.v, &s.a])
+                .expect("terms");
+            // a trial: the root's coordinates moved, the trunk's mass centre, the masses
+            let (mut q, mut v, mut a) = (s.q.clone(), s.v.clone(), s.a.clone());
+            for k in 0..q.len() {
+                let t = k as f64 * 0.01;
+                for c in 0..6 {
+                    q[k][c] += 0.02 * (t + c as f64).sin();
+                    v[k][c] += 0.3 * (2.0 * t + c as f64).cos();
+                    a[k][c] += 1.5 * (3.0 * t - c as f64).sin();
+                }
+            }
+            let scale = 1.07;
+            let mut trial = with_trunk_offset(model, &trunk, &Vector3::new(0.01, -0.02, 0.005));
+            for i in trial.inertia.iter_mut() {
+                *i = SpatialInertia::new(i.mass * scale, i.com, i.inertia_com * scale);
+            }
+            let got = rel.needed(&trial, scale, [&q, &v, &a]);
+            let mut ws = Workspace::new(&trial);
+            let (mut worst_f, mut worst_c, mut worst_x) = (0.0f64, 0.0f64, 0.0f64);
+            for k in 0..q.len() {
+                forward_kinematics(&trial, &mut ws, &q[k]);
+                let com = centre_of_mass(&trial, &ws);
+                for (j, &b) in kept.iter().enumerate() {
+                    let (x, y) = (&got.poses[k * kept.len() + j], &ws.o_x_i[b]);
+                    worst_x = worst_x
+                        .max((x.rot - y.rot).amax())
+                        .max((x.trans - y.trans).amax());
+                }
+                rnea(&trial, &mut ws, &q[k], &v[k], &a[k], None);
+                let w = root_wrench(&trial, &ws);
+                let d = (got.needed[k] - w).to_vector6().amax() / w.to_vector6().amax();
+                worst_f = worst_f.max(d);
+                worst_c = worst_c.max((got.com[k] - com).amax());
+            }
+            assert!(worst_f < 1e-11, "{joints:?}: wrench {worst_f:e}");
+            assert!(worst_c < 1e-12, "{joints:?}: com {worst_c:e}");
+            assert!(worst_x < 1e-12, "{joints:?}: poses {worst_x:e}");
+        }
+    }
+}
