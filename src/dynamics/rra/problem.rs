@@ -6,7 +6,7 @@
 //! the root can be rotated, [`super::root::root_rotation`]); the mass scale (with measured
 //! ground reactions only: estimated ones carry whatever the motion needs).
 
-use super::relative::RootRelative;
+use super::relative::{Composite, RootRelative};
 use super::root::{BodyRotation, RootRotation, RootTranslation, rotate_root, shift_root};
 use super::{Ground, Motion, ReductionBounds, Trunk, peak_rms};
 use crate::dynamics::grf::measured::apply_ground_reactions;
@@ -530,8 +530,13 @@ impl Problem<'_> {
         local.clear();
         let relative = self.relative.get().and_then(Option::as_ref);
         let qva = [&e.q[k][..], &e.v[k], &e.a[k]];
-        let com = match relative {
-            Some(r) => r.frame(k, &e.model, shared.mass_scale, qva, ws).1,
+        // the whole-body terms of the evaluated model at this frame, for its rotations
+        let terms = relative.map(|r| (r, r.composite(k, &e.model, shared.mass_scale)));
+        let com = match &terms {
+            Some((r, c)) => {
+                r.wrench(c, &e.model, qva, ws);
+                ws.o_x_i[self.root].transform_point(&c.com())
+            }
             None => {
                 forward_kinematics(&e.model, ws, &e.q[k]);
                 centre_of_mass(&e.model, ws)
@@ -557,8 +562,9 @@ impl Problem<'_> {
         self.pelvis_columns(shared, &com, &pelvis, &e.ground, k, &pass, local);
         if let (Some(at), Some(r)) = (layout.rotation, &self.rotation) {
             let rot = ws.o_x_i[self.root].rot;
+            let terms = terms.as_ref().map(|(r, c)| (*r, c));
             self.rotation_columns(
-                e, k, at, r, &rot, &pelvis, &pass, shared, relative, scratch, local,
+                e, k, at, r, &rot, &pelvis, &pass, shared, terms, scratch, local,
             );
         }
         if let Some(at) = layout.mass {
@@ -613,7 +619,7 @@ impl Problem<'_> {
         pelvis: &Vector3<f64>,
         pass: &Pass,
         shared: &Shared,
-        relative: Option<&RootRelative>,
+        terms: Option<(&RootRelative, &Composite)>,
         scratch: &mut Scratch,
         local: &mut Local,
     ) {
@@ -642,8 +648,15 @@ impl Problem<'_> {
                 ) {
                     continue;
                 }
-                let qva = [&scratch.q[..], &scratch.v, &scratch.a];
-                let w = needed_wrench(relative, k, &e.model, shared, qva, &mut scratch.ws);
+                let (sw, qva) = (&mut scratch.ws, [&scratch.q[..], &scratch.v, &scratch.a]);
+                let w = match terms {
+                    Some((r, c)) => r.wrench(c, &e.model, qva, sw),
+                    None => {
+                        forward_kinematics_through(&e.model, sw, qva[0], shared.root_level);
+                        rnea(&e.model, sw, qva[0], qva[1], qva[2], None);
+                        root_wrench(&e.model, sw)
+                    }
+                };
                 let w = about(&w, pelvis);
                 *dk = std::array::from_fn(|c| (w[c] - needed[c]) / ROTATION_STEP);
             }

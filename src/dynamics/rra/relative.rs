@@ -24,7 +24,7 @@
 
 use crate::dynamics::grf::NeededWrenches;
 use crate::dynamics::rnea::rnea_terms;
-use crate::dynamics::{Workspace, forward_kinematics, forward_kinematics_through};
+use crate::dynamics::{Workspace, forward_kinematics};
 use crate::model::Model;
 use crate::spatial::{ForceVec, MotionVec, SpatialInertia, SpatialTransform};
 use nalgebra::{Matrix6, Vector3};
@@ -116,7 +116,10 @@ impl RootRelative {
         let chain_massless = chain[..chain.len() - 1]
             .iter()
             .all(|&b| model.inertia[b].is_zero());
-        if !chain_massless || !(1..model.nbodies()).all(|i| in_chain(i) || below_root(i)) {
+        if !chain_massless
+            || trunk.len() > MAX_TRUNK
+            || !(1..model.nbodies()).all(|i| in_chain(i) || below_root(i))
+        {
             return None;
         }
         let mut ws = Workspace::new(model);
@@ -239,53 +242,80 @@ impl RootRelative {
         k: usize,
         model: &Model,
         scale: f64,
-        [q, v, a]: [&[f64]; 3],
+        qva: [&[f64]; 3],
         ws: &mut Workspace,
     ) -> (ForceVec, Vector3<f64>) {
-        let root = self.root();
+        let c = self.composite(k, model, scale);
+        let w = self.wrench(&c, model, qva, ws);
+        (w, ws.o_x_i[self.root()].transform_point(&c.com))
+    }
+
+    /// Frame `k`'s whole-body terms for `model` (its trunk's inertia, the rest's scaled by
+    /// `scale`): what [`RootRelative::wrench`] needs for any motion of the root.
+    pub fn composite(&self, k: usize, model: &Model, scale: f64) -> Composite {
         let nt = self.trunk.len();
-        forward_kinematics_through(model, ws, q, root);
-        let o_x_p = ws.o_x_i[root];
-        let (vp, ap) = self.root_motion(model, q, v, a);
         let rest = &self.rest[k];
-        let mut inertia_v = times(&rest.inertia, &vp) * scale;
-        let mut inertia_a = times(&rest.inertia, &ap) * scale;
-        let mut rate_v = times(&rest.inertia_rate, &vp) * scale;
-        let mut momentum = rest.momentum * scale;
-        let mut momentum_rate = rest.momentum_rate * scale;
+        let mut c = Composite {
+            rest: rest.inertia * scale,
+            rest_rate: rest.inertia_rate * scale,
+            trunk: [(SpatialInertia::ZERO, MotionVec::ZERO); MAX_TRUNK],
+            trunk_len: nt,
+            momentum: rest.momentum * scale,
+            momentum_rate: rest.momentum_rate * scale,
+            com: Vector3::zeros(),
+        };
         let mut first_moment = rest.first_moment * scale;
         let mut mass = rest.mass * scale;
         for (j, &b) in self.trunk.iter().enumerate() {
             let t = &self.trunk_motion[k * nt + j];
             let inertia = model.inertia[b];
             // the body's inertia and relative velocity in P's frame
-            let ip = inertia.transformed(&t.pose);
-            let vt = t.pose.act_motion(&t.v);
-            inertia_v += ip.mul_motion(&vp);
-            inertia_a += ip.mul_motion(&ap);
-            rate_v += vt.cross_force(&ip.mul_motion(&vp)) - ip.mul_motion(&vt.cross_motion(&vp));
+            c.trunk[j] = (inertia.transformed(&t.pose), t.pose.act_motion(&t.v));
             let (h, dh) = body_momentum(&inertia, &t.v, &t.a);
-            momentum += t.pose.act_force(&h);
-            momentum_rate += t.pose.act_force(&dh);
+            c.momentum += t.pose.act_force(&h);
+            c.momentum_rate += t.pose.act_force(&dh);
             first_moment += t.pose.transform_point(&inertia.com) * inertia.mass;
             mass += inertia.mass;
         }
-        let f = inertia_a + rate_v + vp.cross_force(&(inertia_v + momentum)) + momentum_rate;
-        (
-            o_x_p.act_force(&f),
-            o_x_p.transform_point(&(first_moment / mass.max(1e-12))),
-        )
+        c.com = first_moment / mass.max(1e-12);
+        c
+    }
+
+    /// The wrench the whole body with terms `c` needs (world axes, about the world origin)
+    /// when its root moves as the state `q`, `v`, `a` says (module doc); writes the world
+    /// poses of the root and its joints' bodies into `ws.o_x_i`.
+    pub fn wrench(
+        &self,
+        c: &Composite,
+        model: &Model,
+        [q, v, a]: [&[f64]; 3],
+        ws: &mut Workspace,
+    ) -> ForceVec {
+        let (vp, ap) = self.root_motion(model, q, v, a, ws);
+        let mut inertia_v = times(&c.rest, &vp);
+        let mut inertia_a = times(&c.rest, &ap);
+        let mut rate_v = times(&c.rest_rate, &vp);
+        for (ip, vt) in &c.trunk[..c.trunk_len] {
+            let iv = ip.mul_motion(&vp);
+            inertia_v += iv;
+            inertia_a += ip.mul_motion(&ap);
+            rate_v += vt.cross_force(&iv) - ip.mul_motion(&vt.cross_motion(&vp));
+        }
+        let f = inertia_a + rate_v + vp.cross_force(&(inertia_v + c.momentum)) + c.momentum_rate;
+        ws.o_x_i[self.root()].act_force(&f)
     }
 
     /// The root body's velocity and acceleration against gravity (its frame) through the
     /// root's joints: `vᵢ = λXᵢ⁻¹ v_λ + Sᵢ q̇ᵢ`, `aᵢ = λXᵢ⁻¹ a_λ + Sᵢ q̈ᵢ + vᵢ × Sᵢ q̇ᵢ` from
-    /// the world at rest accelerating at `−g` (RNEA's forward pass on the chain).
+    /// the world at rest accelerating at `−g` (RNEA's forward pass on the chain), and the
+    /// chain's world poses into `ws.o_x_i` (`0Xᵢ = 0X_λ λXᵢ`).
     fn root_motion(
         &self,
         model: &Model,
         q: &[f64],
         v: &[f64],
         a: &[f64],
+        ws: &mut Workspace,
     ) -> (MotionVec, MotionVec) {
         let (mut vi, mut ai) = (
             MotionVec::ZERO,
@@ -293,6 +323,7 @@ impl RootRelative {
         );
         for &i in &self.chain {
             let x = model.parent_transform(i, q);
+            ws.o_x_i[i] = ws.o_x_i[model.parent[i]].compose(&x.to_transform());
             let (j, iv) = (&model.joints[i], model.idx_v[i]);
             let (dq, ddq) = (&v[iv..iv + j.nv()], &a[iv..iv + j.nv()]);
             let s_dq = j.motion(dq);
@@ -301,6 +332,29 @@ impl RootRelative {
         }
         (vi, ai)
     }
+}
+
+/// The most trunk bodies the terms keep apart (more: trials run the whole estimate).
+const MAX_TRUNK: usize = 12;
+
+impl Composite {
+    /// The whole body's centre of mass (m, P's frame).
+    pub fn com(&self) -> Vector3<f64> {
+        self.com
+    }
+}
+
+/// One frame's whole-body terms for one model ([`RootRelative::composite`]), in P's frame:
+/// the rest's `I_C` and `İ_C` (scaled), each trunk body's inertia and relative velocity, the
+/// whole body's `h`, `ḣ` and centre of mass.
+pub(super) struct Composite {
+    rest: Matrix6<f64>,
+    rest_rate: Matrix6<f64>,
+    trunk: [(SpatialInertia, MotionVec); MAX_TRUNK],
+    trunk_len: usize,
+    momentum: ForceVec,
+    momentum_rate: ForceVec,
+    com: Vector3<f64>,
 }
 
 #[cfg(test)]
