@@ -281,7 +281,7 @@ pub fn reduce_residuals(
         height: 1.0,
         base_pelvis: &[],
         free: None,
-        relative: std::sync::OnceLock::new(),
+        relative: Default::default(),
     };
     let key = Key::of(model, &ground, &trunk, &motion, up, counted, bounds);
     let (found, started) = match Start::of(seed, key.as_ref(), model) {
@@ -566,7 +566,13 @@ fn fine_problem_of<'a>(
         height: coarse.height,
         base_pelvis: pelvis,
         free: None,
-        relative: std::sync::OnceLock::new(),
+        // the coarse problem's root-relative terms hold for the fine one (the same motion
+        // relative to the root, the trunk's bodies apart): reused once made
+        relative: if coarse.relative.get().is_some() {
+            std::sync::Arc::clone(&coarse.relative)
+        } else {
+            Default::default()
+        },
     })
 }
 

@@ -48,8 +48,9 @@ pub(super) struct Problem<'a> {
     /// Per parameter: whether it may change (`None`: all may); a held one stays where it is.
     pub free: Option<Vec<bool>>,
     /// The motion's root-relative terms, made at the first trial against estimated forces
-    /// (`None` inside: a model they do not fit; trials then run the whole estimate).
-    pub relative: std::sync::OnceLock<Option<RootRelative>>,
+    /// (`None` inside: a model they do not fit; trials then run the whole estimate); shared
+    /// with the refinement's problem ([`super::refine`]).
+    pub relative: std::sync::Arc<std::sync::OnceLock<Option<RootRelative>>>,
 }
 
 /// One evaluation: the adjusted model, motion and their ground reactions.
@@ -922,7 +923,7 @@ mod tests {
             height: 1.0,
             base_pelvis: &[],
             free: None,
-            relative: std::sync::OnceLock::new(),
+            relative: Default::default(),
         };
         let layout = problem.layout();
         assert!(layout.rotation.is_some() && layout.mass.is_some());
