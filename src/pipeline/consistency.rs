@@ -14,7 +14,6 @@ use crate::dynamics::rra::{
     Ground, Motion, ReductionBounds, Seed, Started, Trunk, com_heights, reduce_residuals,
 };
 use crate::error::Error;
-use crate::motion::contact::ContactParams;
 use nalgebra::Vector3;
 
 /// What residual reduction changed (`None` fields: not reduced).
@@ -168,7 +167,7 @@ pub fn consistent_take_keeping(
         Some(loads) => apply_ground_reactions(&take.model, loads, &s.time, &s.q, &s.v, &s.a, up)?,
         None => super::contact::estimate_take_ground_reactions_keeping(take, keep, &mut |_| true)?,
     };
-    let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)?;
+    let (params, _) = super::contact::contact_params(take)?;
     let counted = counted_frames(s.len(), super::edge_frames(take));
     // the centre of mass and the pelvis of the estimate's own kinematics
     let heights = com_heights_of(&before);
