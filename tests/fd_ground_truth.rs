@@ -26,18 +26,25 @@
 //! double support, their sum everywhere, every trunk moment everywhere and every leg moment in
 //! steady support within 5 % of its peak. Measured (`cargo test --release --test
 //! fd_ground_truth -- --nocapture`): forces within 1.3 % of body weight, moments within 0.5 %
-//! of their peaks. Around the landing they are not, and cannot be from the motion alone: the
-//! right foot hovers 0–8.6 cm above the floor for 0.4 s, slowing to rest; within the contact
-//! test's heights (`ContactParams`: enters below 4 cm, what planted feet wobble in captures;
-//! stays up to 7 cm, run forwards and backwards) nothing in the kinematics tells a foot
-//! touching lightly from one about to, and once both are down how two feet share a static
-//! load is a prescribed rule (here the ankle lever rule entered over 0.4 s), not a
-//! measurement. So the estimator loads the right foot from 1.69 s, 7 cm up (150–190 N in the
-//! air; the stance hip's moment off by up to 34 N·m of 74 until the shares meet): printed, not
-//! held to the tolerance. What is held there: no foot higher than the exit height carries
-//! load. Keeping the backward pass to the entry height (4 cm) moved the onset to 1.775 s but
-//! pushed the PyMO walk's right knee extensor peak to 1.17 N·m/kg, past the published range
-//! (`contact_real`), so it was not kept.
+//! of their peaks.
+//!
+//! The landing. The right foot hovers 0–8 cm above the floor for 0.4 s, slowing to rest. This
+//! take's planted feet do not wobble (≤ 2e-4 mm), so its contact heights are fitted down to
+//! the floor of `motion::contact::heights`, 1.0 cm to enter and 1.75 cm to leave
+//! (`pipeline::contact_params`); with the default 4/7 cm, sized for captures whose planted
+//! points wobble 1–3 cm, the estimator loaded the right foot from 1.69 s, 6.9 cm up (150–190 N
+//! in the air; the stance hip's moment off by up to 33.7 N·m of 74 while the foot was above
+//! 1.75 cm). Now it carries load from 1.83 s, 1.6 cm up, and held here: the heights are at
+//! most 2 cm, no foot higher than the exit height carries load, and while the lowered foot is
+//! above it every leg moment is within the steady tolerance (measured: hip 0.03, knee 0.02,
+//! ankle 0.02 N·m). Below the exit height nothing in the kinematics tells a foot touching
+//! lightly from one about to, and once both are down how two feet share a static load is a
+//! prescribed rule (here the ankle lever rule entered over 0.4 s after the touch-down; the
+//! estimator's enters it over the take's transition), not a measurement: there the errors
+//! (hip 27.8, knee 21.6 N·m) are printed, not held to the tolerance. Keeping the backward pass
+//! to the entry height (4 cm) moved the onset to 1.775 s but pushed the PyMO walk's right knee
+//! extensor peak to 1.17 N·m/kg, past the published range (`contact_real`), so it was not
+//! kept.
 
 use articula::dynamics::grf::GroundReactions;
 use articula::dynamics::{Workspace, aba, forward_kinematics, rnea};
@@ -499,7 +506,7 @@ fn forward_dynamics_under_known_ground_forces_gives_them_back() {
         let err = if leg {
             steady.max(air)
         } else {
-            steady.max(air).max(touch)
+            error(&|_, _| true)
         };
         assert!(
             err <= 0.05 * peak + 0.5,
