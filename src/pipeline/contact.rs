@@ -78,12 +78,12 @@ pub fn contact_choice(take: &Take) -> (Contact, String) {
     if feet.is_empty() {
         return (Contact::None, "no feet found on the skeleton".into());
     }
-    let (params, wobble) = match contact_params(take) {
+    let (params, wobble, points) = match fitted_params(take, &feet) {
         Ok(p) => p,
         Err(e) => return (Contact::None, e.to_string()),
     };
     let up = take.up.index();
-    match crate::dynamics::grf::stance(&take.model, &feet, &s.time, &s.q, up, &params) {
+    match crate::dynamics::grf::stance(&points, &s.time, up, &params) {
         Ok(by_foot) => {
             let share = |c: &Vec<bool>| {
                 100.0 * c.iter().filter(|x| **x).count() as f64 / c.len().max(1) as f64
@@ -124,17 +124,34 @@ pub fn contact_params(
     ),
     Error,
 > {
+    let (params, wobble, _) = fitted_params(take, &contact_feet(take))?;
+    Ok((params, wobble))
+}
+
+/// [`contact_params`] of `take` for its `feet`, and the heel and toe paths they were fitted
+/// to (none when the take has no feet or fewer than two frames).
+fn fitted_params(
+    take: &Take,
+    feet: &[crate::motion::contact::Foot],
+) -> Result<
+    (
+        crate::motion::contact::ContactParams,
+        Option<crate::motion::contact::Wobble>,
+        Vec<crate::motion::contact::FootPoints>,
+    ),
+    Error,
+> {
     use crate::motion::contact::ContactParams;
     let base = ContactParams::for_take(&take.smooth, take.bvh.frame_time)?;
     let s = &take.states;
-    let feet = contact_feet(take);
     if s.len() < 2 || feet.is_empty() {
-        return Ok((base, None));
+        return Ok((base, None, vec![]));
     }
     let up = take.up.index();
-    let points = crate::dynamics::grf::foot_points(&take.model, &feet, &s.q, up);
+    let points = crate::dynamics::grf::foot_points(&take.model, feet, &s.q, up);
     let dt = (s.time[s.len() - 1] - s.time[0]) / (s.len() - 1) as f64;
-    Ok(base.fitted_to(&points, up, dt))
+    let (params, wobble) = base.fitted_to(&points, up, dt);
+    Ok((params, wobble, points))
 }
 
 /// With `--contact feet`, notes the contact heights when they were fitted below the defaults
@@ -272,15 +289,26 @@ pub fn estimate_take_ground_reactions_keeping(
     moment_bodies: &[usize],
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<crate::dynamics::grf::GroundReactions, Error> {
-    let s = &take.states;
     let (params, _) = contact_params(take).map_err(|e| at_file(&take.path, e))?;
+    estimate_with_params(take, &params, moment_bodies, keep_going)
+}
+
+/// [`estimate_take_ground_reactions_keeping`] with the take's thresholds already made
+/// ([`contact_params`]; residual reduction reads the same ones).
+pub(super) fn estimate_with_params(
+    take: &Take,
+    params: &crate::motion::contact::ContactParams,
+    moment_bodies: &[usize],
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<crate::dynamics::grf::GroundReactions, Error> {
+    let s = &take.states;
     crate::dynamics::grf::estimate_ground_reactions_keeping(
         &take.model,
         &contact_feet(take),
         &s.time,
         [&s.q, &s.v, &s.a],
         take.up.index(),
-        &params,
+        params,
         moment_bodies,
         keep_going,
     )

@@ -582,26 +582,26 @@ fn assign_loads(
     wrenches
 }
 
-/// The contact phases (`[foot][frame]`) of `feet` over samples `time` of `q` (the first step
-/// of [`estimate_ground_reactions_with_feet`]), or, when no foot is ever planted on a floor,
-/// why not ([`why_no_contact`]): what `--contact auto` decides by.
+/// The contact phases (`[foot][frame]`) of the feet whose heel and toe paths over samples
+/// `time` are `points` ([`foot_points`]; the first step of
+/// [`estimate_ground_reactions_with_feet`]), or, when no foot is ever planted on a floor, why
+/// not ([`why_no_contact`]): what `--contact auto` decides by.
 pub fn stance(
-    model: &Model,
-    feet: &[Foot],
+    points: &[FootPoints],
     time: &[f64],
-    q: &[Vec<f64>],
     up: usize,
     params: &ContactParams,
 ) -> Result<Vec<Vec<bool>>, String> {
     let n = time.len();
-    if n < 2 || q.len() != n || feet.is_empty() {
+    let sized = |p: &FootPoints| p.heel.len() == n && p.toe.len() == n;
+    if n < 2 || points.is_empty() || !points.iter().all(sized) {
         return Err(format!(
             "{n} frames and {} feet: no contact phases",
-            feet.len()
+            points.len()
         ));
     }
     let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
-    planted_feet(&foot_points(model, feet, q, up), up, dt, params)
+    planted_feet(points, up, dt, params)
 }
 
 /// The world paths of the heel and toe points of `feet` over the configurations `q` (their
