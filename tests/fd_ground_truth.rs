@@ -407,9 +407,21 @@ fn forward_dynamics_under_known_ground_forces_gives_them_back() {
         contact: Contact::Auto,
         ..TakeOptions::default()
     };
-    let mut take = pipeline::take_from_bvh(Path::new("balance.bvh"), read, &options).unwrap();
+    let mut take =
+        pipeline::take_from_bvh(Path::new("balance.bvh"), read.clone(), &options).unwrap();
     pipeline::resolve_contact(&mut take);
     assert_eq!(take.options.contact, Contact::Feet, "{:?}", take.notes);
+    // the fitted heights are said, in the choice of `auto` and on their own with `feet`
+    let said = |notes: &[String]| {
+        notes
+            .iter()
+            .any(|n| n.contains("contact heights 1.0/1.8 cm (defaults 4/7 cm)"))
+    };
+    assert!(said(&take.notes), "{:?}", take.notes);
+    let mut feet =
+        pipeline::take_from_bvh(Path::new("balance.bvh"), read, &opts("butterworth:6hz")).unwrap();
+    pipeline::resolve_contact(&mut feet);
+    assert!(said(&feet.notes), "{:?}", feet.notes);
     assert!((take.model.total_mass() - t.model.total_mass()).abs() < 1e-9);
     let got = pipeline::ground_reactions(&take).unwrap().unwrap();
     let edge = pipeline::edge_frames(&take);
