@@ -26,24 +26,30 @@
 //! double support, their sum everywhere, every trunk moment everywhere and every leg moment in
 //! steady support within 5 % of its peak. Measured (`cargo test --release --test
 //! fd_ground_truth -- --nocapture`): forces within 1.3 % of body weight, moments within 0.5 %
-//! of their peaks. Around the landing they are not, and cannot be from the motion alone: the
-//! right foot hovers 0–8.6 cm above the floor for 0.4 s, slowing to rest; within the contact
-//! test's heights (`ContactParams`: enters below 4 cm, what planted feet wobble in captures;
-//! stays up to 7 cm, run forwards and backwards) nothing in the kinematics tells a foot
-//! touching lightly from one about to, and once both are down how two feet share a static
-//! load is a prescribed rule (here the ankle lever rule entered over 0.4 s), not a
-//! measurement. So the estimator loads the right foot from 1.69 s, 7 cm up (150–190 N in the
-//! air; the stance hip's moment off by up to 34 N·m of 74 until the shares meet): printed, not
-//! held to the tolerance. What is held there: no foot higher than the exit height carries
-//! load. Keeping the backward pass to the entry height (4 cm) moved the onset to 1.775 s but
-//! pushed the PyMO walk's right knee extensor peak to 1.17 N·m/kg, past the published range
-//! (`contact_real`), so it was not kept.
+//! of their peaks.
+//!
+//! The landing. The right foot hovers 0–8 cm above the floor for 0.4 s, slowing to rest. This
+//! take's planted feet do not wobble (≤ 2e-4 mm), so its contact heights are fitted down to
+//! the floor of `motion::contact::heights`, 1.0 cm to enter and 1.75 cm to leave
+//! (`pipeline::contact_params`); with the default 4/7 cm, sized for captures whose planted
+//! points wobble 1–3 cm, the estimator loaded the right foot from 1.69 s, 6.9 cm up (150–190 N
+//! in the air; the stance hip's moment off by up to 33.7 N·m of 74 while the foot was above
+//! 1.75 cm). Now it carries load from 1.83 s, 1.6 cm up, and held here: the heights are at
+//! most 2 cm, no foot higher than the exit height carries load, and while the lowered foot is
+//! above it every leg moment is within the steady tolerance (measured: hip 0.03, knee 0.02,
+//! ankle 0.02 N·m). Below the exit height nothing in the kinematics tells a foot touching
+//! lightly from one about to, and once both are down how two feet share a static load is a
+//! prescribed rule (here the ankle lever rule entered over 0.4 s after the touch-down; the
+//! estimator's enters it over the take's transition), not a measurement: there the errors
+//! (hip 27.8, knee 21.6 N·m) are printed, not held to the tolerance. Keeping the backward pass
+//! to the entry height (4 cm) moved the onset to 1.775 s but pushed the PyMO walk's right knee
+//! extensor peak to 1.17 N·m/kg, past the published range (`contact_real`), so it was not
+//! kept.
 
 use articula::dynamics::grf::GroundReactions;
 use articula::dynamics::{Workspace, aba, forward_kinematics, rnea};
 use articula::io::bvh::{self, Bvh};
 use articula::io::generate::{WalkParams, walk};
-use articula::motion::contact::ContactParams;
 use articula::pipeline::{self, Contact, Take, TakeOptions};
 use articula::spatial::ForceVec;
 use nalgebra::{DMatrix, DVector, Vector3};
@@ -401,9 +407,21 @@ fn forward_dynamics_under_known_ground_forces_gives_them_back() {
         contact: Contact::Auto,
         ..TakeOptions::default()
     };
-    let mut take = pipeline::take_from_bvh(Path::new("balance.bvh"), read, &options).unwrap();
+    let mut take =
+        pipeline::take_from_bvh(Path::new("balance.bvh"), read.clone(), &options).unwrap();
     pipeline::resolve_contact(&mut take);
     assert_eq!(take.options.contact, Contact::Feet, "{:?}", take.notes);
+    // the fitted heights are said, in the choice of `auto` and on their own with `feet`
+    let said = |notes: &[String]| {
+        notes
+            .iter()
+            .any(|n| n.contains("contact heights 1.0/1.8 cm (defaults 4/7 cm)"))
+    };
+    assert!(said(&take.notes), "{:?}", take.notes);
+    let mut feet =
+        pipeline::take_from_bvh(Path::new("balance.bvh"), read, &opts("butterworth:6hz")).unwrap();
+    pipeline::resolve_contact(&mut feet);
+    assert!(said(&feet.notes), "{:?}", feet.notes);
     assert!((take.model.total_mass() - t.model.total_mass()).abs() < 1e-9);
     let got = pipeline::ground_reactions(&take).unwrap().unwrap();
     let edge = pipeline::edge_frames(&take);
@@ -438,54 +456,70 @@ fn forward_dynamics_under_known_ground_forces_gives_them_back() {
         .find(|&j| got.loaded[j][r])
         .map(|j| t.states.time[fine_of(j)]);
     eprintln!("the right foot lands at {LAND} s; the estimator loads it from {touch:?} s");
-    // a foot in the air above the contact test's exit height carries nothing: the right foot
-    // is lowered flat, so its sole is as high above the floor as its ankle above the ankle's
-    // height once landed
+    // the contact heights fitted to this take, whose planted feet do not wobble: the floor of
+    // 1 cm, 1.75 cm to leave (the defaults, 4 and 7 cm, loaded the right foot 6.9 cm up)
+    let (params, wobble) = pipeline::contact_params(&take).unwrap();
+    eprintln!(
+        "contact heights {:.2}/{:.2} cm ({wobble:?})",
+        100.0 * params.height_on,
+        100.0 * params.height_off
+    );
+    assert!(params.height_off <= 0.02, "{params:?}");
+    // the right foot's height above the floor at each frame: it is lowered flat, so its sole
+    // is as high above the floor as its ankle above the ankle's height once landed
     let (right, k_land) = (foot(&loads, "right"), (LAND * FINE_HZ) as usize);
     let landed = feet_ankle(&t, &loads, right, k_land)[loads.up];
-    let height_off = ContactParams::default().height_off;
-    for j in (edge..frames - edge).filter(|&j| got.loaded[j][r]) {
-        let k = fine_of(j);
-        let above = feet_ankle(&t, &loads, right, k)[loads.up] - landed;
-        assert!(
-            above < height_off + 1e-3,
-            "the right foot is loaded {:.1} cm above the floor at {:.3} s",
-            100.0 * above,
-            t.states.time[k]
-        );
-    }
+    let above: Vec<f64> = (0..frames)
+        .map(|j| feet_ankle(&t, &loads, right, fine_of(j))[loads.up] - landed)
+        .collect();
+    // a foot in the air above the exit height carries nothing
+    let window = edge..frames - edge;
+    let highest = window
+        .clone()
+        .filter(|&j| got.loaded[j][r])
+        .map(|j| above[j])
+        .fold(0.0f64, f64::max);
+    eprintln!(
+        "the right foot carries load from {:.2} cm above the floor",
+        100.0 * highest
+    );
+    assert!(highest < params.height_off + 1e-3, "{highest}");
     assert!(checked[0] > 100 && checked[1] > 100, "{checked:?}");
     assert!(worst.iter().all(|&e| e < 0.05), "{worst:?}");
     // joint moments: every leg and trunk coordinate within 5 % of its peak, the legs' in
-    // steady single and double support (around the landing the estimator takes the lowering
-    // foot for a contact while it is within ContactParams::height_on of the floor, and shares
-    // the load early: printed, not held to the tolerance)
+    // steady single and double support and while the lowered foot is higher than the exit
+    // height (the stance leg carries the body alone: nothing is shared); below it, the
+    // estimator takes the foot for planted and shares the load by its rule (the lever rule,
+    // entered over the take's transition), not the prescribed one (entered over 0.4 s after
+    // the touch-down): printed, not held to the tolerance
     for (c, name) in t.model.v_names.iter().enumerate() {
         let leg = ["Leg", "Foot"].iter().any(|s| name.contains(s));
         if c < 6 || !(leg || name.contains("Spine")) {
             continue;
         }
-        let window = edge..frames - edge;
         let peak = window
             .clone()
             .map(|j| tau[fine_of(j)][c].abs())
             .fold(0.0f64, f64::max);
-        let error = |steady: bool| {
+        let error = |within: &dyn Fn(usize, f64) -> bool| {
             window
                 .clone()
-                .filter(|&j| {
-                    let time = t.states.time[fine_of(j)];
-                    landing(time) != steady
-                })
+                .filter(|&j| within(j, t.states.time[fine_of(j)]))
                 .map(|j| (got.tau[j][c] - tau[fine_of(j)][c]).abs())
                 .fold(0.0f64, f64::max)
         };
-        let (steady, landing) = (error(true), error(false));
+        let steady = error(&|_, time| !landing(time));
+        let air = error(&|j, time| lowering(time) && above[j] > params.height_off);
+        let touch = error(&|j, time| landing(time) && above[j] <= params.height_off);
         eprintln!(
-            "{name}: peak {peak:.2} N·m, largest error {steady:.3} N·m (around the landing \
-             {landing:.3})"
+            "{name}: peak {peak:.2} N·m, largest error {steady:.3} N·m; around the landing \
+             {air:.3} while the lowered foot is above the exit height, {touch:.3} below it"
         );
-        let err = if leg { steady } else { steady.max(landing) };
+        let err = if leg {
+            steady.max(air)
+        } else {
+            error(&|_, _| true)
+        };
         assert!(
             err <= 0.05 * peak + 0.5,
             "{name}: error {err:.3} N·m against a peak of {peak:.2} N·m"
@@ -497,6 +531,14 @@ fn forward_dynamics_under_known_ground_forces_gives_them_back() {
 /// the load has been shared.
 fn landing(time: f64) -> bool {
     (LOWER - 0.1..=LAND + SHARE + 0.2).contains(&time)
+}
+
+/// Whether `time` lies in the lowering of the right foot once the smoothing has caught up
+/// with its start: the ramp's third derivative jumps at LOWER, which the 6 Hz smoothing
+/// spreads into the estimated accelerations over ±0.1 s (3.8 N·m at the stance hip there,
+/// the foot 8 cm up and unloaded).
+fn lowering(time: f64) -> bool {
+    (LOWER + 0.1..=LAND).contains(&time)
 }
 
 /// Ankle position (world) of foot `f` at fine sample `k`.

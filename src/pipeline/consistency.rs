@@ -14,7 +14,6 @@ use crate::dynamics::rra::{
     Ground, Motion, ReductionBounds, Seed, Started, Trunk, com_heights, reduce_residuals,
 };
 use crate::error::Error;
-use crate::motion::contact::ContactParams;
 use nalgebra::Vector3;
 
 /// What residual reduction changed (`None` fields: not reduced).
@@ -164,11 +163,12 @@ pub fn consistent_take_keeping(
     let up = take.up.index();
     // the moments of the take as it is are read only when it stays as it is
     let keep = if reduce { &[][..] } else { moment_bodies };
+    // the contact thresholds, made once: the estimate and the reduction's trials read them
+    let (params, _) = super::contact::contact_params(take)?;
     let before = match measured {
         Some(loads) => apply_ground_reactions(&take.model, loads, &s.time, &s.q, &s.v, &s.a, up)?,
-        None => super::contact::estimate_take_ground_reactions_keeping(take, keep, &mut |_| true)?,
+        None => super::contact::estimate_with_params(take, &params, keep, &mut |_| true)?,
     };
-    let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)?;
     let counted = counted_frames(s.len(), super::edge_frames(take));
     // the centre of mass and the pelvis of the estimate's own kinematics
     let heights = com_heights_of(&before);

@@ -60,7 +60,7 @@ impl std::fmt::Display for Contact {
 /// a floor some of the time ([`stance`](crate::dynamics::grf::stance)); otherwise none, and
 /// the reason (too few frames, no floating root, no feet, no foot ever planted).
 pub fn contact_choice(take: &Take) -> (Contact, String) {
-    use crate::motion::contact::ContactParams;
+    use crate::motion::contact::{ContactParams, heights_note};
     let s = &take.states;
     if s.len() < 3 {
         return (
@@ -78,12 +78,12 @@ pub fn contact_choice(take: &Take) -> (Contact, String) {
     if feet.is_empty() {
         return (Contact::None, "no feet found on the skeleton".into());
     }
-    let params = match ContactParams::for_take(&take.smooth, take.bvh.frame_time) {
+    let (params, wobble, points) = match fitted_params(take, &feet) {
         Ok(p) => p,
         Err(e) => return (Contact::None, e.to_string()),
     };
     let up = take.up.index();
-    match crate::dynamics::grf::stance(&take.model, &feet, &s.time, &s.q, up, &params) {
+    match crate::dynamics::grf::stance(&points, &s.time, up, &params) {
         Ok(by_foot) => {
             let share = |c: &Vec<bool>| {
                 100.0 * c.iter().filter(|x| **x).count() as f64 / c.len().max(1) as f64
@@ -93,10 +93,12 @@ pub fn contact_choice(take: &Take) -> (Contact, String) {
                 .zip(&by_foot)
                 .map(|(f, c)| format!("{} {:.0} %", f.name, share(c)))
                 .collect();
+            let heights = heights_note(&params, &ContactParams::default(), wobble)
+                .map_or(String::new(), |n| format!("; {n}"));
             (
                 Contact::Feet,
                 format!(
-                    "the feet stand on a floor (frames on it: {})",
+                    "the feet stand on a floor (frames on it: {}){heights}",
                     on.join(", ")
                 ),
             )
@@ -105,11 +107,74 @@ pub fn contact_choice(take: &Take) -> (Contact, String) {
     }
 }
 
+/// The contact thresholds of `take` and the wobble of its planted feet that set their
+/// heights: [`ContactParams::for_take`] (the spread of the take's smoothing and frame time)
+/// with the heights fitted to the heel and toe paths of its feet
+/// ([`ContactParams::fitted_to`]; a take without feet or frames keeps the default heights).
+/// What contact detection, the ground reactions and residual reduction all use.
+///
+/// [`ContactParams::for_take`]: crate::motion::contact::ContactParams::for_take
+/// [`ContactParams::fitted_to`]: crate::motion::contact::ContactParams::fitted_to
+pub fn contact_params(
+    take: &Take,
+) -> Result<
+    (
+        crate::motion::contact::ContactParams,
+        Option<crate::motion::contact::Wobble>,
+    ),
+    Error,
+> {
+    let (params, wobble, _) = fitted_params(take, &contact_feet(take))?;
+    Ok((params, wobble))
+}
+
+/// [`contact_params`] of `take` for its `feet`, and the heel and toe paths they were fitted
+/// to (none when the take has no feet or fewer than two frames).
+fn fitted_params(
+    take: &Take,
+    feet: &[crate::motion::contact::Foot],
+) -> Result<
+    (
+        crate::motion::contact::ContactParams,
+        Option<crate::motion::contact::Wobble>,
+        Vec<crate::motion::contact::FootPoints>,
+    ),
+    Error,
+> {
+    use crate::motion::contact::ContactParams;
+    let base = ContactParams::for_take(&take.smooth, take.bvh.frame_time)?;
+    let s = &take.states;
+    if s.len() < 2 || feet.is_empty() {
+        return Ok((base, None, vec![]));
+    }
+    let up = take.up.index();
+    let points = crate::dynamics::grf::foot_points(&take.model, feet, &s.q, up);
+    let dt = (s.time[s.len() - 1] - s.time[0]) / (s.len() - 1) as f64;
+    let (params, wobble) = base.fitted_to(&points, up, dt);
+    Ok((params, wobble, points))
+}
+
+/// With `--contact feet`, notes the contact heights when they were fitted below the defaults
+/// (`--contact auto` says so in its choice, [`contact_choice`]).
+fn note_fitted_heights(take: &mut Take) {
+    use crate::motion::contact::{ContactParams, heights_note};
+    if take.options.contact != Contact::Feet {
+        return;
+    }
+    if let Ok((params, wobble)) = contact_params(take)
+        && let Some(note) = heights_note(&params, &ContactParams::default(), wobble)
+    {
+        take.notes.push(note);
+    }
+}
+
 /// Settles `--contact auto` on a loaded take: sets [`TakeOptions::contact`] to what
 /// [`contact_choice`] gives and notes the choice (`info`, the commands' notes, the workbench's
-/// status line); any other setting is left as it is.
+/// status line); any other setting is left as it is (`feet` notes contact heights fitted
+/// below the defaults).
 pub fn resolve_contact(take: &mut Take) {
     if take.options.contact != Contact::Auto {
+        note_fitted_heights(take);
         return;
     }
     let (contact, why) = contact_choice(take);
@@ -126,6 +191,7 @@ pub fn resolve_contact_after(
     previous: Option<(&Take, &(Contact, String))>,
 ) -> Option<(Contact, String)> {
     if take.options.contact != Contact::Auto {
+        note_fitted_heights(take);
         return None;
     }
     let (contact, why) = match previous.filter(|(p, _)| same_motion(p, take)) {
@@ -199,8 +265,7 @@ pub fn ground_reactions_with(
 
 /// Ground reactions of a take whatever its `contact` option: the feet found through the BVH
 /// skeleton ([`feet_of_bvh`](crate::motion::contact::feet_of_bvh)), the contact thresholds
-/// with the spread of the take's own smoothing and frame time
-/// ([`ContactParams::for_take`](crate::motion::contact::ContactParams::for_take)).
+/// fitted to the take ([`contact_params`]).
 pub fn estimate_take_ground_reactions(
     take: &Take,
 ) -> Result<crate::dynamics::grf::GroundReactions, Error> {
@@ -224,17 +289,26 @@ pub fn estimate_take_ground_reactions_keeping(
     moment_bodies: &[usize],
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<crate::dynamics::grf::GroundReactions, Error> {
-    use crate::motion::contact::ContactParams;
+    let (params, _) = contact_params(take).map_err(|e| at_file(&take.path, e))?;
+    estimate_with_params(take, &params, moment_bodies, keep_going)
+}
+
+/// [`estimate_take_ground_reactions_keeping`] with the take's thresholds already made
+/// ([`contact_params`]; residual reduction reads the same ones).
+pub(super) fn estimate_with_params(
+    take: &Take,
+    params: &crate::motion::contact::ContactParams,
+    moment_bodies: &[usize],
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<crate::dynamics::grf::GroundReactions, Error> {
     let s = &take.states;
-    let params = ContactParams::for_take(&take.smooth, take.bvh.frame_time)
-        .map_err(|e| at_file(&take.path, e))?;
     crate::dynamics::grf::estimate_ground_reactions_keeping(
         &take.model,
         &contact_feet(take),
         &s.time,
         [&s.q, &s.v, &s.a],
         take.up.index(),
-        &params,
+        params,
         moment_bodies,
         keep_going,
     )

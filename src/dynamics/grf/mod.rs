@@ -510,7 +510,8 @@ fn estimate_from(
 
     // contact phases from the heel and toe paths
     let mut feet = feet.to_vec();
-    let (points, by_foot) = planted_feet(&poses, &mut feet, up, dt, params).map_err(|why| {
+    let points = foot_paths(&poses, &mut feet, up);
+    let by_foot = planted_feet(&points, up, dt, params).map_err(|why| {
         Error::Invalid(format!(
             "model {}: {why}; use --contact none (`set contact none` in the workbench)",
             model.name
@@ -669,25 +670,33 @@ fn assign_loads(
     wrenches
 }
 
-/// The contact phases (`[foot][frame]`) of `feet` over samples `time` of `q` (the first step
-/// of [`estimate_ground_reactions_with_feet`]), or, when no foot is ever planted on a floor,
-/// why not ([`why_no_contact`]): what `--contact auto` decides by.
+/// The contact phases (`[foot][frame]`) of the feet whose heel and toe paths over samples
+/// `time` are `points` ([`foot_points`]; the first step of
+/// [`estimate_ground_reactions_with_feet`]), or, when no foot is ever planted on a floor, why
+/// not ([`why_no_contact`]): what `--contact auto` decides by.
 pub fn stance(
-    model: &Model,
-    feet: &[Foot],
+    points: &[FootPoints],
     time: &[f64],
-    q: &[Vec<f64>],
     up: usize,
     params: &ContactParams,
 ) -> Result<Vec<Vec<bool>>, String> {
     let n = time.len();
-    if n < 2 || q.len() != n || feet.is_empty() {
+    let sized = |p: &FootPoints| p.heel.len() == n && p.toe.len() == n;
+    if n < 2 || points.is_empty() || !points.iter().all(sized) {
         return Err(format!(
             "{n} frames and {} feet: no contact phases",
-            feet.len()
+            points.len()
         ));
     }
     let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
+    planted_feet(points, up, dt, params)
+}
+
+/// The world paths of the heel and toe points of `feet` over the configurations `q` (their
+/// heel points fitted to the take, [`fit_heel_points`]): what the contact phases are found
+/// from, and what the contact heights are fitted to
+/// ([`ContactParams::fitted_to`]).
+pub fn foot_points(model: &Model, feet: &[Foot], q: &[Vec<f64>], up: usize) -> Vec<FootPoints> {
     let mut feet = feet.to_vec();
     let bodies = feet
         .iter()
@@ -696,24 +705,22 @@ pub fn stance(
         .into_iter()
         .collect();
     let poses = passes::Poses::of_motion(model, bodies, q);
-    planted_feet(&poses, &mut feet, up, dt, params).map(|(_, by_foot)| by_foot)
+    foot_paths(&poses, &mut feet, up)
 }
 
-/// The heel and toe paths of `feet` (their heel points fitted to the take) and the contact
-/// phases from them, or why no foot is ever planted ([`why_no_contact`]).
+/// The contact phases of the feet whose heel and toe paths are `points`, or why no foot is
+/// ever planted ([`why_no_contact`]).
 fn planted_feet(
-    poses: &passes::Poses,
-    feet: &mut [Foot],
+    points: &[FootPoints],
     up: usize,
     dt: f64,
     params: &ContactParams,
-) -> Result<(Vec<FootPoints>, Vec<Vec<bool>>), String> {
-    let points = foot_paths(poses, feet, up);
-    let by_foot = contact_phases(&points, up, dt, params);
+) -> Result<Vec<Vec<bool>>, String> {
+    let by_foot = contact_phases(points, up, dt, params);
     if by_foot.iter().flatten().all(|c| !c) {
-        return Err(why_no_contact(&points, up, dt, params));
+        return Err(why_no_contact(points, up, dt, params));
     }
-    Ok((points, by_foot))
+    Ok(by_foot)
 }
 
 fn check_inputs(

@@ -16,7 +16,7 @@
 
 use super::{PROGRESS_EVERY, about, root_wrench};
 use crate::dynamics::residual::centre_of_mass;
-use crate::dynamics::{Workspace, forward_kinematics, rnea};
+use crate::dynamics::{Workspace, forward_kinematics, forward_kinematics_through, rnea};
 use crate::model::Model;
 use crate::motion::contact::{Foot, FootPoints};
 use crate::spatial::{ForceVec, SpatialTransform};
@@ -75,14 +75,15 @@ impl Poses {
         self.at.len() / self.bodies.len().max(1)
     }
 
-    /// The world poses of `bodies` over `q` by forward kinematics alone (serial): what
-    /// [`needed_wrenches`] keeps, for the contact phases without the dynamics
-    /// ([`super::stance`]).
+    /// The world poses of `bodies` over `q` by forward kinematics alone (serial, through the
+    /// last of them only: the same bits as the whole pass): what [`needed_wrenches`] keeps,
+    /// for the foot paths without the dynamics ([`super::foot_points`]).
     pub(super) fn of_motion(model: &Model, bodies: Vec<usize>, q: &[Vec<f64>]) -> Self {
         let mut ws = Workspace::new(model);
         let mut at = Vec::with_capacity(q.len() * bodies.len());
+        let last = bodies.iter().copied().max().unwrap_or(0);
         for qk in q {
-            forward_kinematics(model, &mut ws, qk);
+            forward_kinematics_through(model, &mut ws, qk, last);
             at.extend(bodies.iter().map(|&b| ws.o_x_i[b]));
         }
         Self { bodies, at }

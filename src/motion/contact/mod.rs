@@ -19,16 +19,23 @@
 //!
 //! Where each part lives: `phases.rs` (the thresholds, the planted test and its hysteresis, the
 //! contact phases of a set of feet, the window the estimated accelerations average over),
+//! `heights.rs` (how much a take's planted points wobble, and the contact heights fitted to
+//! it),
 //! `floor.rs` (the floor level under the feet, and its velocity under a take walked in place),
 //! `feet.rs` (which bodies are the feet, by name or by the skeleton's shape, and their heel,
 //! ankle and toe points).
 
 mod feet;
 mod floor;
+mod heights;
 mod phases;
 
 pub use feet::{
     Foot, Side, feet_at, feet_of_bvh, fit_heel_points, foot_bodies, limb_ends, skeleton_joint,
 };
 pub use floor::{FLOOR_QUANTILE, FootPoints, belt_velocity, detect_floor, floor_height};
+pub use heights::{
+    HEIGHT_PER_WOBBLE, MIN_HEIGHT_ON, MIN_SAMPLES, MIN_STILL_SHARE, REACH_PER_SPREAD, STILL_SHARE,
+    WOBBLE_QUANTILE, Wobble, heights_note, planted_wobble,
+};
 pub use phases::{ContactParams, acceleration_spread_s, contact_phases, why_no_contact};
