@@ -44,6 +44,28 @@ struct Rest {
     mass: f64,
 }
 
+impl Rest {
+    /// Adds a body of inertia `inertia` at `x` (`ᴾXᵢ`) moving relative to the root with `v`,
+    /// `a` (its frame).
+    fn add(
+        &mut self,
+        inertia: &SpatialInertia,
+        x: &SpatialTransform,
+        v: &MotionVec,
+        a: &MotionVec,
+    ) {
+        let m = inertia.transformed(x).to_matrix();
+        let c = crm(&x.act_motion(v));
+        self.inertia += m;
+        self.inertia_rate -= c.transpose() * m + m * c;
+        let (h, dh) = body_momentum(inertia, v, a);
+        self.momentum += x.act_force(&h);
+        self.momentum_rate += x.act_force(&dh);
+        self.first_moment += x.transform_point(&inertia.com) * inertia.mass;
+        self.mass += inertia.mass;
+    }
+}
+
 /// One frame's motion of one trunk body relative to the root.
 #[derive(Clone, Copy)]
 struct Kept {
@@ -66,6 +88,27 @@ pub(super) struct RootRelative {
     /// `[frame * trunk.len() + j]`.
     trunk_motion: Vec<Kept>,
     rest: Vec<Rest>,
+}
+
+/// The root body `root` and its ancestors (the root's joints), ascending, when they carry no
+/// mass but the root's own and every other body hangs below the root; `None` otherwise.
+fn root_chain(model: &Model, root: usize) -> Option<Vec<usize>> {
+    let mut chain = vec![root];
+    while let Some(&b) = chain.last().filter(|&&b| model.parent[b] != 0) {
+        chain.push(model.parent[b]);
+    }
+    chain.reverse();
+    let below_root = |mut i: usize| {
+        while i > root {
+            i = model.parent[i];
+        }
+        i == root
+    };
+    let massless = chain[..chain.len() - 1]
+        .iter()
+        .all(|&b| model.inertia[b].is_zero());
+    let hung = (1..model.nbodies()).all(|i| chain.binary_search(&i).is_ok() || below_root(i));
+    (massless && hung).then_some(chain)
 }
 
 /// `crm(m)`: the 6×6 matrix of `m ×ₘ` (Featherstone eq. 2.31).
@@ -91,8 +134,9 @@ fn body_momentum(i: &SpatialInertia, v: &MotionVec, a: &MotionVec) -> (ForceVec,
 
 impl RootRelative {
     /// The terms of `model` (the unadjusted one) over the motion `q`, `v`, `a` with root body
-    /// `root`: `None` when the root's joints carry mass or a body hangs elsewhere than below
-    /// the root (then trials run the whole kinematics and RNEA).
+    /// `root`: `None` when the root's joints carry mass, a body hangs elsewhere than below the
+    /// root, or the trunk has more than [`MAX_TRUNK`] bodies (then trials run the whole
+    /// kinematics and RNEA).
     pub fn new(
         model: &Model,
         root: usize,
@@ -100,28 +144,12 @@ impl RootRelative {
         trunk: &[usize],
         [q, v, a]: [&[Vec<f64>]; 3],
     ) -> Option<Self> {
-        let mut chain = vec![root];
-        while let Some(&b) = chain.last().filter(|&&b| model.parent[b] != 0) {
-            chain.push(model.parent[b]);
-        }
-        chain.reverse();
-        let on_chain = chain.clone();
-        let in_chain = |i: usize| on_chain.binary_search(&i).is_ok();
-        let below_root = |mut i: usize| {
-            while i > root {
-                i = model.parent[i];
-            }
-            i == root
-        };
-        let chain_massless = chain[..chain.len() - 1]
-            .iter()
-            .all(|&b| model.inertia[b].is_zero());
-        if !chain_massless
-            || trunk.len() > MAX_TRUNK
-            || !(1..model.nbodies()).all(|i| in_chain(i) || below_root(i))
-        {
+        if trunk.len() > MAX_TRUNK {
             return None;
         }
+        let chain = root_chain(model, root)?;
+        let on_chain = chain.clone();
+        let in_chain = |i: usize| on_chain.binary_search(&i).is_ok();
         let mut ws = Workspace::new(model);
         let (mut vr, mut ar) = (vec![0.0; model.nv], vec![0.0; model.nv]);
         let chain_dofs: Vec<usize> = chain
@@ -181,19 +209,9 @@ impl RootRelative {
                     };
                     continue;
                 }
-                let inertia = &model.inertia[i];
-                if inertia.is_zero() {
-                    continue;
+                if !model.inertia[i].is_zero() {
+                    rest.add(&model.inertia[i], &x, &ws.v[i], &ws.a[i]);
                 }
-                let m = inertia.transformed(&x).to_matrix();
-                let c = crm(&x.act_motion(&ws.v[i]));
-                rest.inertia += m;
-                rest.inertia_rate -= c.transpose() * m + m * c;
-                let (h, dh) = body_momentum(inertia, &ws.v[i], &ws.a[i]);
-                rest.momentum += x.act_force(&h);
-                rest.momentum_rate += x.act_force(&dh);
-                rest.first_moment += x.transform_point(&inertia.com) * inertia.mass;
-                rest.mass += inertia.mass;
             }
             out.rest.push(rest);
         }
