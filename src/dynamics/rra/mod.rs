@@ -36,6 +36,7 @@
 //! block keeps the adjustments within [`ReductionBounds`] (raised until they are), and each
 //! step is kept only if the re-evaluated residuals fall (the clamps are not linear).
 
+mod jacobian;
 mod problem;
 mod relative;
 mod root;
