@@ -353,7 +353,6 @@ pub fn estimate_ground_reactions_keeping(
 /// is the needed wrench less the feet's (inverse dynamics is linear in the external forces),
 /// the same to rounding as what RNEA with the feet's loads leaves at the root, without that
 /// RNEA (a fifth of a cold reduction's instructions).
-#[allow(clippy::too_many_arguments)]
 pub fn estimate_ground_residuals(
     model: &Model,
     feet: &[Foot],

@@ -245,6 +245,7 @@ impl Problem<'_> {
         let terms = relative.map(|r| (r, r.composite(k, &e.model, shared.mass_scale)));
         let com = match &terms {
             Some((r, c)) => {
+                // its wrench is `e`'s already; what is read is the root's chain it poses
                 r.wrench(c, &e.model, qva, ws);
                 ws.o_x_i[self.root].transform_point(&c.com())
             }
@@ -362,11 +363,7 @@ impl Problem<'_> {
                 let (sw, qva) = (&mut scratch.ws, [&scratch.q[..], &scratch.v, &scratch.a]);
                 let w = match terms {
                     Some((r, c)) => r.wrench(c, &e.model, qva, sw),
-                    None => {
-                        forward_kinematics_through(&e.model, sw, qva[0], shared.root_level);
-                        rnea(&e.model, sw, qva[0], qva[1], qva[2], None);
-                        root_wrench(&e.model, sw)
-                    }
+                    None => rnea_wrench(&e.model, shared, qva, sw),
                 };
                 let w = about(&w, pelvis);
                 *dk = std::array::from_fn(|c| (w[c] - needed[c]) / ROTATION_STEP);
@@ -394,12 +391,21 @@ fn needed_wrench(
 ) -> ForceVec {
     match relative {
         Some(r) => r.frame(k, model, shared.mass_scale, [q, v, a], ws).0,
-        None => {
-            forward_kinematics_through(model, ws, q, shared.root_level);
-            rnea(model, ws, q, v, a, None);
-            root_wrench(model, ws)
-        }
+        None => rnea_wrench(model, shared, [q, v, a], ws),
     }
+}
+
+/// The wrench `model` needs over the state `qva` by kinematics through the root-level bodies
+/// and RNEA (world axes, about the world origin): what the root-relative terms stand in for.
+fn rnea_wrench(
+    model: &Model,
+    shared: &Shared,
+    [q, v, a]: [&[f64]; 3],
+    ws: &mut Workspace,
+) -> ForceVec {
+    forward_kinematics_through(model, ws, q, shared.root_level);
+    rnea(model, ws, q, v, a, None);
+    root_wrench(model, ws)
 }
 
 fn v3(w: &[f64; 6], at: usize) -> Vector3<f64> {

@@ -73,7 +73,8 @@ pub(super) fn velocity(p: &[Vector3<f64>], k: usize, dt: f64) -> Vector3<f64> {
 /// dynamics are the same and only the contact test must measure speeds against it.
 ///
 /// Estimated from the horizontal velocities of the heel and toe points over the frames where
-/// they are within `height_on` of their floor level (stance dominates those: a walk's swing
+/// they are within `height_on` of their floor level (`levels`: the heels' and the toes', as
+/// [`point_levels`] gives them, which every caller has already) (stance dominates those: a walk's swing
 /// foot clears the floor): their component-wise median, refined to the median of those within
 /// `speed_on` / 2 of it (the planted feet's cluster), is taken as a belt when it exceeds
 /// `speed_on` / 2, at least half of them lie within `speed_on` of it, and more than twice as
@@ -94,11 +95,11 @@ pub(super) fn velocity(p: &[Vector3<f64>], k: usize, dt: f64) -> Vector3<f64> {
 /// feet at the floor are still as move with the belt).
 pub fn belt_velocity(
     feet: &[FootPoints],
+    (heel_level, toe_level): (f64, f64),
     up: usize,
     dt: f64,
     params: &ContactParams,
 ) -> Vector3<f64> {
-    let (heel_level, toe_level) = point_levels(feet, up);
     let mut near: Vec<Vector3<f64>> = vec![];
     for f in feet {
         for (path, level) in [(&f.heel, heel_level), (&f.toe, toe_level)] {
@@ -230,7 +231,10 @@ mod tests {
     fn the_same_walk_on_a_moving_floor_finds_the_floor_moving_and_the_same_stances() {
         let (dt, up, params) = (1.0 / 30.0, 1, ContactParams::default());
         let ground = walk_on(Vector3::zeros());
-        assert_eq!(belt_velocity(&ground, up, dt, &params), Vector3::zeros());
+        assert_eq!(
+            belt_velocity(&ground, point_levels(&ground, up), up, dt, &params),
+            Vector3::zeros()
+        );
         let stances = contact_phases(&ground, up, dt, &params);
         for belt in [
             Vector3::new(1.0, 0.0, 0.0),
@@ -240,7 +244,7 @@ mod tests {
             Vector3::new(0.6, 0.0, -0.8),
         ] {
             let on_belt = walk_on(belt);
-            let found = belt_velocity(&on_belt, up, dt, &params);
+            let found = belt_velocity(&on_belt, point_levels(&on_belt, up), up, dt, &params);
             assert!((found + belt).norm() < 1e-9, "{belt:?}: found {found:?}");
             assert_eq!(
                 contact_phases(&on_belt, up, dt, &params),

@@ -89,7 +89,7 @@ pub fn planted_wobble(
     params: &ContactParams,
 ) -> Option<Wobble> {
     let (heel_level, toe_level) = point_levels(feet, up);
-    let belt = belt_velocity(feet, up, dt, params);
+    let belt = belt_velocity(feet, (heel_level, toe_level), up, dt, params);
     let still = STILL_SHARE * params.speed_on;
     let reach = (REACH_PER_SPREAD * params.spread_s / dt).round() as usize;
     let mut heights: Vec<f64> = vec![];

@@ -92,7 +92,7 @@ pub fn contact_phases(
     params: &ContactParams,
 ) -> Vec<Vec<bool>> {
     let levels = point_levels(feet, up);
-    let belt = belt_velocity(feet, up, dt, params);
+    let belt = belt_velocity(feet, levels, up, dt, params);
     let min_frames = (params.min_phase_s / dt).ceil().max(1.0) as usize;
     feet.iter()
         .map(|f| {
@@ -109,7 +109,7 @@ pub fn contact_phases(
 /// each kind of point comes to its floor level while slow enough, and how slow it is there.
 pub fn why_no_contact(feet: &[FootPoints], up: usize, dt: f64, params: &ContactParams) -> String {
     let (heel_level, toe_level) = point_levels(feet, up);
-    let belt = belt_velocity(feet, up, dt, params);
+    let belt = belt_velocity(feet, (heel_level, toe_level), up, dt, params);
     let mut slowest_near = f64::INFINITY;
     for f in feet {
         for (path, level) in [(&f.heel, heel_level), (&f.toe, toe_level)] {
