@@ -13,6 +13,7 @@
 //! the first angle (even at gimbal lock, where it is arbitrary), the triple reproduces `R` to
 //! rounding.
 
+use crate::spatial::{atan2, sin_cos};
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 use std::f64::consts::PI;
 
@@ -109,18 +110,51 @@ pub fn euler_to_quaternion(order: EulerOrder, angles: [f64; 3]) -> UnitQuaternio
     euler_to_quaternion_axes(order.axes(), angles)
 }
 
-/// [`euler_to_quaternion`] for the axes `ax` (inlined, so constant axes fold away: see
-/// [`with_axes`]).
+/// [`euler_to_quaternion`] for the axes `ax`, three different ones (inlined, so constant axes
+/// fold away: see [`with_axes`]). The product written out for axis quaternions, without the
+/// multiplications by their zero components that a general quaternion product makes (a
+/// floating-point `0·x` cannot be folded away): `(c₁ + s₁eᵢ)(c₂ + s₂eⱼ) = c₁c₂ + s₁c₂eᵢ +
+/// c₁s₂eⱼ + p s₁s₂eₖ` (`eᵢeⱼ = p eₖ`, `p` the order's parity), then times `c₃ + s₃eₖ`.
 #[inline(always)]
 pub fn euler_to_quaternion_axes(ax: [usize; 3], angles: [f64; 3]) -> UnitQuaternion<f64> {
-    let mut q = Quaternion::identity();
-    for (n, &axis) in ax.iter().enumerate() {
-        let (s, c) = (0.5 * angles[n]).sin_cos();
-        let mut v = [0.0; 3];
-        v[axis] = s;
-        q *= Quaternion::new(c, v[0], v[1], v[2]);
+    let [i, j, k] = ax;
+    debug_assert!(i != j && j != k && k != i, "a Tait–Bryan order");
+    let [(s1, c1), (s2, c2), (s3, c3)] = angles.map(|a| sin_cos(0.5 * a));
+    let p = if j == (i + 1) % 3 { 1.0 } else { -1.0 };
+    let (w, mut v) = (c1 * c2, [0.0; 3]);
+    (v[i], v[j], v[k]) = (s1 * c2, c1 * s2, p * s1 * s2);
+    // (w + v)(c₃ + s₃eₖ) = w c₃ − s₃vₖ + c₃v + s₃w eₖ + s₃ v × eₖ, with
+    // v × eₖ = vⱼ eⱼ × eₖ + vᵢ eᵢ × eₖ = p vⱼ eᵢ − p vᵢ eⱼ
+    let mut out = [0.0; 3];
+    out[i] = c3 * v[i] + p * s3 * v[j];
+    out[j] = c3 * v[j] - p * s3 * v[i];
+    out[k] = c3 * v[k] + s3 * w;
+    UnitQuaternion::new_unchecked(Quaternion::new(w * c3 - s3 * v[k], out[0], out[1], out[2]))
+}
+
+/// The rotation vector `θ·n` of `q` (angle θ ∈ [0, π] about the unit axis n, rad), i.e.
+/// `2 · log(q)` for the quaternion logarithm, the SO(3) logarithm: `q = exp(θ n / 2)`. Chooses
+/// the shortest arc (`q` and `−q` give the same result). Accurate near the identity (a
+/// first-order series below 1e-12 rad).
+#[inline]
+pub fn quat_log(q: &UnitQuaternion<f64>) -> Vector3<f64> {
+    let (mut w, mut v) = (q.w, q.imag());
+    if w < 0.0 {
+        w = -w;
+        v = -v;
     }
-    UnitQuaternion::new_unchecked(q)
+    let s = v.norm();
+    if s < 1e-12 {
+        // θ ≈ 2s, n = v/s: θ n ≈ 2v/w
+        return v * (2.0 / w);
+    }
+    v * (2.0 * atan2(s, w) / s)
+}
+
+/// The unit quaternion of the rotation vector `r = θ·n` (inverse of [`quat_log`]).
+#[inline]
+pub fn quat_exp(r: &Vector3<f64>) -> UnitQuaternion<f64> {
+    UnitQuaternion::from_scaled_axis(*r)
 }
 
 /// Calls `$f::<I, J, K>($args…)` with the axes of `$order` as constants: the per-frame loops
@@ -164,16 +198,17 @@ pub fn matrix_to_euler_fast_axes(ax: [usize; 3], r: &Matrix3<f64>) -> [f64; 3] {
     let [i, j, k] = ax;
     // the parity: +1 for the cyclic orders XYZ, YZX, ZXY
     let s = if j == (i + 1) % 3 { 1.0 } else { -1.0 };
-    let h = r[(j, k)].hypot(r[(k, k)]);
+    // entries of a rotation: no overflow or underflow for `hypot` to guard against
+    let h = (r[(j, k)] * r[(j, k)] + r[(k, k)] * r[(k, k)]).sqrt();
     let (a1, s1, c1) = if h > 1e-12 {
         let (y, x) = (-s * r[(j, k)], r[(k, k)]);
-        (y.atan2(x), y / h, x / h)
+        (atan2(y, x), y / h, x / h)
     } else {
         (0.0, 0.0, 1.0)
     };
     let m = axis_rotation_sc(i, s1, c1).transpose() * r;
-    let a2 = (s * m[(i, k)]).atan2(m[(k, k)]);
-    let a3 = (s * m[(j, i)]).atan2(m[(j, j)]);
+    let a2 = atan2(s * m[(i, k)], m[(k, k)]);
+    let a3 = atan2(s * m[(j, i)], m[(j, j)]);
     [a1, a2, a3]
 }
 
@@ -241,7 +276,7 @@ pub fn matrix_to_euler(order: EulerOrder, r: &Matrix3<f64>) -> [f64; 3] {
     let s = order.parity();
     // third column: r e_k = R_i(a1) R_j(a2) e_k; its j and k rows give a1 (up to cos a2 ≥ 0)
     let a1 = if r[(j, k)].hypot(r[(k, k)]) > 1e-12 {
-        (-s * r[(j, k)]).atan2(r[(k, k)])
+        atan2(-s * r[(j, k)], r[(k, k)])
     } else {
         0.0
     };
@@ -255,8 +290,8 @@ fn rest_after_first(order: EulerOrder, r: &Matrix3<f64>, a1: f64) -> (f64, f64) 
     let [i, j, k] = order.axes();
     let s = order.parity();
     let m = axis_rotation(i, a1).transpose() * r;
-    let a2 = (s * m[(i, k)]).atan2(m[(k, k)]);
-    let a3 = (s * m[(j, i)]).atan2(m[(j, j)]);
+    let a2 = atan2(s * m[(i, k)], m[(k, k)]);
+    let a3 = atan2(s * m[(j, i)], m[(j, j)]);
     (a2, a3)
 }
 
@@ -357,6 +392,14 @@ mod tests {
             let a = [0.3, -1.2, 2.5];
             let q = euler_to_quaternion(o, a);
             assert!((q.to_rotation_matrix().into_inner() - euler_to_matrix(o, a)).norm() < 1e-14);
+            // the product of the three axis quaternions
+            let axis_q =
+                |n: usize| UnitQuaternion::from_axis_angle(&Vector3::ith_axis(o.axes()[n]), a[n]);
+            let general = axis_q(0) * axis_q(1) * axis_q(2);
+            assert!(
+                (q.into_inner() - general.into_inner()).norm() < 1e-15,
+                "{o}"
+            );
             let r = euler_to_matrix(o, a);
             let fast = matrix_to_euler_fast(o, &r);
             let slow = matrix_to_euler(o, &r);

@@ -12,6 +12,7 @@
 //! With velocities expressed in the child frame every motion subspace `S` is constant, so the
 //! joint bias acceleration `cJ = Ṡ q̇` is zero for all kinds here.
 
+use crate::rotation::quat_log;
 use crate::spatial::{ForceVec, MotionVec, SpatialTransform, quat_from_xyzw, quat_to_xyzw};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
@@ -202,12 +203,12 @@ impl JointKind {
             JointKind::Revolute { .. } | JointKind::Prismatic { .. } => out[0] = q1[0] - q0[0],
             JointKind::Spherical => {
                 let d = quat_from_xyzw(q0).inverse() * quat_from_xyzw(q1);
-                out.copy_from_slice(d.scaled_axis().as_slice());
+                out.copy_from_slice(quat_log(&d).as_slice());
             }
             JointKind::Free => {
                 let r0 = quat_from_xyzw(&q0[3..7]);
                 let d = r0.inverse() * quat_from_xyzw(&q1[3..7]);
-                let ang = d.scaled_axis();
+                let ang = quat_log(&d);
                 let dp = r0.inverse()
                     * (Vector3::new(q1[0], q1[1], q1[2]) - Vector3::new(q0[0], q0[1], q0[2]));
                 let lin = se3_log_translation(&ang, &dp);

@@ -16,32 +16,8 @@
 //! fed to the dynamics directly and its derivative (by [`differentiate_vectors`]) is the
 //! joint acceleration `a`.
 
+pub use crate::rotation::{quat_exp, quat_log};
 use nalgebra::{UnitQuaternion, Vector3};
-
-/// The rotation vector `θ·n` of `q` (angle θ ∈ [0, π] about the unit axis n, rad), i.e.
-/// `2 · log(q)` for the quaternion logarithm, the SO(3) logarithm: `q = exp(θ n / 2)`. Chooses
-/// the shortest arc (`q` and `−q` give the same result). Accurate near the identity (a
-/// first-order series below 1e-12 rad).
-#[inline]
-pub fn quat_log(q: &UnitQuaternion<f64>) -> Vector3<f64> {
-    let (mut w, mut v) = (q.w, q.imag());
-    if w < 0.0 {
-        w = -w;
-        v = -v;
-    }
-    let s = v.norm();
-    if s < 1e-12 {
-        // θ ≈ 2s, n = v/s: θ n ≈ 2v/w
-        return v * (2.0 / w);
-    }
-    v * (2.0 * s.atan2(w) / s)
-}
-
-/// The unit quaternion of the rotation vector `r = θ·n` (inverse of [`quat_log`]).
-#[inline]
-pub fn quat_exp(r: &Vector3<f64>) -> UnitQuaternion<f64> {
-    UnitQuaternion::from_scaled_axis(*r)
-}
 
 /// `out = dx/dt` of a trajectory sampled every `dt` s (second order at every frame, see the
 /// module doc). One frame: zero; two frames: the plain difference. `out.len() == x.len()`.

@@ -20,7 +20,7 @@ use crate::motion::unwrap::lock_distance;
 use crate::motion::unwrap::repick_fast;
 use crate::rotation::{
     EulerOrder, euler_to_quaternion_axes, hinge_coordinate_rates, matrix_to_euler_fast_axes,
-    with_axes,
+    quat_log, with_axes,
 };
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
@@ -237,7 +237,7 @@ fn cos_sign(a: f64) -> f64 {
 /// for two frames.
 fn body_angular_velocity(q: &[UnitQuaternion<f64>], dt: f64, out: &mut Vec<Vector3<f64>>) {
     let n = q.len();
-    let diff = |i: usize, j: usize| (q[i].inverse() * q[j]).scaled_axis();
+    let diff = |i: usize, j: usize| quat_log(&(q[i].inverse() * q[j]));
     out.clear();
     match n {
         0 => {}
