@@ -60,10 +60,17 @@ fn info_json_has_exactly_the_documented_keys() {
             "up",
         ]
     );
-    // the one note: what contact auto chose on this walk, and why
+    // the notes: what contact auto chose on this walk, and why; then each foot's contact model
     assert_eq!(v["contact"], "feet");
     let notes = v["notes"].as_array().unwrap();
-    assert_eq!(notes.len(), 1, "{notes:?}");
+    assert_eq!(notes.len(), 2, "{notes:?}");
+    assert!(
+        notes[1]
+            .as_str()
+            .unwrap()
+            .starts_with("contact model per foot"),
+        "{notes:?}"
+    );
     assert!(
         notes[0]
             .as_str()

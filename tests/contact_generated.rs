@@ -9,7 +9,8 @@
 //!   whole-body force: docs/knee-study.md);
 //! - `data/demo_walk.bvh` is exactly what `articula generate walk` writes;
 //! - feet across naming schemes, placed through the channel map: a Daz-style foot without a
-//!   toe joint takes its toe point from its End Site, a Bandai-style one from its toe joint.
+//!   toe joint takes its toe point from its End Site, a Bandai-style one from its toe joint,
+//!   and the notes say which (issue 14 item 1).
 
 use articula::dynamics::grf::estimate_ground_reactions_with_feet;
 use articula::io::bvh::{self, PositionMode, UpAxis};
@@ -19,6 +20,7 @@ use articula::motion::contact::{ContactParams, feet_of_bvh};
 use articula::motion::derive::differentiate_columns;
 use articula::motion::smooth::{SmoothSpec, smooth_columns};
 use articula::motion::take::Trajectory;
+use articula::pipeline::{self, Contact, TakeOptions};
 use nalgebra::Vector3;
 use std::path::Path;
 
@@ -274,9 +276,14 @@ fn feet_are_placed_through_the_channel_map_across_naming_schemes() {
             ("UpperLeg_R", "LowerLeg_R", "Foot_R", Some("Toes_R")),
         ],
     );
-    for (text, foot, toe_at) in [
-        (daz, "lFoot", Vector3::new(0.0, -0.07, 0.17)),
-        (bandai, "Foot_L", Vector3::new(0.0, -0.07, 0.12)),
+    for (text, foot, toe_joint, toe_at) in [
+        (daz, "lFoot", None, Vector3::new(0.0, -0.07, 0.17)),
+        (
+            bandai,
+            "Foot_L",
+            Some("Toes_L"),
+            Vector3::new(0.0, -0.07, 0.12),
+        ),
     ] {
         let take = bvh::parse_str(&text, Path::new("legs.bvh")).unwrap();
         let positions = bvh::resolve_position_modes(&take, PositionMode::Auto);
@@ -309,5 +316,61 @@ fn feet_are_placed_through_the_channel_map_across_naming_schemes() {
             (heel - ankle - Vector3::new(0.0, toe_at.y, 0.0)).norm() < 1e-12,
             "{heel}"
         );
+        // the notes state a toe-less foot's contact model: a point along the foot's own
+        // bone, as far from the heel as the rest pose puts it (the toe joint's case: below)
+        if toe_joint.is_none() {
+            let note = contact_model_note(&take);
+            let want = format!(
+                "left `{foot}`: no toe joint, the toe point {:.1} cm from the heel along the \
+                 foot's own bone",
+                100.0 * toe_at.z
+            );
+            assert!(note.contains(&want), "{note}\nwants {want}");
+        }
+    }
+}
+
+/// The note of a take's contact model per foot, loaded with contact feet (cm, Y up, its only
+/// frame kept).
+fn contact_model_note(take: &bvh::Bvh) -> String {
+    let options = TakeOptions {
+        contact: Contact::Feet,
+        up: Some(UpAxis::Y),
+        unit: Some("cm".parse().unwrap()),
+        keep_first_frame: true,
+        ..TakeOptions::default()
+    };
+    let mut t = pipeline::take_from_bvh(Path::new("t.bvh"), take.clone(), &options).unwrap();
+    pipeline::resolve_contact(&mut t);
+    t.notes
+        .iter()
+        .find(|n| n.starts_with("contact model per foot"))
+        .unwrap_or_else(|| panic!("no contact model in {:?}", t.notes))
+        .clone()
+}
+
+/// A foot with a toe joint: the notes name it, and the heel and toe points lie as far apart as
+/// the demo skeleton's rest pose puts the ball of the foot from the heel under the ankle.
+#[test]
+fn the_notes_give_each_feet_contact_model() {
+    let b = bvh::read(Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/data/demo_walk.bvh"
+    )))
+    .unwrap();
+    let note = contact_model_note(&b);
+    for side in ["Left", "Right"] {
+        let toe = b
+            .joints
+            .iter()
+            .position(|j| j.name == format!("{side}ToeBase"))
+            .unwrap();
+        // the toe's offset from the ankle; the heel is under the ankle at the toe's height
+        let o = b.joints[toe].offset * 0.01;
+        let length = 100.0 * (o.x * o.x + o.z * o.z).sqrt();
+        let want = format!(
+            "`{side}Foot`: heel and toe points {length:.1} cm apart, the toe at `{side}ToeBase`"
+        );
+        assert!(note.contains(&want), "{note}\nwants {want}");
     }
 }

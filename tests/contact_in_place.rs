@@ -223,6 +223,21 @@ fn a_take_whose_feet_never_touch_a_floor_says_so() {
         "{note}"
     );
     assert!(pipeline::ground_reactions(&auto).unwrap().is_none());
+    // `export grf` says why it has nothing to write: auto's reason, not advice to add
+    // `--contact feet`, which the take refuses (no foot is ever planted)
+    let out = tempfile::tempdir().unwrap();
+    let e = pipeline::formats::export_grf(
+        &auto,
+        &out.path().join("grf.csv"),
+        pipeline::formats::TableFormat::Csv,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("contact auto chose none: no foot is ever planted"),
+        "{e}"
+    );
+    assert!(!e.contains("--contact feet"), "{e}");
 
     // the walk itself stands
     let mut walk = load(&path, b, Contact::Auto).unwrap();

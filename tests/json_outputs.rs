@@ -700,3 +700,57 @@ fn session_export_csv_to_an_opensim_name_is_a_clear_error() {
         .stderr(predicates::str::contains("export states|grf|id PATH.sto"));
     assert!(!out.exists());
 }
+
+/// `anatomy --json` on a take without ground contact says so, as JSON: from `contact auto`
+/// on a take of two frames (its reason), and from `--contact none` (once an error, which made a
+/// batch of `anatomy --json` fail on any take that never stands on a floor).
+#[test]
+fn anatomy_json_without_contact_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = walk(dir.path(), 1.0);
+    let out = dir.path().join("a.csv");
+    let stdout = run(
+        &[
+            "anatomy",
+            "{take}",
+            "--contact",
+            "none",
+            "--json",
+            "-o",
+            "{out}",
+        ],
+        &take,
+        &out,
+    );
+    let v: serde_json::Value = serde_json::from_slice(&stdout).unwrap();
+    assert_eq!(v["contact"], "none", "{v}");
+    assert!(v["meets"].is_null(), "{v}");
+    assert!(
+        v["why"].as_str().unwrap().starts_with("contact none"),
+        "{v}"
+    );
+    // two frames: `auto` settles on none and gives its reason
+    let text = std::fs::read_to_string(&take).unwrap();
+    let (head, motion) = text.split_once("MOTION").unwrap();
+    let rows: Vec<&str> = motion.lines().skip(3).take(2).collect();
+    let frame_time = motion.lines().nth(2).unwrap();
+    let short = dir.path().join("two.bvh");
+    std::fs::write(
+        &short,
+        format!(
+            "{head}MOTION\nFrames: 2\n{frame_time}\n{}\n",
+            rows.join("\n")
+        ),
+    )
+    .unwrap();
+    let stdout = run(
+        &["anatomy", "{take}", "--json", "-o", "{out}"],
+        &short,
+        &out,
+    );
+    let v: serde_json::Value = serde_json::from_slice(&stdout).unwrap();
+    assert_eq!(v["contact"], "none", "{v}");
+    let why = v["why"].as_str().unwrap();
+    assert!(why.starts_with("contact auto chose none: "), "{why}");
+    assert!(why.contains("2 frame"), "{why}");
+}

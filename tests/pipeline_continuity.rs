@@ -161,8 +161,9 @@ fn passages_near_gimbal_lock_and_capture_glitches_are_noted() {
             );
             assert!(
                 // the other passage, and that this skeleton, not a human's, has de Leva's
-                // masses through its `Hips`, and what contact auto chose
-                msg.contains("(+3 more; `articula info` lists every note)"),
+                // masses through its `Hips`, what contact auto chose and each foot's contact
+                // model
+                msg.contains("(+4 more; `articula info` lists every note)"),
                 "{msg}"
             );
         }

@@ -393,3 +393,16 @@ fn a_long_error_is_shown_whole_at_80_columns_and_the_help_holds_the_last_message
     let s = screen(&ui, &wb, 80, 24);
     assert!(s.contains("Last message:"), "{s}");
 }
+
+/// The parameter panel says what `contact auto` settled on once a run has settled it (issue 14
+/// item 2), and the setting as it is otherwise.
+#[test]
+fn the_panel_says_what_contact_auto_chose() {
+    let (mut ui, mut wb) = demo(100, 30);
+    let s = screen(&ui, &wb, 100, 30);
+    assert!(s.contains("contact auto → feet"), "{s}");
+    press(&mut ui, &mut wb, ":set contact none<Enter>:run id<Enter>");
+    let s = screen(&ui, &wb, 100, 30);
+    assert!(s.contains("contact none"), "{s}");
+    assert!(!s.contains("contact auto"), "{s}");
+}

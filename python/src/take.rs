@@ -127,7 +127,7 @@ impl Take {
                 .take
                 .as_ref()
                 .is_some_and(|t| t.options.contact == Contact::Feet);
-            let reduce = commands::reduce_residuals(consistent.as_deref(), false, contact, false)?;
+            let reduce = commands::reduce_residuals(consistent.as_deref(), contact, false)?;
             let c = consistency::consistent_job(&mut job, reduce, true, None)?;
             let (table, quality) = table::inverse_dynamics_table(&job)?;
             let mut notes = job.take.as_ref().map_or(vec![], |t| t.notes.clone());
@@ -147,7 +147,7 @@ impl Take {
             let mut take = self.take_with(&options)?;
             pipeline::resolve_contact(&mut take);
             let contact = take.options.contact == Contact::Feet;
-            let reduce = commands::reduce_residuals(consistent.as_deref(), false, contact, true)?;
+            let reduce = commands::reduce_residuals(consistent.as_deref(), contact, true)?;
             let a = consistency::anatomy_consistent(&take, reduce)?;
             let mut notes = take.notes.clone();
             notes.extend(a.notes.iter().cloned());

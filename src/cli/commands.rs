@@ -118,22 +118,12 @@ pub(super) fn id(a: IdArgs) -> Result<ExitCode> {
                 anyhow::anyhow!("--grf needs a take: ground reactions act on its feet")
             })?;
             let loads = pipeline::measured::measured_loads(take, path, grf_offset.unwrap_or(0.0))?;
-            let args = ConsistencyArgs {
-                json: false,
-                ..consistency.clone()
-            };
-            let reduce = args.reduce(true, false)?;
+            let reduce = consistency.reduce(true, false)?;
             let own = src.states.is_none();
             pipeline::consistency::consistent_job(&mut job, reduce, own, Some(&loads))?
         }
         None => {
-            // id's --json is its own summary (with the consistency one inside), so
-            // it needs no contact
-            let args = ConsistencyArgs {
-                json: false,
-                ..consistency.clone()
-            };
-            let reduce = args.reduce(contact, false)?;
+            let reduce = consistency.reduce(contact, false)?;
             pipeline::consistency::consistent_job(&mut job, reduce, src.states.is_none(), None)?
         }
     };
@@ -198,10 +188,11 @@ pub(super) fn anatomy(a: AnatomyArgs) -> Result<ExitCode> {
         }
         wrote(g);
     }
-    if consistency.json
-        && let Some(c) = &a.consistency
-    {
-        print_consistency(c, true, &output)?;
+    if consistency.json {
+        match &a.consistency {
+            Some(c) => print_consistency(c, true, &output)?,
+            None => print_json(&pipeline::commands::no_contact_json(&take), &output)?,
+        }
     }
     wrote(&output);
     Ok(ExitCode::SUCCESS)

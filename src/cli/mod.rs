@@ -513,7 +513,8 @@ pub struct ConsistencyArgs {
     pub consistent: Option<String>,
     /// Print a JSON summary on standard output (on standard error with `-o -`). `anatomy`: the
     /// consistency summary (keys thresholds, before, after, adjustments, meets, why,
-    /// frames_beyond) instead of the table. `id`: keys frames, ground_reactions, coordinates
+    /// frames_beyond) instead of the table; without ground contact `{"contact": "none",
+    /// "meets": null, "why": …}`. `id`: keys frames, ground_reactions, coordinates
     /// (peak |τ|, its time, RMS per coordinate, and whether they lie on frames whose ground
     /// force the feet cannot give), root_residual, contact_quality, consistency
     /// (the same summary, with contact), notes.
@@ -522,12 +523,11 @@ pub struct ConsistencyArgs {
 }
 
 impl ConsistencyArgs {
-    /// Whether to reduce the residuals: `--consistent`, else `default`; refused without
-    /// contact (`pipeline::commands::reduce_residuals`).
+    /// Whether to reduce the residuals: `--consistent`, else `default`; `--consistent` refused
+    /// without contact (`pipeline::commands::reduce_residuals`).
     fn reduce(&self, contact: bool, default: bool) -> Result<bool> {
         Ok(pipeline::commands::reduce_residuals(
             self.consistent.as_deref(),
-            self.json,
             contact,
             default,
         )?)

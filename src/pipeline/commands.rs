@@ -8,11 +8,11 @@ use crate::io::scene::Gains;
 use crate::model::bvh::JointModel;
 
 /// Whether to reduce the residuals: `consistent` (`on`/`off`), else `default` (on for
-/// `anatomy`, off for `id`). `--consistent` and `--json` are refused on a take without ground
-/// contact: they would be accepted and ignored.
+/// `anatomy`, off for `id`). `--consistent` is refused on a take without ground contact: it
+/// would be accepted and ignored. (`--json` is not: without contact it says so, with
+/// `"contact": "none"` and why, [`no_contact_json`].)
 pub fn reduce_residuals(
     consistent: Option<&str>,
-    json: bool,
     contact: bool,
     default: bool,
 ) -> Result<bool, Error> {
@@ -34,12 +34,22 @@ pub fn reduce_residuals(
                 .into(),
         ));
     }
-    if json && !contact {
-        return Err(Error::Invalid(
-            "--json prints the consistency summary, which needs --contact feet".into(),
-        ));
-    }
     Ok(on && contact)
+}
+
+/// `anatomy --json` on a take without ground contact: no consistency summary to print, so the
+/// JSON says why (`contact auto`'s reason when it settled on none, else the user's `--contact
+/// none`): `{"contact": "none", "meets": null, "why": …}`.
+pub fn no_contact_json(take: &super::Take) -> serde_json::Value {
+    let why = take
+        .notes
+        .iter()
+        .find_map(|n| n.strip_prefix("contact auto: none: "))
+        .map_or_else(
+            || "contact none: no ground reactions, so no residuals to reduce".to_string(),
+            |w| format!("contact auto chose none: {w}"),
+        );
+    serde_json::json!({ "contact": "none", "meets": null, "why": why })
 }
 
 /// `anatomy`'s joint model when neither a scene nor `--joints` chose one: ball (no gimbal

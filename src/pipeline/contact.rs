@@ -168,18 +168,75 @@ fn note_fitted_heights(take: &mut Take) {
     }
 }
 
+/// The contact model of each foot, for the notes: the sole a segment from its heel point to
+/// its toe point, and where the toe point is (a toe joint's origin, or without one a point
+/// along the foot's own bone), lengths at the take's first frame. `None` without feet.
+pub fn contact_model_note(take: &Take) -> Option<String> {
+    let feet = contact_feet(take);
+    let q = take.states.q.first()?;
+    if feet.is_empty() {
+        return None;
+    }
+    let mut ws = crate::dynamics::Workspace::new(&take.model);
+    crate::dynamics::forward_kinematics(&take.model, &mut ws, q);
+    let each: Vec<String> = feet
+        .iter()
+        .map(|f| {
+            let length = 100.0 * (f.toe(&ws.o_x_i) - f.heel(&ws.o_x_i)).norm();
+            let toe_joint = (f.toe_body != f.ankle_body)
+                .then(|| {
+                    take.bvh
+                        .joints
+                        .iter()
+                        .zip(&take.map.joints)
+                        .find(|(j, m)| m.body == f.toe_body && j.name != f.joint)
+                        .map(|(j, _)| j.name.as_str())
+                })
+                .flatten();
+            match toe_joint {
+                Some(toe) => format!(
+                    "{} `{}`: heel and toe points {length:.1} cm apart, the toe at `{toe}`",
+                    f.name, f.joint
+                ),
+                None => format!(
+                    "{} `{}`: no toe joint, the toe point {length:.1} cm from the heel along \
+                     the foot's own bone",
+                    f.name, f.joint
+                ),
+            }
+        })
+        .collect();
+    Some(format!(
+        "contact model per foot (the sole a segment from the heel point to the toe point; the \
+         centre of pressure kept on it): {}",
+        each.join("; ")
+    ))
+}
+
+/// Notes [`contact_model_note`] on a take whose contact is `feet`.
+fn note_contact_model(take: &mut Take) {
+    if take.options.contact == Contact::Feet
+        && let Some(note) = contact_model_note(take)
+    {
+        take.notes.push(note);
+    }
+}
+
 /// Settles `--contact auto` on a loaded take: sets [`TakeOptions::contact`] to what
 /// [`contact_choice`] gives and notes the choice (`info`, the commands' notes, the workbench's
 /// status line); any other setting is left as it is (`feet` notes contact heights fitted
-/// below the defaults).
+/// below the defaults). With feet, notes each foot's contact model
+/// ([`contact_model_note`]).
 pub fn resolve_contact(take: &mut Take) {
     if take.options.contact != Contact::Auto {
         note_fitted_heights(take);
+        note_contact_model(take);
         return;
     }
     let (contact, why) = contact_choice(take);
     take.options.contact = contact;
     take.notes.push(format!("contact auto: {contact}: {why}"));
+    note_contact_model(take);
 }
 
 /// [`resolve_contact`] after `previous`, a take whose `auto` was settled as `choice`: when
@@ -192,6 +249,7 @@ pub fn resolve_contact_after(
 ) -> Option<(Contact, String)> {
     if take.options.contact != Contact::Auto {
         note_fitted_heights(take);
+        note_contact_model(take);
         return None;
     }
     let (contact, why) = match previous.filter(|(p, _)| same_motion(p, take)) {
@@ -200,6 +258,7 @@ pub fn resolve_contact_after(
     };
     take.options.contact = contact;
     take.notes.push(format!("contact auto: {contact}: {why}"));
+    note_contact_model(take);
     Some((contact, why))
 }
 

@@ -204,9 +204,18 @@ pub fn export_grf(
     format: TableFormat,
 ) -> Result<ExternalLoadsXml, Error> {
     let g = ground_reactions(take)?.ok_or_else(|| {
+        // `auto`'s reason when it settled on none (advising `--contact feet` there would send
+        // the user to its own refusal: no foot planted), else the user's `--contact none`
+        let why = take
+            .notes
+            .iter()
+            .find_map(|n| n.strip_prefix("contact auto: none: "))
+            .map_or_else(
+                || "contact none was chosen: add --contact feet (or auto)".to_string(),
+                |w| format!("contact auto chose none: {w}"),
+            );
         Error::Invalid(format!(
-            "{}: no ground contact, so no ground reactions to write (contact none, or auto on a \
-             take that never stands on a floor): add --contact feet",
+            "{}: no ground contact, so no ground reactions to write ({why})",
             take.path.display()
         ))
     })?;

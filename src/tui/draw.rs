@@ -449,10 +449,20 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
             )));
         }
     }
-    lines.push(Line::from(match wb.take().and_then(|t| t.robot()) {
-        Some(rb) => format!("robot ({})", rb.kind),
-        None => format!("joints {:?} contact {:?}", p.take.joints, p.take.contact).to_lowercase(),
-    }));
+    match wb.take().and_then(|t| t.robot()) {
+        Some(rb) => lines.push(Line::from(format!("robot ({})", rb.kind))),
+        None => {
+            lines.push(Line::from(
+                format!("joints {:?}", p.take.joints).to_lowercase(),
+            ));
+            // what `auto` settled on, once a run has settled it
+            let settled = wb.latest_results().and_then(|r| r.contact_auto.as_ref());
+            lines.push(Line::from(match (p.take.contact, settled) {
+                (crate::pipeline::Contact::Auto, Some((c, _))) => format!("contact auto → {c}"),
+                (c, _) => format!("contact {c}"),
+            }));
+        }
+    }
     if let Some(r) = wb.latest_results() {
         lines.push(Line::from(format!(
             "nv {}  {}{}",
