@@ -208,3 +208,68 @@ fn the_shape_finds_the_joints_the_names_say_on_every_shared_take() {
         }
     }
 }
+
+/// Regression (issue 14, the same walk on a treadmill): a foot with two toe chains, as
+/// MocapNET's CMU rig has five, offers two pairs of mirror-image leg ends equally alike in
+/// length. Which pair made the legs was decided by the rounding of the joint positions, so
+/// by where the take stood: its walk on a moving floor found its toe at another joint
+/// (`CMU_Sample_05_01` on a belt: 20 of 599 frames in another stance, the knee 195 N·m off).
+/// Now pairs alike to within `skeleton::ALIKE` are equals and the first is kept: the same
+/// legs wherever the skeleton stands.
+#[test]
+fn a_foot_with_two_toe_chains_finds_the_same_toe_wherever_it_stands() {
+    use articula::model::skeleton::{Pose, Topology, find_human};
+    // a biped at rest (m, y up): pelvis, legs with two toes each (mirror images), spine, head,
+    // arms
+    let joints: [(&str, Option<usize>, [f64; 3]); 17] = [
+        ("Hips", None, [0.0, 1.0, 0.0]),
+        ("LeftUpLeg", Some(0), [0.1, 0.95, 0.0]),
+        ("LeftLeg", Some(1), [0.1, 0.52, 0.01]),
+        ("LeftFoot", Some(2), [0.1, 0.09, 0.0]),
+        ("LeftToeA", Some(3), [0.07, 0.02, 0.13]),
+        ("LeftToeB", Some(3), [0.13, 0.02, 0.11]),
+        ("RightUpLeg", Some(0), [-0.1, 0.95, 0.0]),
+        ("RightLeg", Some(6), [-0.1, 0.52, 0.01]),
+        ("RightFoot", Some(7), [-0.1, 0.09, 0.0]),
+        ("RightToeA", Some(8), [-0.07, 0.02, 0.13]),
+        ("RightToeB", Some(8), [-0.13, 0.02, 0.11]),
+        ("Spine", Some(0), [0.0, 1.25, 0.0]),
+        ("Head", Some(11), [0.0, 1.62, 0.0]),
+        ("LeftArm", Some(11), [0.18, 1.45, 0.0]),
+        ("LeftHand", Some(13), [0.22, 0.95, 0.0]),
+        ("RightArm", Some(11), [-0.18, 1.45, 0.0]),
+        ("RightHand", Some(15), [-0.22, 0.95, 0.0]),
+    ];
+    let names: Vec<&str> = joints.iter().map(|j| j.0).collect();
+    let parent: Vec<Option<usize>> = joints.iter().map(|j| j.1).collect();
+    let topo = Topology {
+        names: &names,
+        parent: &parent,
+    };
+    // eight headings, the whole body standing at `at` (horizontal, m)
+    let poses = |at: Vector3<f64>| -> Vec<Pose> {
+        (0..8)
+            .map(|k| {
+                let turn =
+                    nalgebra::Rotation3::from_axis_angle(&Vector3::y_axis(), 0.3 + 0.7 * k as f64);
+                Pose {
+                    joints: joints
+                        .iter()
+                        .map(|j| turn * Vector3::from(j.2) + at)
+                        .collect(),
+                    ends: vec![None; joints.len()],
+                }
+            })
+            .collect()
+    };
+    let legs = |at: Vector3<f64>| {
+        let h = find_human(&topo, &poses(at), 1).unwrap();
+        h.legs.map(|l| (l.hip, l.knee, l.ankle, l.toe, l.end))
+    };
+    let here = legs(Vector3::zeros());
+    for k in 1..200 {
+        // along a walk of up to 30 m
+        let at = Vector3::new(0.15 * k as f64, 0.0, -0.071 * k as f64);
+        assert_eq!(legs(at), here, "standing at {at:?}");
+    }
+}

@@ -42,6 +42,12 @@ pub const SHANK_SHARE: (f64, f64) = (0.3, 0.62);
 /// clavicle about 0.15 m).
 pub const FOREARM_SHARE: (f64, f64) = (0.25, 0.55);
 
+/// Pairs of leg ends whose relative difference in length ([`find_human`]) is within this of
+/// each other are equally alike, and the first is kept: a nanometre per metre, far above the
+/// rounding of joint positions far from the origin, on which the choice among a foot's mirror
+/// toe chains once hung (`tests/skeleton_topology.rs`).
+pub const ALIKE: f64 = 1e-9;
+
 /// Why a skeleton with a third limb on the floor is not a biped (a quadruped, a crab).
 pub const MANY_LIMBS: &str = "more than two limbs stand on the floor, not a biped";
 
@@ -365,9 +371,10 @@ pub fn find_human(topo: &Topology, poses: &[Pose], up: usize) -> Result<Human, S
             }
             let (la, lb) = (reach(l, a), reach(l, b));
             let unlike = (la - lb).abs() / la.max(lb).max(1e-12);
-            // legs branch nearest the root (hands on the floor branch from the chest)
+            // legs branch nearest the root (hands on the floor branch from the chest); pairs
+            // alike to within ALIKE are equals, and the first (the lowest ends) is kept
             let depth = topo.path_to_root(l).len();
-            if best.is_none_or(|(d, u, _, _)| (depth, unlike) < (d, u)) {
+            if best.is_none_or(|(d, u, _, _)| depth < d || (depth == d && unlike < u - ALIKE)) {
                 best = Some((depth, unlike, a, b));
             }
         }
