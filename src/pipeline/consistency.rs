@@ -322,9 +322,10 @@ fn finish(
     if !last.meets() {
         if travel < IN_PLACE_M {
             why.push(format!(
-                "the pelvis travels {:.0} cm over the take: a walk in place (a keyframed cycle \
-                 or a treadmill) whose feet slide back under the body; no ground force explains \
-                 such a motion",
+                "the pelvis travels {:.0} cm over the take: it moves in place (a keyframed \
+                 cycle or a treadmill), and its floor is taken as a belt under the planted feet \
+                 at one constant velocity; feet that slide at other speeds than the belt's, or a \
+                 belt that changes speed, leave residuals no ground force explains",
                 100.0 * travel
             ));
         }
