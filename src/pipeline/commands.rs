@@ -41,14 +41,8 @@ pub fn reduce_residuals(
 /// JSON says why (`contact auto`'s reason when it settled on none, else the user's `--contact
 /// none`): `{"contact": "none", "meets": null, "why": …}`.
 pub fn no_contact_json(take: &super::Take) -> serde_json::Value {
-    let why = take
-        .notes
-        .iter()
-        .find_map(|n| n.strip_prefix("contact auto: none: "))
-        .map_or_else(
-            || "contact none: no ground reactions, so no residuals to reduce".to_string(),
-            |w| format!("contact auto chose none: {w}"),
-        );
+    let why = super::contact::auto_chose_none(take)
+        .unwrap_or_else(|| "contact none: no ground reactions, so no residuals to reduce".into());
     serde_json::json!({ "contact": "none", "meets": null, "why": why })
 }
 

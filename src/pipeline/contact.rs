@@ -222,6 +222,16 @@ fn note_contact_model(take: &mut Take) {
     }
 }
 
+/// Why `take` has no ground contact, for a message: `contact auto chose none: <its reason>`
+/// when `auto` settled on none ([`resolve_contact`] noted it), else `None` (the user chose
+/// `--contact none`).
+pub fn auto_chose_none(take: &Take) -> Option<String> {
+    take.notes
+        .iter()
+        .find_map(|n| n.strip_prefix("contact auto: none: "))
+        .map(|w| format!("contact auto chose none: {w}"))
+}
+
 /// Settles `--contact auto` on a loaded take: sets [`TakeOptions::contact`] to what
 /// [`contact_choice`] gives and notes the choice (`info`, the commands' notes, the workbench's
 /// status line); any other setting is left as it is (`feet` notes contact heights fitted

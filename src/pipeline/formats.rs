@@ -206,14 +206,8 @@ pub fn export_grf(
     let g = ground_reactions(take)?.ok_or_else(|| {
         // `auto`'s reason when it settled on none (advising `--contact feet` there would send
         // the user to its own refusal: no foot planted), else the user's `--contact none`
-        let why = take
-            .notes
-            .iter()
-            .find_map(|n| n.strip_prefix("contact auto: none: "))
-            .map_or_else(
-                || "contact none was chosen: add --contact feet (or auto)".to_string(),
-                |w| format!("contact auto chose none: {w}"),
-            );
+        let why = super::contact::auto_chose_none(take)
+            .unwrap_or_else(|| "contact none was chosen: add --contact feet (or auto)".into());
         Error::Invalid(format!(
             "{}: no ground contact, so no ground reactions to write ({why})",
             take.path.display()
