@@ -366,21 +366,10 @@ fn forward_dynamics_under_known_ground_forces_gives_them_back() {
         // the root needs nothing: the loads carry the motion
         let root = torques[..6].iter().fold(0.0f64, |m, x| m.max(x.abs()));
         assert!(root < 1e-6 * weight, "root residual {root} at sample {k}");
-        // each loaded foot's centre of pressure on its sole (within the estimator's 5 cm of
-        // its ankle's projection sideways, on the heel-toe segment lengthwise)
+        // each loaded foot's centre of pressure on its sole
         for f in 0..2 {
             if loads.grf[k][f].norm() > 1.0 {
-                let mut a = feet_ankle(&t, &feet, f, k);
-                a[feet.up] = feet.floor;
-                let d = loads.cop[k][f] - a;
-                assert!(
-                    d[0].abs() < 0.05,
-                    "foot {f} sample {k}: COP {d:?} off the sole"
-                );
-                assert!(
-                    (-0.06..0.2).contains(&d[2]),
-                    "foot {f} sample {k}: COP {d:?}"
-                );
+                assert_cop_on_sole(&t, &loads, f, k, "sample");
             }
         }
     }
@@ -578,17 +567,7 @@ fn landing_is_the_share(
                 "foot {f} pulls at frame {j}: {force:?}"
             );
             if force.norm() > 1.0 {
-                let mut a = feet_ankle(take, got, f, j);
-                a[got.up] = got.floor;
-                let d = got.cop[j][f] - a;
-                assert!(
-                    d[0].abs() < 0.05,
-                    "foot {f} frame {j}: COP {d:?} off the sole"
-                );
-                assert!(
-                    (-0.06..0.2).contains(&d[2]),
-                    "foot {f} frame {j}: COP {d:?}"
-                );
+                assert_cop_on_sole(take, got, f, j, "frame");
             }
         }
     }
@@ -646,6 +625,20 @@ fn landing(time: f64) -> bool {
 /// the foot 8 cm up and unloaded).
 fn lowering(time: f64) -> bool {
     (LOWER + 0.1..=LAND).contains(&time)
+}
+
+/// Foot `f`'s centre of pressure in `g` at sample (or frame) `k` of `t` lies on its sole:
+/// within the estimator's 5 cm of its ankle's projection sideways, on the heel–toe segment
+/// lengthwise.
+fn assert_cop_on_sole(t: &Take, g: &GroundReactions, f: usize, k: usize, at: &str) {
+    let mut a = feet_ankle(t, g, f, k);
+    a[g.up] = g.floor;
+    let d = g.cop[k][f] - a;
+    assert!(
+        d[0].abs() < 0.05,
+        "foot {f} {at} {k}: COP {d:?} off the sole"
+    );
+    assert!((-0.06..0.2).contains(&d[2]), "foot {f} {at} {k}: COP {d:?}");
 }
 
 /// Ankle position (world) of foot `f` at fine sample `k`.

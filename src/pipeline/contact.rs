@@ -60,6 +60,11 @@ impl std::fmt::Display for Contact {
 /// a floor some of the time ([`stance`](crate::dynamics::grf::stance)); otherwise none, and
 /// the reason (too few frames, no floating root, no feet, no foot ever planted).
 pub fn contact_choice(take: &Take) -> (Contact, String) {
+    contact_choice_for(take, &contact_feet(take))
+}
+
+/// [`contact_choice`] with the take's feet already found ([`contact_feet`]).
+fn contact_choice_for(take: &Take, feet: &[crate::motion::contact::Foot]) -> (Contact, String) {
     use crate::motion::contact::{ContactParams, heights_note};
     let s = &take.states;
     if s.len() < 3 {
@@ -74,11 +79,10 @@ pub fn contact_choice(take: &Take) -> (Contact, String) {
             "the model has no floating root: nothing of it stands on a floor".into(),
         );
     }
-    let feet = contact_feet(take);
     if feet.is_empty() {
         return (Contact::None, "no feet found on the skeleton".into());
     }
-    let (params, wobble, points) = match fitted_params(take, &feet) {
+    let (params, wobble, points) = match fitted_params(take, feet) {
         Ok(p) => p,
         Err(e) => return (Contact::None, e.to_string()),
     };
@@ -154,25 +158,18 @@ fn fitted_params(
     Ok((params, wobble, points))
 }
 
-/// With `--contact feet`, notes the contact heights when they were fitted below the defaults
-/// (`--contact auto` says so in its choice, [`contact_choice`]).
-fn note_fitted_heights(take: &mut Take) {
+/// The note of the contact heights of `take` with its `feet` when they were fitted below the
+/// defaults (`--contact auto` says so in its choice, [`contact_choice`]).
+fn fitted_heights_note(take: &Take, feet: &[crate::motion::contact::Foot]) -> Option<String> {
     use crate::motion::contact::{ContactParams, heights_note};
-    if take.options.contact != Contact::Feet {
-        return;
-    }
-    if let Ok((params, wobble)) = contact_params(take)
-        && let Some(note) = heights_note(&params, &ContactParams::default(), wobble)
-    {
-        take.notes.push(note);
-    }
+    let (params, wobble, _) = fitted_params(take, feet).ok()?;
+    heights_note(&params, &ContactParams::default(), wobble)
 }
 
-/// The contact model of each foot, for the notes: the sole a segment from its heel point to
-/// its toe point, and where the toe point is (a toe joint's origin, or without one a point
+/// The contact model of each of `feet`, for the notes: the sole a segment from its heel point
+/// to its toe point, and where the toe point is (a toe joint's origin, or without one a point
 /// along the foot's own bone), lengths at the take's first frame. `None` without feet.
-pub fn contact_model_note(take: &Take) -> Option<String> {
-    let feet = contact_feet(take);
+fn contact_model_note(take: &Take, feet: &[crate::motion::contact::Foot]) -> Option<String> {
     let q = take.states.q.first()?;
     if feet.is_empty() {
         return None;
@@ -183,16 +180,15 @@ pub fn contact_model_note(take: &Take) -> Option<String> {
         .iter()
         .map(|f| {
             let length = 100.0 * (f.toe(&ws.o_x_i) - f.heel(&ws.o_x_i)).norm();
-            let toe_joint = (f.toe_body != f.ankle_body)
-                .then(|| {
-                    take.bvh
-                        .joints
-                        .iter()
-                        .zip(&take.map.joints)
-                        .find(|(j, m)| m.body == f.toe_body && j.name != f.joint)
-                        .map(|(j, _)| j.name.as_str())
+            let toe_joint = take
+                .bvh
+                .joints
+                .iter()
+                .zip(&take.map.joints)
+                .find(|(j, m)| {
+                    f.toe_body != f.ankle_body && m.body == f.toe_body && j.name != f.joint
                 })
-                .flatten();
+                .map(|(j, _)| j.name.as_str());
             match toe_joint {
                 Some(toe) => format!(
                     "{} `{}`: heel and toe points {length:.1} cm apart, the toe at `{toe}`",
@@ -213,15 +209,6 @@ pub fn contact_model_note(take: &Take) -> Option<String> {
     ))
 }
 
-/// Notes [`contact_model_note`] on a take whose contact is `feet`.
-fn note_contact_model(take: &mut Take) {
-    if take.options.contact == Contact::Feet
-        && let Some(note) = contact_model_note(take)
-    {
-        take.notes.push(note);
-    }
-}
-
 /// Why `take` has no ground contact, for a message: `contact auto chose none: <its reason>`
 /// when `auto` settled on none ([`resolve_contact`] noted it), else `None` (the user chose
 /// `--contact none`).
@@ -235,41 +222,42 @@ pub fn auto_chose_none(take: &Take) -> Option<String> {
 /// Settles `--contact auto` on a loaded take: sets [`TakeOptions::contact`] to what
 /// [`contact_choice`] gives and notes the choice (`info`, the commands' notes, the workbench's
 /// status line); any other setting is left as it is (`feet` notes contact heights fitted
-/// below the defaults). With feet, notes each foot's contact model
-/// ([`contact_model_note`]).
+/// below the defaults). With feet, notes each foot's contact model.
 pub fn resolve_contact(take: &mut Take) {
-    if take.options.contact != Contact::Auto {
-        note_fitted_heights(take);
-        note_contact_model(take);
-        return;
-    }
-    let (contact, why) = contact_choice(take);
-    take.options.contact = contact;
-    take.notes.push(format!("contact auto: {contact}: {why}"));
-    note_contact_model(take);
+    resolve_contact_after(take, None);
 }
 
 /// [`resolve_contact`] after `previous`, a take whose `auto` was settled as `choice`: when
 /// [`same_motion`] says the two differ at most in their masses (a workbench mass edit), its
 /// choice is taken as it is (the stance it found reads no mass), else the stance is found
 /// again. Returns the choice `auto` settled on (`None`: the take's contact was not `auto`).
+/// The take's feet are found once for the choice and the notes.
 pub fn resolve_contact_after(
     take: &mut Take,
     previous: Option<(&Take, &(Contact, String))>,
 ) -> Option<(Contact, String)> {
-    if take.options.contact != Contact::Auto {
-        note_fitted_heights(take);
-        note_contact_model(take);
-        return None;
-    }
-    let (contact, why) = match previous.filter(|(p, _)| same_motion(p, take)) {
+    let auto = take.options.contact == Contact::Auto;
+    let feet = (take.options.contact != Contact::None).then(|| contact_feet(take));
+    let feet = feet.as_deref().unwrap_or(&[]);
+    let choice = auto.then(|| match previous.filter(|(p, _)| same_motion(p, take)) {
         Some((_, choice)) => choice.clone(),
-        None => contact_choice(take),
-    };
-    take.options.contact = contact;
-    take.notes.push(format!("contact auto: {contact}: {why}"));
-    note_contact_model(take);
-    Some((contact, why))
+        None => contact_choice_for(take, feet),
+    });
+    if let Some((contact, why)) = &choice {
+        take.options.contact = *contact;
+        take.notes.push(format!("contact auto: {contact}: {why}"));
+    }
+    if take.options.contact == Contact::Feet {
+        // `auto` says fitted heights in its choice
+        let heights = if auto {
+            None
+        } else {
+            fitted_heights_note(take, feet)
+        };
+        let model = contact_model_note(take, feet);
+        take.notes.extend(heights.into_iter().chain(model));
+    }
+    choice
 }
 
 /// True when `a` and `b` have the same motion, skeleton and model kinematics (tree, joints,

@@ -73,9 +73,9 @@ pub(super) fn velocity(p: &[Vector3<f64>], k: usize, dt: f64) -> Vector3<f64> {
 /// dynamics are the same and only the contact test must measure speeds against it.
 ///
 /// Estimated from the horizontal velocities of the heel and toe points over the frames where
-/// they are within `height_on` of their floor level (`levels`: the heels' and the toes', as
-/// [`point_levels`] gives them, which every caller has already) (stance dominates those: a walk's swing
-/// foot clears the floor): their component-wise median, refined to the median of those within
+/// they are within `height_on` of their floor level (stance dominates those: a walk's swing
+/// foot clears the floor; the levels of the heels and of the toes are given, as
+/// [`point_levels`] finds them, since every caller has them already): their component-wise median, refined to the median of those within
 /// `speed_on` / 2 of it (the planted feet's cluster), is taken as a belt when it exceeds
 /// `speed_on` / 2, at least half of them lie within `speed_on` of it, and more than twice as
 /// many lie within `speed_on` of it as of rest (a still floor is the usual one: the Bandai
