@@ -243,6 +243,7 @@ pub fn consistent_take_keeping(
     adjusted.states.q = r.q;
     adjusted.states.v = r.v;
     adjusted.states.a = r.a;
+    adjusted.floor_velocity = params.floor_velocity;
     Ok((Some(adjusted), r.ground, c, r.seed))
 }
 

@@ -146,7 +146,10 @@ fn fitted_params(
     Error,
 > {
     use crate::motion::contact::ContactParams;
-    let base = ContactParams::for_take(&take.smooth, take.bvh.frame_time)?;
+    let base = ContactParams {
+        floor_velocity: take.floor_velocity,
+        ..ContactParams::for_take(&take.smooth, take.bvh.frame_time)?
+    };
     let s = &take.states;
     if s.len() < 2 || feet.is_empty() {
         return Ok((base, None, vec![]));

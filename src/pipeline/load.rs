@@ -58,6 +58,11 @@ pub struct Take {
     pub notes: Vec<String>,
     /// The skeleton's human landmarks (`model::skeleton`), or why it is not a human's.
     pub human: Result<crate::model::skeleton::Human, String>,
+    /// The velocity (m/s, world axes, horizontal) of the floor the take stands on, when it is
+    /// not to be found from its own feet: `None` as loaded; a take derived from another by
+    /// residual reduction (`pipeline::consistency`) keeps its source's, since moving the pelvis
+    /// moves no floor (its feet slide instead, by `stance_slide_m`).
+    pub floor_velocity: Option<nalgebra::Vector3<f64>>,
 }
 
 /// Stages 1–7 of the module doc.
@@ -204,6 +209,7 @@ pub fn take_from_bvh_reusing(
         passages,
         notes,
         human: built.found.landmarks,
+        floor_velocity: None,
     };
     match built.auto_lock {
         Some(tol) => reduce::lock_auto(take, tol),

@@ -9,7 +9,7 @@
 //! loaded, while still 4–7 cm up (`tests/fd_ground_truth.rs`).
 
 use super::FootPoints;
-use super::floor::{belt_velocity, point_levels, velocity};
+use super::floor::{point_levels, velocity};
 use super::phases::ContactParams;
 
 /// The heights (m) above its floor level that a still point near the floor reaches, over a
@@ -69,7 +69,7 @@ pub const MIN_HEIGHT_ON: f64 = 0.01;
 /// vertical axis) wobble in height: the [`WOBBLE_QUANTILE`] quantile of their heights above
 /// their floor level (each kind of point its own, [`detect_floor`](super::detect_floor)) over
 /// the frames where the contact test could plant them (within `params.height_on` of it,
-/// slower than `params.speed_on` against the floor, [`belt_velocity`]) and that lie within
+/// slower than `params.speed_on` against the floor, [`belt_velocity`](super::belt_velocity)) and that lie within
 /// [`REACH_PER_SPREAD`] × `params.spread_s` of a frame where the point is still near the
 /// floor (slower than [`STILL_SHARE`] of `speed_on`). `None` when fewer than
 /// [`MIN_SAMPLES`] point-frames qualify (a take with almost no stance keeps the defaults), or
@@ -89,7 +89,7 @@ pub fn planted_wobble(
     params: &ContactParams,
 ) -> Option<Wobble> {
     let (heel_level, toe_level) = point_levels(feet, up);
-    let belt = belt_velocity(feet, (heel_level, toe_level), up, dt, params);
+    let belt = params.floor_velocity_under(feet, (heel_level, toe_level), up, dt);
     let still = STILL_SHARE * params.speed_on;
     let reach = (REACH_PER_SPREAD * params.spread_s / dt).round() as usize;
     let mut heights: Vec<f64> = vec![];
@@ -151,12 +151,18 @@ impl ContactParams {
         }
     }
 
-    /// The contact heights fitted to the take whose planted points are `feet`
-    /// ([`planted_wobble`] measured with these thresholds, then [`fit_heights`](Self::fit_heights)),
-    /// and the wobble measured.
+    /// These thresholds fitted to the take whose planted points are `feet`: the floor's
+    /// velocity under them, unless known ([`belt_velocity`](super::belt_velocity), kept in
+    /// [`floor_velocity`](ContactParams::floor_velocity)), and the contact heights
+    /// ([`planted_wobble`] measured with these thresholds, then
+    /// [`fit_heights`](Self::fit_heights)); and the wobble measured.
     pub fn fitted_to(self, feet: &[FootPoints], up: usize, dt: f64) -> (Self, Option<Wobble>) {
-        let wobble = planted_wobble(feet, up, dt, &self);
-        (self.fit_heights(wobble), wobble)
+        let floor = Self {
+            floor_velocity: Some(self.floor_velocity_under(feet, point_levels(feet, up), up, dt)),
+            ..self
+        };
+        let wobble = planted_wobble(feet, up, dt, &floor);
+        (floor.fit_heights(wobble), wobble)
     }
 }
 
@@ -265,9 +271,15 @@ mod tests {
     #[test]
     fn too_few_still_frames_measure_nothing() {
         let dt = 1.0 / 120.0;
-        // a point that never stands still: a foot skimming the floor at 0.4 m/s
+        // a point that never stands still on any floor: a foot skimming the floor at 0.4 m/s
+        // round a circle of 20 cm (one gliding straight at a steady speed stands on a floor
+        // that moves with it, a belt: no floor moving at a constant velocity carries this one
+        // for long)
         let skim: Vec<Vector3<f64>> = (0..360)
-            .map(|k| Vector3::new(0.4 * k as f64 * dt, 0.02, 0.0))
+            .map(|k| {
+                let turn = 2.0 * k as f64 * dt;
+                Vector3::new(0.2 * turn.cos(), 0.02, 0.2 * turn.sin())
+            })
             .collect();
         let feet = vec![FootPoints {
             heel: skim.clone(),

@@ -49,6 +49,13 @@ pub struct ContactParams {
     /// wrench that the smoothing and differencing moved out of the stance (while it presses on
     /// the floor). Default 0: no such frames; [`ContactParams::for_take`] sets it.
     pub spread_s: f64,
+    /// The floor's velocity (m/s, world axes, horizontal) when it is known for the take:
+    /// [`ContactParams::fitted_to`] finds it once from the take's own feet
+    /// ([`belt_velocity`]), as it fits the heights, so that residual reduction's trial pelvis
+    /// paths are measured against the floor the take stands on, not one found again from
+    /// each trial's feet. `None` (the default): found from the feet each contact test is
+    /// given.
+    pub floor_velocity: Option<Vector3<f64>>,
 }
 
 impl ContactParams {
@@ -59,6 +66,21 @@ impl ContactParams {
             spread_s: acceleration_spread_s(smooth, dt)?,
             ..Self::default()
         })
+    }
+}
+
+impl ContactParams {
+    /// The floor's velocity under `feet` (whose heel and toe floor levels are `levels`):
+    /// [`floor_velocity`](Self::floor_velocity) when known, else [`belt_velocity`] of them.
+    pub fn floor_velocity_under(
+        &self,
+        feet: &[FootPoints],
+        levels: (f64, f64),
+        up: usize,
+        dt: f64,
+    ) -> Vector3<f64> {
+        self.floor_velocity
+            .unwrap_or_else(|| belt_velocity(feet, levels, up, dt, self))
     }
 }
 
@@ -73,6 +95,7 @@ impl Default for ContactParams {
             cop_margin: 0.05,
             friction: 1.0,
             spread_s: 0.0,
+            floor_velocity: None,
         }
     }
 }
@@ -84,7 +107,7 @@ impl Default for ContactParams {
 /// `speed_on`, and stays planted until it rises above `height_off` or moves faster than
 /// `speed_off`; a foot is in contact while its heel or its toe is planted. Speeds are central
 /// differences (one-sided at the ends), measured against the floor, which moves under a take
-/// walked in place ([`belt_velocity`]).
+/// walked in place ([`ContactParams::floor_velocity`], else [`belt_velocity`]).
 pub fn contact_phases(
     feet: &[FootPoints],
     up: usize,
@@ -92,7 +115,7 @@ pub fn contact_phases(
     params: &ContactParams,
 ) -> Vec<Vec<bool>> {
     let levels = point_levels(feet, up);
-    let belt = belt_velocity(feet, levels, up, dt, params);
+    let belt = params.floor_velocity_under(feet, levels, up, dt);
     let min_frames = (params.min_phase_s / dt).ceil().max(1.0) as usize;
     feet.iter()
         .map(|f| {
@@ -109,7 +132,7 @@ pub fn contact_phases(
 /// each kind of point comes to its floor level while slow enough, and how slow it is there.
 pub fn why_no_contact(feet: &[FootPoints], up: usize, dt: f64, params: &ContactParams) -> String {
     let (heel_level, toe_level) = point_levels(feet, up);
-    let belt = belt_velocity(feet, (heel_level, toe_level), up, dt, params);
+    let belt = params.floor_velocity_under(feet, (heel_level, toe_level), up, dt);
     let mut slowest_near = f64::INFINITY;
     for f in feet {
         for (path, level) in [(&f.heel, heel_level), (&f.toe, toe_level)] {
