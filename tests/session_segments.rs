@@ -57,13 +57,15 @@ fn compare_weights_is_a_rescale_with_fractions_and_not_with_the_regression() {
     let out = dir.path().join("out");
     run_session(&session, &out).unwrap_or_else(|e| panic!("{e}"));
 
-    // fractions: one curve per kg (to rounding)
+    // fractions: one curve per kg, to the reduction's tolerance: each mass is reduced cold,
+    // and two Gauss–Newton runs on bodies scaled alike follow one path to rounding but may
+    // end a step apart (2.2e-8 N·m/kg measured on a peak of 2; a mass share off is 1e-2)
     let f = per_kg(&out.join("fractions.csv"));
     assert!(peak(&f[0]) > 0.5, "knee peak {} N·m/kg", peak(&f[0]));
     for k in 1..3 {
         let gap = largest_gap(&f[0], &f[k]);
         assert!(
-            gap < 1e-9,
+            gap < 1e-7,
             "fractions: {} kg differs by {gap} N·m/kg",
             MASSES[k]
         );

@@ -191,6 +191,7 @@ pub fn consistent_take_keeping(
         None => Ground::Estimated {
             feet: &feet,
             params: &params,
+            held: Some(&before.contact),
         },
     };
     let r = reduce_residuals(
@@ -243,7 +244,11 @@ pub fn consistent_take_keeping(
     adjusted.states.q = r.q;
     adjusted.states.v = r.v;
     adjusted.states.a = r.a;
-    adjusted.floor_velocity = params.floor_velocity;
+    // the feet's contact as the take was loaded: the reduction held it through its trials
+    adjusted.held_contact = measured.is_none().then(|| super::HeldContact {
+        floor_velocity: params.floor_velocity,
+        phases: before.contact.clone(),
+    });
     Ok((Some(adjusted), r.ground, c, r.seed))
 }
 

@@ -147,7 +147,7 @@ fn fitted_params(
 > {
     use crate::motion::contact::ContactParams;
     let base = ContactParams {
-        floor_velocity: take.floor_velocity,
+        floor_velocity: take.held_contact.as_ref().and_then(|h| h.floor_velocity),
         ..ContactParams::for_take(&take.smooth, take.bvh.frame_time)?
     };
     let s = &take.states;
@@ -369,6 +369,7 @@ pub(super) fn estimate_with_params(
         [&s.q, &s.v, &s.a],
         take.up.index(),
         params,
+        take.held_contact.as_ref().map(|h| &h.phases[..]),
         moment_bodies,
         keep_going,
     )

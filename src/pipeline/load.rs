@@ -58,11 +58,21 @@ pub struct Take {
     pub notes: Vec<String>,
     /// The skeleton's human landmarks (`model::skeleton`), or why it is not a human's.
     pub human: Result<crate::model::skeleton::Human, String>,
-    /// The velocity (m/s, world axes, horizontal) of the floor the take stands on, when it is
-    /// not to be found from its own feet: `None` as loaded; a take derived from another by
-    /// residual reduction (`pipeline::consistency`) keeps its source's, since moving the pelvis
-    /// moves no floor (its feet slide instead, by `stance_slide_m`).
+    /// The contact of the take it was derived from, when it is not to be found from its own
+    /// feet: `None` as loaded; a take derived from another by residual reduction
+    /// (`pipeline::consistency`) keeps its source's, since moving the pelvis moves no floor and
+    /// lifts no foot (its feet slide instead, by `stance_slide_m`).
+    pub held_contact: Option<HeldContact>,
+}
+
+/// The contact a take derived by residual reduction keeps from its source ([`Take::held_contact`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeldContact {
+    /// The velocity (m/s, world axes, horizontal) of the floor the source stands on
+    /// (`motion::contact::ContactParams::floor_velocity`).
     pub floor_velocity: Option<nalgebra::Vector3<f64>>,
+    /// The source's contact phases, per frame, per foot (`dynamics::grf::Held`).
+    pub phases: Vec<Vec<bool>>,
 }
 
 /// Stages 1–7 of the module doc.
@@ -209,7 +219,7 @@ pub fn take_from_bvh_reusing(
         passages,
         notes,
         human: built.found.landmarks,
-        floor_velocity: None,
+        held_contact: None,
     };
     match built.auto_lock {
         Some(tol) => reduce::lock_auto(take, tol),

@@ -63,7 +63,7 @@ pub use info::{Info, info};
 pub use job::{Job, ModelSource, load_model, load_source, load_source_marked, load_source_with};
 pub(crate) use load::at_file;
 pub use load::{
-    Take, load_take, load_take_marked, read_take, take_from_bvh, take_from_bvh_marked,
+    HeldContact, Take, load_take, load_take_marked, read_take, take_from_bvh, take_from_bvh_marked,
     take_from_bvh_reusing, take_from_bvh_with,
 };
 pub use mujoco::{export_mjcf, floor_level};

@@ -326,13 +326,14 @@ pub fn estimate_ground_reactions_progress(
     params: &ContactParams,
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<GroundReactions, Error> {
-    estimate_ground_reactions_keeping(model, feet, time, [q, v, a], up, params, &[], keep_going)
+    let qva = [q, v, a];
+    estimate_ground_reactions_keeping(model, feet, time, qva, up, params, None, &[], keep_going)
 }
 
 /// [`estimate_ground_reactions_progress`] that also keeps the net moments of RNEA with the
 /// ground reactions on `moment_bodies` (sorted, each once) at every frame
 /// ([`GroundReactions::moments`]), from the pass that computes the torques: the joint moments
-/// need no RNEA of their own.
+/// need no RNEA of their own; with the contact phases `held` when given ([`Held`]).
 #[allow(clippy::too_many_arguments)]
 pub fn estimate_ground_reactions_keeping(
     model: &Model,
@@ -341,12 +342,30 @@ pub fn estimate_ground_reactions_keeping(
     qva: [&[Vec<f64>]; 3],
     up: usize,
     params: &ContactParams,
+    held: Held,
     moment_bodies: &[usize],
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<GroundReactions, Error> {
     let third = Third::Torques(moment_bodies);
-    estimate(model, feet, time, qva, up, params, third, keep_going)
+    estimate(
+        model,
+        feet,
+        time,
+        qva,
+        up,
+        (params, held),
+        third,
+        keep_going,
+    )
 }
+
+/// Contact phases held from an earlier estimate of the same take
+/// ([`GroundReactions::contact`]: per frame, per foot), or `None`: found from the motion the
+/// estimate is given. Residual reduction holds those of the take as loaded through its
+/// trials and in its adjusted take, as OpenSim's RRA holds its measured forces: a trial's
+/// pelvis path moves the feet by centimetres, and a foot that crossed a threshold a frame
+/// sooner made the reduction's cost jump between neighbouring trials.
+pub type Held<'a> = Option<&'a [Vec<bool>]>;
 
 /// [`estimate_ground_reactions_progress`] without the joint torques (`tau` and `moments`
 /// empty), what residual reduction evaluates at each trial of its adjustments: the residual
@@ -360,14 +379,16 @@ pub fn estimate_ground_residuals(
     qva: [&[Vec<f64>]; 3],
     up: usize,
     params: &ContactParams,
+    held: Held,
 ) -> Result<GroundReactions, Error> {
+    let contact = (params, held);
     estimate(
         model,
         feet,
         time,
         qva,
         up,
-        params,
+        contact,
         Third::Residual,
         &mut |_| true,
     )
@@ -400,6 +421,7 @@ pub(crate) fn estimate_ground_residuals_given(
     given: NeededWrenches,
     up: usize,
     params: &ContactParams,
+    held: Held,
 ) -> Result<GroundReactions, Error> {
     let (root, bodies) = match (floating_root(model), kept_bodies(model, feet)) {
         (Some(r), Some(b)) => (r, b),
@@ -428,7 +450,7 @@ pub(crate) fn estimate_ground_residuals_given(
         root,
         pass1,
         up,
-        params,
+        (params, held),
         Third::Residual,
         None,
     )
@@ -451,7 +473,7 @@ fn estimate(
     time: &[f64],
     [q, v, a]: [&[Vec<f64>]; 3],
     up: usize,
-    params: &ContactParams,
+    contact: (&ContactParams, Held),
     third: Third,
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<GroundReactions, Error> {
@@ -479,7 +501,7 @@ fn estimate(
     })
     .ok_or(Error::Cancelled)?;
     let rest = Some(([q, v, a], keep_going));
-    estimate_from(model, feet, time, root, pass1, up, params, third, rest)
+    estimate_from(model, feet, time, root, pass1, up, contact, third, rest)
 }
 
 /// What pass 3 needs beyond the loads: the motion, and the progress to report to.
@@ -496,7 +518,7 @@ fn estimate_from(
     root: usize,
     (needed, com, poses): (Vec<ForceVec>, Vec<Vector3<f64>>, passes::Poses),
     up: usize,
-    params: &ContactParams,
+    (params, held): (&ContactParams, Held),
     third: Third,
     rest: Option<PassThree>,
 ) -> Result<GroundReactions, Error> {
@@ -507,19 +529,32 @@ fn estimate_from(
     let n = time.len();
     let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
 
-    // contact phases from the heel and toe paths
+    // contact phases from the heel and toe paths, unless held
     let mut feet = feet.to_vec();
     let points = foot_paths(&poses, &mut feet, up);
-    let by_foot = planted_feet(&points, up, dt, params).map_err(|why| {
-        Error::Invalid(format!(
-            "model {}: {why}; use --contact none (`set contact none` in the workbench)",
-            model.name
-        ))
-    })?;
     let floor = floor_height(&points, up);
-    let contact: Vec<Vec<bool>> = (0..n)
-        .map(|k| by_foot.iter().map(|c| c[k]).collect())
-        .collect();
+    let contact: Vec<Vec<bool>> = match held {
+        Some(c) if c.len() == n && c.iter().all(|f| f.len() == feet.len()) => c.to_vec(),
+        Some(c) => {
+            return Err(Error::Invalid(format!(
+                "contact phases held for {} frames of {} feet, for a take of {n} frames and {} feet",
+                c.len(),
+                c.first().map_or(0, Vec::len),
+                feet.len()
+            )));
+        }
+        None => {
+            let by_foot = planted_feet(&points, up, dt, params).map_err(|why| {
+                Error::Invalid(format!(
+                    "model {}: {why}; use --contact none (`set contact none` in the workbench)",
+                    model.name
+                ))
+            })?;
+            (0..n)
+                .map(|k| by_foot.iter().map(|c| c[k]).collect())
+                .collect()
+        }
+    };
     let shares = transitions(&contact, time);
     let up_force: Vec<f64> = needed.iter().map(|w| w.lin[up]).collect();
     let spread = (params.spread_s / dt).round() as usize;

@@ -133,10 +133,13 @@ pub struct Motion<'a> {
 /// The ground reactions the residuals are reduced against.
 #[derive(Debug, Clone, Copy)]
 pub enum Ground<'a> {
-    /// Estimated from the motion with the feet `feet` ([`super::grf`]), again at each step.
+    /// Estimated from the motion with the feet `feet` ([`super::grf`]), again at each step,
+    /// with the contact phases `held` through every step when given (those of the motion as
+    /// loaded: [`super::grf::Held`]), else found again from each step's feet.
     Estimated {
         feet: &'a [Foot],
         params: &'a ContactParams,
+        held: super::grf::Held<'a>,
     },
     /// Measured (force plates, `id --grf`): they stay as they are; the mass is adjusted too.
     Measured(&'a FootLoads),

@@ -11,7 +11,7 @@ use super::root::{BodyRotation, RootRotation, RootTranslation, rotate_root, shif
 use super::{Ground, Motion, ReductionBounds, Trunk, peak_rms};
 use crate::dynamics::grf::measured::apply_ground_reactions;
 use crate::dynamics::grf::{
-    GroundReactions, estimate_ground_reactions_progress, estimate_ground_residuals,
+    GroundReactions, estimate_ground_reactions_keeping, estimate_ground_residuals,
     estimate_ground_residuals_given, kept_bodies,
 };
 use crate::dynamics::residual::with_trunk_offset;
@@ -179,13 +179,15 @@ impl Problem<'_> {
         let Adjusted { model, q, v, a } = self.adjusted(x)?;
         let time = self.motion.time;
         let ground = match self.ground {
-            Ground::Estimated { feet, params } => match self.relative(feet) {
+            Ground::Estimated { feet, params, held } => match self.relative(feet) {
                 Some(relative) => {
                     let given = relative.needed(&model, self.mass_scale(x), [&q, &v, &a]);
-                    estimate_ground_residuals_given(&model, feet, time, given, self.up, params)?
+                    let up = self.up;
+                    estimate_ground_residuals_given(&model, feet, time, given, up, params, held)?
                 }
                 None => {
-                    estimate_ground_residuals(&model, feet, time, [&q, &v, &a], self.up, params)?
+                    let qva = [&q[..], &v[..], &a[..]];
+                    estimate_ground_residuals(&model, feet, time, qva, self.up, params, held)?
                 }
             },
             Ground::Measured(loads) => {
@@ -224,17 +226,17 @@ impl Problem<'_> {
     /// `e`'s ground reactions with the joint torques (and the residual that RNEA with the
     /// feet's loads leaves), when they were estimated without them.
     pub fn with_torques(&self, e: &mut Evaluated) -> Result<(), Error> {
-        if let Ground::Estimated { feet, params } = self.ground {
+        if let Ground::Estimated { feet, params, held } = self.ground {
             let (time, up) = (self.motion.time, self.up);
-            e.ground = estimate_ground_reactions_progress(
+            e.ground = estimate_ground_reactions_keeping(
                 &e.model,
                 feet,
                 time,
-                &e.q,
-                &e.v,
-                &e.a,
+                [&e.q, &e.v, &e.a],
                 up,
                 params,
+                held,
+                &[],
                 &mut |_| true,
             )?;
         }

@@ -67,6 +67,8 @@ pub(super) struct Key {
     across: [Vector3<f64>; 2],
     feet: Vec<Foot>,
     params: ContactParams,
+    /// The contact phases held through the trials (`Ground::Estimated::held`).
+    held: Option<Vec<Vec<bool>>>,
 }
 
 impl Key {
@@ -81,7 +83,7 @@ impl Key {
         counted: &[bool],
         bounds: &ReductionBounds,
     ) -> Option<Self> {
-        let Ground::Estimated { feet, params } = *ground else {
+        let Ground::Estimated { feet, params, held } = *ground else {
             return None;
         };
         Some(Self {
@@ -100,6 +102,7 @@ impl Key {
             across: trunk.across,
             feet: feet.to_vec(),
             params: *params,
+            held: held.map(<[Vec<bool>]>::to_vec),
         })
     }
 }
