@@ -207,11 +207,7 @@ fn assert_same_phases_after_reduction(take: &Take) {
 #[test]
 #[ignore = "real takes: ARTICULA_REAL_TAKES=../shared/data/bvh cargo test -- --ignored"]
 fn reduction_holds_the_contact_phases_of_every_shared_walk_and_run() {
-    let takes: Vec<_> = common::real_takes()
-        .into_iter()
-        .filter(|p| is_walk_or_run(p))
-        .collect();
-    assert!(takes.len() >= 4, "{takes:?}");
+    let takes = shared_walks_and_runs();
     for p in takes {
         for joints in ["ball", "euler"] {
             let o = TakeOptions {
@@ -223,19 +219,23 @@ fn reduction_holds_the_contact_phases_of_every_shared_walk_and_run() {
     }
 }
 
-fn is_walk_or_run(p: &Path) -> bool {
-    let n = p.file_name().unwrap().to_string_lossy().to_lowercase();
-    n.contains("walk") || n.contains("run")
+/// The shared takes named as walks or runs (at least four).
+fn shared_walks_and_runs() -> Vec<std::path::PathBuf> {
+    let takes: Vec<_> = common::real_takes()
+        .into_iter()
+        .filter(|p| {
+            let n = p.file_name().unwrap().to_string_lossy().to_lowercase();
+            n.contains("walk") || n.contains("run")
+        })
+        .collect();
+    assert!(takes.len() >= 4, "{takes:?}");
+    takes
 }
 
 #[test]
 #[ignore = "real takes: ARTICULA_REAL_TAKES=../shared/data/bvh cargo test -- --ignored"]
 fn every_shared_walk_and_run_meets_the_thresholds_or_says_by_how_much_it_missed() {
-    let takes: Vec<_> = common::real_takes()
-        .into_iter()
-        .filter(|p| is_walk_or_run(p))
-        .collect();
-    assert!(takes.len() >= 4, "{takes:?}");
+    let takes = shared_walks_and_runs();
     for p in takes {
         let take = pipeline::load_take(&p, &opts()).unwrap();
         let a = anatomy_consistent(&take, true).unwrap();

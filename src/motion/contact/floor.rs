@@ -211,13 +211,18 @@ mod tests {
                 };
                 path.push(Vector3::new(x, h, 0.0) - belt * (k as f64 * dt));
             }
-            let toe = path
-                .iter()
-                .map(|p| p + Vector3::new(0.15, 0.0, 0.0))
-                .collect();
-            FootPoints { heel: path, toe }
+            with_toe_ahead(path)
         };
         vec![foot(0), foot(15)]
+    }
+
+    /// A foot whose heel follows `heel` and whose toe stays 15 cm ahead of it along x.
+    fn with_toe_ahead(heel: Vec<Vector3<f64>>) -> FootPoints {
+        let toe = heel
+            .iter()
+            .map(|p| p + Vector3::new(0.15, 0.0, 0.0))
+            .collect();
+        FootPoints { heel, toe }
     }
 
     #[test]
@@ -283,11 +288,7 @@ mod tests {
                 x += speed * dt;
                 path.push(Vector3::new(x, h, 0.0) - belt * (k as f64 * dt));
             }
-            let toe = path
-                .iter()
-                .map(|p| p + Vector3::new(0.15, 0.0, 0.0))
-                .collect();
-            FootPoints { heel: path, toe }
+            with_toe_ahead(path)
         };
         vec![foot(0), foot(10)]
     }
