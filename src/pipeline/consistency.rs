@@ -658,27 +658,43 @@ impl Consistency {
         ]
     }
 
-    /// The final figures as a chart caption's parts (`report::chart::caption`): the figures
-    /// against the thresholds, and the figures before reduction when the take was reduced.
+    /// The final figures as a chart caption's parts (`report::chart::caption`, each shorter
+    /// than a caption line): the figures against the thresholds, the verdict, and the figures
+    /// before reduction when the take was reduced.
     pub fn caption_parts(&self) -> Vec<(&'static str, String)> {
         let f = self.last();
-        let mut parts = vec![(
-            if self.after.is_some() {
-                "residuals after reduction"
-            } else {
-                "residuals"
-            },
-            format!(
-                "peak force {} of peak external (≤ {:.0} %), RMS moment {} of COM height × peak \
-                 external (≤ {:.0} %): {} Hicks et al. 2015",
-                pct(f.force_pct(), 1),
-                100.0 * FORCE_SHARE,
-                pct(f.moment_pct(), 2),
-                100.0 * MOMENT_SHARE,
-                if f.meets() { "within" } else { "beyond" }
+        let reduced = self.after.is_some();
+        let mut parts = vec![
+            (
+                "residual force peak",
+                format!(
+                    "{} of peak external force (≤ {:.0} %)",
+                    pct(f.force_pct(), 1),
+                    100.0 * FORCE_SHARE
+                ),
             ),
-        )];
-        if self.after.is_some() {
+            (
+                "residual moment RMS",
+                format!(
+                    "{} of COM height × peak external force (≤ {:.0} %)",
+                    pct(f.moment_pct(), 2),
+                    100.0 * MOMENT_SHARE
+                ),
+            ),
+            (
+                "consistency",
+                format!(
+                    "{} Hicks et al. 2015's thresholds{}",
+                    if f.meets() { "within" } else { "beyond" },
+                    if reduced {
+                        " after residual reduction"
+                    } else {
+                        ", residuals not reduced"
+                    }
+                ),
+            ),
+        ];
+        if reduced {
             let b = &self.before;
             parts.push((
                 "before reduction",
@@ -804,10 +820,24 @@ mod tests {
         let fit = lines.iter().find(|l| len(l) <= 80).unwrap();
         assert!(fit.contains("before 18.5 %, 10.50 %"), "{fit}");
         let parts = c.caption_parts();
-        assert_eq!(parts[0].0, "residuals after reduction");
-        assert!(parts[0].1.contains("(≤ 5 %)") && parts[0].1.contains("(≤ 1 %)"));
         assert_eq!(
-            parts[1],
+            parts[..2],
+            [
+                (
+                    "residual force peak",
+                    "3.0 % of peak external force (≤ 5 %)".into()
+                ),
+                (
+                    "residual moment RMS",
+                    "1.50 % of COM height × peak external force (≤ 1 %)".into()
+                )
+            ]
+        );
+        assert!(
+            parts[2].1.starts_with("beyond") && parts[2].1.ends_with("after residual reduction")
+        );
+        assert_eq!(
+            parts[3],
             ("before reduction", "force 18.5 %, moment 10.50 %".into())
         );
 
@@ -818,6 +848,7 @@ mod tests {
             assert!(!l.contains("before"), "{l}");
         }
         assert!(c.figure_lines()[2].ends_with("; not reduced"));
-        assert_eq!(c.caption_parts().len(), 1);
+        assert_eq!(c.caption_parts().len(), 3);
+        assert!(c.caption_parts()[2].1.ends_with("residuals not reduced"));
     }
 }
