@@ -731,6 +731,7 @@ fn summary_sidecar(summary: &Path, rows: &[Row]) {
         model: None,
         notes: &[],
         known_units: &known,
+        consistency: None,
     };
     if let Err(e) = articula::pipeline::summary::write_sidecar(summary, &p) {
         eprintln!("batch: {} has no sidecar: {e}", summary.display());

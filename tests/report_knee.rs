@@ -23,6 +23,7 @@ fn runs() -> Vec<MassRun> {
                 .collect(),
             t: t.clone(),
             quoted: vec![],
+            residual_pct: None,
         })
         .collect()
 }
@@ -56,6 +57,7 @@ fn rms_is_time_weighted_on_uneven_samples() {
         t: vec![0.0, 0.1, 1.0, 3.0],
         tau: vec![2.0, 2.0, 2.0, 0.0],
         quoted: vec![],
+        residual_pct: None,
     };
     let row = load_row(&run).unwrap();
     // trapezoid: 0.1·4 + 0.9·4 + 2·(4 + 0)/2 = 8 over T = 3
@@ -68,6 +70,7 @@ fn rms_is_time_weighted_on_uneven_samples() {
         t: vec![0.0, 1.0],
         tau: vec![1.0, -3.0],
         quoted: vec![],
+        residual_pct: None,
     };
     let row = load_row(&neg).unwrap();
     assert_eq!((row.peak_nm, row.peak_time_s), (3.0, 1.0));
@@ -77,6 +80,7 @@ fn rms_is_time_weighted_on_uneven_samples() {
         t: vec![0.0],
         tau: vec![-4.0],
         quoted: vec![],
+        residual_pct: None,
     };
     assert_eq!(load_row(&one).unwrap().rms_nm, 4.0);
 }
@@ -89,6 +93,7 @@ fn bad_runs_are_errors() {
             t,
             tau,
             quoted: vec![],
+            residual_pct: None,
         })
     };
     assert!(bad(0.0, vec![0.0], vec![1.0]).is_err());
@@ -191,6 +196,7 @@ fn samples_left_out_are_not_quoted_and_are_shaded() {
         t: vec![0.0, 0.5, 1.0, 1.5],
         tau: vec![-9.0, 1.0, 1.0, 1.0],
         quoted: vec![false, true, true, true],
+        residual_pct: None,
     };
     let row = load_row(&run).unwrap();
     assert_eq!((row.peak_nm, row.peak_time_s), (1.0, 0.5));
@@ -236,4 +242,25 @@ fn samples_left_out_are_not_quoted_and_are_shaded() {
     )
     .unwrap();
     assert!(!clean.contains("#DDDDDD") && !clean.contains("#dddddd"));
+}
+
+/// Issue 14 item 5: with contact each mass's residual figures against Hicks et al.'s
+/// thresholds are columns of the table under the chart (`-` for a run without them); without
+/// contact the table has no such columns.
+#[test]
+fn the_table_gives_each_masss_residual_figures_against_the_thresholds() {
+    let mut with = runs();
+    with[0].residual_pct = Some((1.5, 0.75));
+    let t = texts(&knee_svg_with_table("knee", &with).unwrap());
+    for want in [
+        "residual force (% ≤ 5)",
+        "residual moment (% ≤ 1)",
+        "1.5",
+        "0.75",
+        "-",
+    ] {
+        assert!(t.iter().any(|s| s == want), "{want:?} not in {t:?}");
+    }
+    let t = texts(&knee_svg_with_table("knee", &runs()).unwrap());
+    assert!(!t.iter().any(|s| s.starts_with("residual")), "{t:?}");
 }

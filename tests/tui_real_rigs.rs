@@ -2,12 +2,14 @@
 //! without the `mixamorig:` every name carries, on rows wide enough for the names; a human
 //! take opens on its left knee, marked in the tree and the avatar; `report motor` never sizes
 //! a motor for the root's residual coordinates; the status line's contact verdicts read at
-//! 80 columns.
+//! 80 columns, and under the curves the residual figures the pipeline computes for the take,
+//! against Hicks et al.'s thresholds (issue 14 item 5).
 
 mod common;
 
 use common::tui::{press, screen};
 
+use articula::pipeline::{self, consistency};
 use articula::session::{Builtin, Command, Workbench};
 use articula::tui::{Ui, draw};
 use std::path::Path;
@@ -158,4 +160,74 @@ fn the_status_line_keeps_the_verdicts_and_drops_the_summary_first() {
     assert_eq!(h, "");
     // a short message is never cut
     assert_eq!(draw::fit_status("selected j2", hint, 80).0, "selected j2");
+}
+
+/// The row under the curves that holds the residual figures, if any.
+fn residual_row(screen: &str) -> Option<&str> {
+    screen.lines().find(|l| l.starts_with("residual"))
+}
+
+/// Issue 14 item 5: the knee's numbers are read with the take's consistency. Under the curves,
+/// at 80 columns, the row gives the peak residual force and the RMS residual moment against
+/// Hicks et al.'s thresholds as the pipeline computes them for the take, after residual
+/// reduction and before it; with reduction off the take's own figures; without contact none.
+/// The status line keeps its verdicts.
+#[test]
+fn the_residual_figures_read_under_the_curves_at_80_columns() {
+    let path = common::repo("data/demo_walk.bvh");
+    let (mut ui, mut wb) = open(&path, 80, 24);
+    press(&mut ui, &mut wb, ":set contact feet<Enter>");
+    assert!(ui.error.is_none(), "{:?}", ui.error);
+    // what the pipeline computes for the take under the workbench's settings
+    let take = pipeline::load_take(&path, &wb.params.take).unwrap();
+    let (_, _, c) = consistency::consistent_take(&take, true, None).unwrap();
+    let (before, after) = (c.before, c.after.expect("reduced"));
+    let s = screen(&ui, &wb, 80, 24);
+    let row = residual_row(&s).unwrap_or_else(|| panic!("no residual row:\n{s}"));
+    let verdict = if after.meets() { "within" } else { "beyond" };
+    for want in [
+        format!("force {:.1} % (≤5 %)", after.force_pct()),
+        format!("moment {:.2} % (≤1 %): {verdict}", after.moment_pct()),
+        format!(
+            "before {:.1} %, {:.2} %",
+            before.force_pct(),
+            before.moment_pct()
+        ),
+    ] {
+        assert!(row.contains(&want), "{want:?} not in {row:?}");
+    }
+    // the reduction moved the figures: the row is not the before figures twice
+    assert_ne!(
+        format!("{:.2}", after.moment_pct()),
+        format!("{:.2}", before.moment_pct())
+    );
+    let lines: Vec<&str> = s.lines().collect();
+    let at = lines.iter().position(|l| *l == row).unwrap();
+    // right under the torque's sparkline, above the timeline and the status line
+    assert!(lines[at - 3].contains("torque"), "{s}");
+    assert!(lines[at + 1].contains("frame"), "{s}");
+    let status = lines[lines.len() - 1];
+    assert!(
+        status.contains("feet give the force in") && status.contains("Hicks et al."),
+        "{status}"
+    );
+
+    // reduction off: the take's own figures, said to be so
+    press(&mut ui, &mut wb, ":set consistent off<Enter>");
+    assert!(ui.error.is_none(), "{:?}", ui.error);
+    let s = screen(&ui, &wb, 80, 24);
+    let row = residual_row(&s).unwrap_or_else(|| panic!("no residual row:\n{s}"));
+    let verdict = if before.meets() { "within" } else { "beyond" };
+    assert!(
+        row.contains(&format!(
+            "force {:.1} % (≤5 %), moment {:.2} % (≤1 %): {verdict}",
+            before.force_pct(),
+            before.moment_pct()
+        )) && row.contains("not reduced"),
+        "{row}"
+    );
+    // no contact, no residual figures: the row gives its place back
+    press(&mut ui, &mut wb, ":set contact none<Enter>");
+    let s = screen(&ui, &wb, 80, 24);
+    assert!(residual_row(&s).is_none(), "{s}");
 }

@@ -52,7 +52,7 @@ pub(super) fn export(a: ExportArgs) -> Result<ExitCode> {
     }
     let table = formats::EXPORTS.iter().any(|&(w, t)| w == name && t);
     if table && format == TableFormat::Csv {
-        written.extend(sidecar(&output, &command, Some(&take), None)?);
+        written.extend(sidecar(&output, &command, Some(&take), None, None)?);
     }
     wrote(&output);
     if json {
@@ -129,7 +129,13 @@ pub(super) fn id(a: IdArgs) -> Result<ExitCode> {
     };
     let mut outcome = formats::write_inverse_dynamics_as(&job, &output, format)?;
     if format == TableFormat::Csv {
-        sidecar(&output, "id", job.take.as_ref(), Some(&job.model))?;
+        sidecar(
+            &output,
+            "id",
+            job.take.as_ref(),
+            Some(&job.model),
+            c.as_ref(),
+        )?;
     }
     print_notes(job.take.as_ref());
     // the estimate's quality figure (how far the feet could give the needed force) says
@@ -175,14 +181,20 @@ pub(super) fn anatomy(a: AnatomyArgs) -> Result<ExitCode> {
     let mut a = pipeline::consistency::anatomy_consistent(&take, reduce)?;
     a.include_edges = include_edges;
     pipeline::anatomy::write_anatomy(&a, &output)?;
-    sidecar(&output, "anatomy", Some(&take), None)?;
+    sidecar(
+        &output,
+        "anatomy",
+        Some(&take),
+        None,
+        a.consistency.as_ref(),
+    )?;
     print_notes(Some(&take));
     for n in &a.notes {
         eprintln!("note: {n}");
     }
     eprint!("{}", pipeline::anatomy::summary(&a));
     if let Some(g) = &gait {
-        let caption = articula::report::gait::take_caption(&take, reduce);
+        let caption = articula::report::gait::take_caption(&take, reduce, a.consistency.as_ref());
         for n in articula::report::gait::write_gait(&a, &take, Some(&caption), g)? {
             eprintln!("note: {n}");
         }
@@ -213,7 +225,7 @@ pub(super) fn fd(a: FdArgs) -> Result<ExitCode> {
         pipeline::StateColumns::QV,
     )?;
     pipeline::write_forward_dynamics(&job, &torques, &output)?;
-    sidecar(&output, "fd", job.take.as_ref(), Some(&job.model))?;
+    sidecar(&output, "fd", job.take.as_ref(), Some(&job.model), None)?;
     wrote(&output);
     Ok(ExitCode::SUCCESS)
 }
@@ -226,7 +238,13 @@ pub(super) fn mass_matrix(a: MassMatrixArgs) -> Result<ExitCode> {
         &opts.options_for_source("mass-matrix", &src)?,
     )?;
     pipeline::write_mass_matrix(&job, &output)?;
-    sidecar(&output, "mass-matrix", job.take.as_ref(), Some(&job.model))?;
+    sidecar(
+        &output,
+        "mass-matrix",
+        job.take.as_ref(),
+        Some(&job.model),
+        None,
+    )?;
     wrote(&output);
     Ok(ExitCode::SUCCESS)
 }
@@ -257,7 +275,7 @@ pub(super) fn simulate(a: SimulateArgs) -> Result<ExitCode> {
     )?;
     let summary = pipeline::simulate(&take, &settings, output.as_deref())?;
     if let Some(out) = &output {
-        sidecar(out, "simulate", Some(&take), None)?;
+        sidecar(out, "simulate", Some(&take), None, None)?;
     }
     let text = if json {
         format!("{}\n", serde_json::to_string_pretty(&summary.json())?)
@@ -362,7 +380,7 @@ pub(super) fn tradeoff(a: TradeoffArgs) -> Result<ExitCode> {
             report(&text, output.as_deref());
             if let Some(out) = output {
                 r.write_csv(&out)?;
-                sidecar(&out, "tradeoff --reduce", Some(&take), None)?;
+                sidecar(&out, "tradeoff --reduce", Some(&take), None, None)?;
                 wrote(&out);
             }
         }
@@ -377,7 +395,7 @@ pub(super) fn tradeoff(a: TradeoffArgs) -> Result<ExitCode> {
             report(&table.text(), output.as_deref());
             if let Some(out) = output {
                 table.write_csv(&out)?;
-                sidecar(&out, "tradeoff", None, None)?;
+                sidecar(&out, "tradeoff", None, None, None)?;
                 wrote(&out);
             }
         }

@@ -786,12 +786,14 @@ fn print_notes(take: Option<&pipeline::Take>) {
 }
 
 /// Writes the sidecar `NAME.csv.json` of the CSV just written at `output` (none for `-` or a
-/// device) and says so; returns its path.
+/// device) and says so, with the take's `consistency` when its columns were computed with
+/// ground contact; returns its path.
 fn sidecar(
     output: &Path,
     command: &str,
     take: Option<&pipeline::Take>,
     model: Option<&articula::model::Model>,
+    consistency: Option<&pipeline::consistency::Consistency>,
 ) -> Result<Option<PathBuf>> {
     let arguments: Vec<String> = std::env::args().skip(1).collect();
     let p = pipeline::summary::Provenance {
@@ -801,6 +803,7 @@ fn sidecar(
         model,
         notes: &[],
         known_units: &[],
+        consistency,
     };
     let written = pipeline::summary::write_sidecar(output, &p)?;
     if let Some(w) = &written {

@@ -616,6 +616,108 @@ impl Consistency {
             }
         )
     }
+
+    /// The final figures against the thresholds in one line, in forms from the longest to
+    /// the shortest, for a view with room for one (the workbench takes the first that fits
+    /// its width): the peak residual force as % of the peak external force, the RMS residual
+    /// moment as % of COM height × peak external force, the verdict, and the figures before
+    /// reduction when the take was reduced.
+    pub fn figure_lines(&self) -> Vec<String> {
+        let f = self.last();
+        let (fs, ms) = (100.0 * FORCE_SHARE, 100.0 * MOMENT_SHARE);
+        let verdict = if f.meets() { "within" } else { "beyond" };
+        let (force, moment) = (pct(f.force_pct(), 1), pct(f.moment_pct(), 2));
+        let b = &self.before;
+        let (bf, bm) = (pct(b.force_pct(), 1), pct(b.moment_pct(), 2));
+        let reduced = self.after.is_some();
+        let short =
+            format!("residual force {force} (≤{fs:.0} %), moment {moment} (≤{ms:.0} %): {verdict}");
+        let (long, middle, tail) = if reduced {
+            (
+                format!("; before reduction: force {bf}, moment {bm}"),
+                format!("; before {bf}, {bm}"),
+                format!("; before {bf}, {bm}"),
+            )
+        } else {
+            (String::new(), String::new(), "; not reduced".to_string())
+        };
+        let when = if reduced {
+            "after reduction"
+        } else {
+            "not reduced"
+        };
+        vec![
+            format!(
+                "residuals {when}: peak force {force} of peak external (≤ {fs:.0} %), RMS \
+                 moment {moment} of COM height × peak external (≤ {ms:.0} %): {verdict} Hicks \
+                 et al. 2015{long}"
+            ),
+            format!(
+                "residuals {when}: force {force} (≤ {fs:.0} %), moment {moment} (≤ {ms:.0} %): \
+                 {verdict} Hicks et al.{middle}"
+            ),
+            format!("{short}{tail}"),
+            format!(
+                "residual force {force} (≤{fs:.0}), moment {moment} (≤{ms:.0}): {verdict}{tail}"
+            ),
+            short,
+        ]
+    }
+
+    /// The final figures as a chart caption's parts (`report::chart::caption`, each shorter
+    /// than a caption line): the figures against the thresholds, the verdict, and the figures
+    /// before reduction when the take was reduced.
+    pub fn caption_parts(&self) -> Vec<(&'static str, String)> {
+        let f = self.last();
+        let reduced = self.after.is_some();
+        let mut parts = vec![
+            (
+                "residual force peak",
+                format!(
+                    "{} of peak external force (≤ {:.0} %)",
+                    pct(f.force_pct(), 1),
+                    100.0 * FORCE_SHARE
+                ),
+            ),
+            (
+                "residual moment RMS",
+                format!(
+                    "{} of COM height × peak external force (≤ {:.0} %)",
+                    pct(f.moment_pct(), 2),
+                    100.0 * MOMENT_SHARE
+                ),
+            ),
+            (
+                "consistency",
+                format!(
+                    "{} Hicks et al. 2015's thresholds{}",
+                    if f.meets() { "within" } else { "beyond" },
+                    if reduced {
+                        " after residual reduction"
+                    } else {
+                        ", residuals not reduced"
+                    }
+                ),
+            ),
+        ];
+        if reduced {
+            let b = &self.before;
+            parts.push((
+                "before reduction",
+                format!(
+                    "force {}, moment {}",
+                    pct(b.force_pct(), 1),
+                    pct(b.moment_pct(), 2)
+                ),
+            ));
+        }
+        parts
+    }
+}
+
+/// A percentage with `decimals`: `0.08 %`.
+fn pct(x: f64, decimals: usize) -> String {
+    format!("{x:.decimals$} %")
 }
 
 /// `articula anatomy`: the angles and moments of the take, with ground contact those of the
@@ -670,4 +772,89 @@ pub fn consistent_job(
         job.take = Some(t);
     }
     Ok(Some(c))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Figures over 100 frames against a peak external force of 1000 N and a COM 1 m high:
+    /// `force_n` N is `force_n / 10` %, `moment_nm` N·m is `moment_nm / 10` %.
+    fn figures(force_n: f64, moment_nm: f64) -> ResidualFigures {
+        ResidualFigures {
+            peak_external_n: 1000.0,
+            peak_force_n: force_n,
+            peak_force_frame: 0,
+            rms_moment_nm: moment_nm,
+            com_height_m: 1.0,
+            frames: 100,
+        }
+    }
+
+    fn consistency(before: ResidualFigures, after: Option<ResidualFigures>) -> Consistency {
+        Consistency {
+            before,
+            after,
+            adjustments: None,
+            mass_kg: 75.0,
+            force_n: vec![],
+            moment_nm: vec![],
+            counted: vec![],
+            beyond: vec![],
+            why: vec![],
+        }
+    }
+
+    /// The one-line forms carry the final figures against the thresholds, longest first; with
+    /// a take as far off as the issue's inertial-suit walk (18.5 % and 10.5 % before
+    /// reduction), a form with the figures before and after it still fits 80 columns.
+    #[test]
+    fn figure_lines_shorten_and_keep_before_and_after_within_80_columns() {
+        let c = consistency(figures(185.0, 105.0), Some(figures(30.0, 15.0)));
+        let lines = c.figure_lines();
+        let len = |l: &String| l.chars().count();
+        assert!(
+            lines.windows(2).all(|w| len(&w[0]) >= len(&w[1])),
+            "{lines:#?}"
+        );
+        for l in &lines {
+            assert!(
+                l.contains("force 3.0 %") && l.contains("moment 1.50 %") && l.contains("beyond"),
+                "{l}"
+            );
+        }
+        let fit = lines.iter().find(|l| len(l) <= 80).unwrap();
+        assert!(fit.contains("before 18.5 %, 10.50 %"), "{fit}");
+        let parts = c.caption_parts();
+        assert_eq!(
+            parts[..2],
+            [
+                (
+                    "residual force peak",
+                    "3.0 % of peak external force (≤ 5 %)".into()
+                ),
+                (
+                    "residual moment RMS",
+                    "1.50 % of COM height × peak external force (≤ 1 %)".into()
+                )
+            ]
+        );
+        assert!(
+            parts[2].1.starts_with("beyond") && parts[2].1.ends_with("after residual reduction")
+        );
+        assert_eq!(
+            parts[3],
+            ("before reduction", "force 18.5 %, moment 10.50 %".into())
+        );
+
+        // not reduced: the take's own figures, no "before"
+        let c = consistency(figures(0.0, 5.0), None);
+        for l in c.figure_lines() {
+            assert!(l.contains("moment 0.50 %") && l.contains("within"), "{l}");
+            assert!(!l.contains("before"), "{l}");
+        }
+        assert!(c.figure_lines()[2].ends_with("; not reduced"));
+        assert_eq!(c.caption_parts().len(), 3);
+        assert!(c.caption_parts()[2].1.ends_with("residuals not reduced"));
+    }
 }

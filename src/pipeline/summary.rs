@@ -29,6 +29,9 @@ pub struct Provenance<'a> {
     /// `(column, unit)` of the columns a summary's `peak:<column>` / `rms:<column>` names that
     /// neither the scheme nor the model settles (a batch's, read from its outputs' sidecars).
     pub known_units: &'a [(String, String)],
+    /// With ground contact, the take's consistency the columns were computed with (issue 14:
+    /// the moments carry the residual figures against the thresholds).
+    pub consistency: Option<&'a super::consistency::Consistency>,
 }
 
 /// A take's resolved settings as text, for sidecars.
@@ -85,6 +88,7 @@ pub fn write_sidecar(csv: &Path, p: &Provenance) -> Result<Option<PathBuf>, Erro
         settings: p.take.map(take_settings).unwrap_or_default(),
         columns: sidecar::describe(&header, model, p.known_units)?,
         notes,
+        consistency: p.consistency.map(super::consistency::Consistency::json),
     };
     sidecar::write(csv, &s)
 }

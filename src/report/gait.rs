@@ -388,8 +388,14 @@ pub fn root_speed(bvh: &crate::io::bvh::Bvh, up: usize, scale_to_m: f64) -> Opti
 pub const SPEED_STEP_S: f64 = 0.25;
 
 /// A caption for a take loaded by the pipeline (the CLI's): take file, body, joint model,
-/// smoothing, contact and, with contact, whether residuals were reduced.
-pub fn take_caption(take: &crate::pipeline::Take, reduced: bool) -> String {
+/// smoothing, contact and, with contact, whether residuals were reduced and the residual
+/// figures against Hicks et al.'s thresholds (`consistency`, issue 14: the moments are read
+/// with them).
+pub fn take_caption(
+    take: &crate::pipeline::Take,
+    reduced: bool,
+    consistency: Option<&crate::pipeline::consistency::Consistency>,
+) -> String {
     let o = &take.options;
     let file = take.path.file_name().map_or_else(
         || take.path.display().to_string(),
@@ -411,6 +417,7 @@ pub fn take_caption(take: &crate::pipeline::Take, reduced: bool) -> String {
     if o.contact == crate::pipeline::Contact::Feet {
         let r = if reduced { "on" } else { "off" };
         parts.push(("residual reduction", r.into()));
+        parts.extend(consistency.map(|c| c.caption_parts()).unwrap_or_default());
     }
     crate::report::chart::caption(&parts)
 }

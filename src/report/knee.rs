@@ -27,6 +27,11 @@ pub struct MassRun {
     /// beyond what the feet can give are not); empty: every sample is. The peak and RMS are of
     /// the quoted samples, the chart shades the others.
     pub quoted: Vec<bool>,
+    /// The take's consistency at this mass (issue 14: the moments are read with it): the peak
+    /// residual force as % of the peak external force and the RMS residual moment as % of
+    /// COM height × peak external force, against Hicks et al.'s 5 % and 1 %
+    /// (`pipeline::consistency`); `None` without ground contact. The chart's table gives them.
+    pub residual_pct: Option<(f64, f64)>,
 }
 
 impl MassRun {
@@ -261,19 +266,34 @@ pub fn knee_chart(
     format: ImageFormat,
 ) -> Result<Vec<u8>, Error> {
     let rows = load_table(runs)?;
+    let mut header = ["mass (kg)", "peak |τ| (N·m)", "RMS τ (N·m)", "peak at (s)"]
+        .map(String::from)
+        .to_vec();
+    // with contact, each mass's residual figures against Hicks et al.'s thresholds
+    let residuals = runs.iter().any(|r| r.residual_pct.is_some());
+    if residuals {
+        header.push("residual force (% ≤ 5)".into());
+        header.push("residual moment (% ≤ 1)".into());
+    }
     let table = Table {
-        header: ["mass (kg)", "peak |τ| (N·m)", "RMS τ (N·m)", "peak at (s)"]
-            .map(String::from)
-            .to_vec(),
+        header,
         rows: rows
             .iter()
-            .map(|r| {
-                vec![
+            .zip(runs)
+            .map(|(r, run)| {
+                let mut row = vec![
                     short(r.mass_kg),
                     fmt_value(r.peak_nm),
                     fmt_value(r.rms_nm),
                     fmt_value(r.peak_time_s),
-                ]
+                ];
+                if residuals {
+                    let (f, m) = run.residual_pct.map_or(("-".into(), "-".into()), |(f, m)| {
+                        (format!("{f:.1}"), format!("{m:.2}"))
+                    });
+                    row.extend([f, m]);
+                }
+                row
             })
             .collect(),
     };

@@ -6,7 +6,9 @@
 //! arguments as given), `take` (the take's path, or null for a robot), `settings` (the take's
 //! resolved settings: unit, up axis, joint model, smoothing, contact, mass …; text values),
 //! `columns` (one `{name, quantity, unit}` per CSV column, in order, units from
-//! [`super::columns::KINDS`]) and `notes` (what the pipeline assumed, changed or found).
+//! [`super::columns::KINDS`]), `notes` (what the pipeline assumed, changed or found) and
+//! `consistency` (with ground contact: the residual figures against Hicks et al.'s thresholds
+//! the columns were computed with, issue 14; null otherwise).
 //! Written with the one atomic writer ([`crate::io::write_atomic`]); never for standard output.
 
 use super::columns;
@@ -35,6 +37,12 @@ pub struct Sidecar {
     pub settings: BTreeMap<String, String>,
     pub columns: Vec<ColumnInfo>,
     pub notes: Vec<String>,
+    /// With ground contact, the take's consistency the columns were computed with: the
+    /// residual figures before and after reduction against Hicks et al.'s thresholds, as
+    /// `anatomy --json` prints them (`pipeline::consistency::Consistency::json`); null
+    /// without contact or for a table that is no take's.
+    #[serde(default)]
+    pub consistency: Option<serde_json::Value>,
 }
 
 /// The columns of `header` with their quantities and units for `model` (an error names the

@@ -3,13 +3,16 @@
 //!
 //! Layout, top to bottom: the joint tree | the avatar | the parameters; the curves of the
 //! selected coordinate (its angle and torque: sparklines, or line charts on a tall terminal,
-//! see [`super::curves`]); the timeline; the status or command line. At 80×24 the main row
-//! keeps 14 rows; below 60×16 only a notice is drawn.
+//! see [`super::curves`]); with ground contact, the take's residual figures against Hicks et
+//! al.'s thresholds (issue 14: the consistency is read where the moments are); the timeline;
+//! the status or command line. At 80×24 the main row keeps 13 rows inside its borders (14
+//! without contact); below 60×16 only a notice is drawn.
 
 pub use super::curves::running_stats;
 use super::curves::{curves_height, draw_curves};
 use super::ui::{Focus, Ui, params_of};
 use crate::dynamics::{Workspace, forward_kinematics};
+use crate::pipeline::consistency::Consistency;
 use crate::report::superquadric::SuperquadricMesh;
 use crate::session::Workbench;
 use crate::session::engine::Analysis;
@@ -64,9 +67,15 @@ pub fn draw(ui: &Ui, wb: &Workbench, f: &mut Frame) {
         f.render_widget(Paragraph::new(msg).wrap(Wrap { trim: true }), area);
         return;
     }
-    let [main, sparks, timeline, status] = Layout::vertical([
+    // under the curves, the take's consistency where its moments are read (issue 14), when
+    // the results have one and the screen a row to spare
+    let residuals = (area.height > MIN_SIZE.1)
+        .then(|| wb.latest_results()?.consistency.clone())
+        .flatten();
+    let [main, sparks, resid, timeline, status] = Layout::vertical([
         Constraint::Min(8),
         Constraint::Length(curves_height(area.height)),
+        Constraint::Length(u16::from(residuals.is_some())),
         Constraint::Length(1),
         Constraint::Length(1),
     ])
@@ -82,6 +91,9 @@ pub fn draw(ui: &Ui, wb: &Workbench, f: &mut Frame) {
     draw_view(ui, wb, f, view);
     draw_params(ui, wb, f, params);
     draw_curves(ui, wb, f, sparks);
+    if let Some(c) = residuals {
+        draw_residuals(ui, &c, f, resid);
+    }
     draw_timeline(ui, wb, f, timeline);
     draw_status(ui, wb, f, status);
     // an error too long for the status line: all of it, wrapped, above the status line
@@ -495,6 +507,31 @@ fn draw_params(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     f.render_widget(Paragraph::new(lines).block(block), area);
 }
 
+/// The residual figures against Hicks et al.'s thresholds (before and after reduction when
+/// the run reduced) in one row: the longest of the pipeline's forms that fits; bold and light
+/// red when beyond them (no curve's colour).
+fn draw_residuals(ui: &Ui, c: &Consistency, f: &mut Frame, area: Rect) {
+    let text = fit_line(&c.figure_lines(), area.width as usize);
+    let style = if c.last().meets() {
+        Style::default()
+    } else {
+        ui.fg(Color::LightRed).add_modifier(Modifier::BOLD)
+    };
+    f.render_widget(Paragraph::new(text).style(style), area);
+}
+
+/// The first of `forms` (longest first) that fits `width` columns, else the last cut to it.
+pub fn fit_line(forms: &[String], width: usize) -> String {
+    forms
+        .iter()
+        .find(|l| l.chars().count() <= width)
+        .cloned()
+        .unwrap_or_else(|| {
+            let last = forms.last().map_or("", String::as_str);
+            elide_middle(last, width)
+        })
+}
+
 fn draw_timeline(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     let frames = wb.frames();
     let dt = wb.take().map_or(0.0, |t| t.frame_time());
@@ -702,6 +739,15 @@ mod tests {
         assert_eq!(labels[6].trim_start(), "Right…Index2");
         assert_eq!(elide_middle("RightHandIndex3", 12), "Right…Index3");
         assert_eq!(elide_middle("Hips", 12), "Hips");
+    }
+
+    #[test]
+    fn a_line_is_the_longest_form_that_fits_else_the_last_elided() {
+        let forms = ["a long form".to_string(), "short".into()];
+        assert_eq!(fit_line(&forms, 20), "a long form");
+        assert_eq!(fit_line(&forms, 10), "short");
+        assert_eq!(fit_line(&forms, 4), "s…rt");
+        assert_eq!(fit_line(&[], 4), "");
     }
 
     #[test]

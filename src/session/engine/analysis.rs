@@ -147,6 +147,10 @@ pub struct Analysis {
     /// adjustments, one that changes masses otherwise starts Gauss–Newton there; `None`
     /// without reduction.
     pub reduction: Option<Arc<crate::dynamics::rra::Seed>>,
+    /// With ground contact: the take's consistency (`pipeline::consistency`: the residual
+    /// figures before and after reduction against Hicks et al.'s thresholds), which the
+    /// curves and the charts of these results carry; `None` without contact.
+    pub consistency: Option<Arc<pipeline::consistency::Consistency>>,
 }
 
 /// Why a frame's accelerations and torques are left out of the figures quoted from them.

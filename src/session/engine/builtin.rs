@@ -153,6 +153,7 @@ impl Engine for Builtin {
             calibration: extras.calibration,
             contact_auto: extras.contact_auto,
             reduction: extras.reduction,
+            consistency: extras.consistency,
             reference: Table::default(),
         })
     }
@@ -232,6 +233,7 @@ impl Engine for Builtin {
             calibration: None,
             contact_auto: None,
             reduction: None,
+            consistency: None,
             reference,
         })
     }
@@ -309,6 +311,7 @@ struct Extras {
     calibration: Option<Arc<pipeline::anatomy::Calibration>>,
     contact_auto: Option<(pipeline::Contact, String)>,
     reduction: Option<Arc<crate::dynamics::rra::Seed>>,
+    consistency: Option<Arc<pipeline::consistency::Consistency>>,
 }
 
 /// A BVH take through the pipeline's stages: axes and unit, model, q, unwrap, smooth,
@@ -410,6 +413,7 @@ fn contact(
     } else {
         format!("{}; {said}", x.note)
     };
+    x.consistency = Some(Arc::new(c));
     ctl.set_progress(0.9);
     Ok((adjusted.unwrap_or(t), Some(g)))
 }

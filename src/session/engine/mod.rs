@@ -323,7 +323,7 @@ pub trait Engine: Send + Sync {
                 let feet = t.options.contact == pipeline::Contact::Feet;
                 let reduce = feet && params.consistent.unwrap_or(true);
                 let mut job = pipeline::Job::from_take(t.clone());
-                pipeline::consistency::consistent_job(&mut job, reduce, true, None)?;
+                let c = pipeline::consistency::consistent_job(&mut job, reduce, true, None)?;
                 ctl.check()?;
                 write_inverse_dynamics_as(&job, path, format)?;
                 if format == TableFormat::Csv {
@@ -335,6 +335,7 @@ pub trait Engine: Send + Sync {
                         model: Some(&job.model),
                         notes: &[],
                         known_units: &[],
+                        consistency: c.as_ref(),
                     };
                     wrote.extend(pipeline::summary::write_sidecar(path, &p)?);
                 }
@@ -365,6 +366,7 @@ pub trait Engine: Send + Sync {
                 model: None,
                 notes: &[],
                 known_units: &[],
+                consistency: None,
             };
             wrote.extend(pipeline::summary::write_sidecar(path, &p)?);
         }

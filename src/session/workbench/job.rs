@@ -9,6 +9,7 @@ use super::{
     resolve_in, results_csv, selection_chart, selection_for, torque_series,
 };
 use crate::model::{JointKind, Model};
+use crate::pipeline::consistency::Consistency;
 use crate::pipeline::{PerJoint, TakeOptions};
 use crate::report::chart::ImageFormat;
 use crate::report::knee::{self, MassRun};
@@ -441,6 +442,7 @@ impl Job {
                     model: Some(&r.model),
                     notes: &[],
                     known_units: &[],
+                    consistency: r.consistency.as_deref(),
                 };
                 crate::pipeline::summary::write_sidecar(out, &p)?;
             }
@@ -454,8 +456,7 @@ impl Job {
                 } else {
                     ImageFormat::Svg
                 };
-                let bytes =
-                    selection_chart(&r, &coord, Some(&self.caption(r.scale, None)), format)?;
+                let bytes = selection_chart(&r, &coord, Some(&self.caption_of(&r)), format)?;
                 ctl.check()?;
                 crate::report::chart::write_chart(out, &bytes)?;
             }
@@ -524,10 +525,16 @@ impl Job {
     }
 
     /// A chart's caption: the take, the body (mass, the skeleton's height, sex), joint model,
-    /// smoothing, contact model and residual reduction as computed, or the robot's own model;
-    /// `scale` the take's length scale (m per file unit), `masses` the body masses compared
-    /// (none: the one set).
-    fn caption(&self, scale: f64, masses: Option<&[f64]>) -> String {
+    /// smoothing, contact model and residual reduction as computed, and with contact the
+    /// take's residual figures against Hicks et al.'s thresholds (`consistency`, issue 14:
+    /// the moments are read with them), or the robot's own model; `scale` the take's length
+    /// scale (m per file unit), `masses` the body masses compared (none: the one set).
+    fn caption(
+        &self,
+        scale: f64,
+        masses: Option<&[f64]>,
+        consistency: Option<&Consistency>,
+    ) -> String {
         let t = &self.params.take;
         let mut parts: Vec<(&str, String)> = vec![];
         if let Some(take) = self.take.as_ref() {
@@ -562,11 +569,21 @@ impl Job {
                     Some(false) => "off",
                 };
                 parts.push(("residual reduction", consistent.into()));
+                parts.extend(
+                    consistency
+                        .map(Consistency::caption_parts)
+                        .unwrap_or_default(),
+                );
             } else {
                 parts.push(("model", "the robot's own masses and inertias".into()));
             }
         }
         crate::report::chart::caption(&parts)
+    }
+
+    /// [`caption`](Self::caption) of results `r`: their take's scale and consistency.
+    fn caption_of(&self, r: &Analysis) -> String {
+        self.caption(r.scale, None, r.consistency.as_deref())
     }
 
     /// The results' model as MJCF: every motor's gear the drive's `N·η` (so the control is the
@@ -633,13 +650,17 @@ impl Job {
                 mass_kg,
                 tau,
                 quoted: (0..r.time.len()).map(|k| r.quoted(k)).collect(),
+                residual_pct: r.consistency.as_ref().map(|c| {
+                    let f = c.last();
+                    (f.force_pct(), f.moment_pct())
+                }),
                 t: r.time,
             });
         }
         let bytes = if is_csv(out) {
             knee::curves_csv(column, coord, &runs)?.into_bytes()
         } else {
-            let caption = self.caption(scale, Some(masses));
+            let caption = self.caption(scale, Some(masses), None);
             knee::knee_chart(coord, &runs, Some(&caption), image_format(out))?
         };
         ctl.check()?;
@@ -740,7 +761,7 @@ impl Job {
             }
             (false, true) => motor::motor_table_csv(&loads)?.into_bytes(),
             (false, false) => {
-                let caption = self.caption(r.scale, None);
+                let caption = self.caption_of(&r);
                 let defaults: Vec<[bool; 3]> = joints
                     .iter()
                     .map(|j| self.drive_defaults(&j.joint))
@@ -794,7 +815,7 @@ impl Job {
         let mut a = crate::pipeline::consistency::anatomy_consistent(&t, reduce)?;
         a.include_edges = self.params.include_edges;
         ctl.check()?;
-        let caption = self.caption(t.scale_to_m, None);
+        let caption = self.caption(t.scale_to_m, None, a.consistency.as_ref());
         let notes = gait::write_gait(&a, &t, Some(&caption), out)?;
         let mut message = format!("gait report: wrote {}", out.display());
         for n in notes {

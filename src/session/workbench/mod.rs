@@ -102,6 +102,7 @@ fn table_sidecar(
         model,
         notes: &[],
         known_units: &[],
+        consistency: None,
     };
     crate::pipeline::summary::write_sidecar(out, &p)?;
     Ok(())
