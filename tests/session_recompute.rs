@@ -135,8 +135,9 @@ fn a_smoothing_edit_reruns_the_smoothing_and_a_gain_edit_reruns_nothing() {
     assert_eq!(wb.stage_runs(Stage::Smooth), 3);
 }
 
-/// On the worker, the status line says how long the recompute after an edit took; a mass
-/// edit there reruns no smoothing either.
+/// On the worker, the status line says how long the recompute after an edit took (its first
+/// clause, which a narrow terminal drops before the verdicts); a mass edit there reruns no
+/// smoothing either.
 #[test]
 fn the_status_line_shows_the_recompute_time_of_an_edit() {
     use articula::session::parse_line;
@@ -164,10 +165,18 @@ fn the_status_line_shows_the_recompute_time_of_an_edit() {
     assert!(ui.error.is_none(), "{:?}", ui.error);
     assert_eq!(wb.stage_runs(Stage::Smooth), 1);
     assert!(ui.recompute_ms.is_some());
-    let screen = ui.render_text(&wb);
+    // wide enough for the whole line, the time is its first clause
+    let screen = articula::tui::draw::render_text(&ui, &wb, 240, 30);
     let status = screen.lines().last().unwrap_or("");
     assert!(
-        status.contains("recomputed in ") && status.contains(" ms"),
+        status.starts_with("recomputed in ") && status.contains(" ms; "),
+        "{status}"
+    );
+    // at 80 columns it is the clause dropped first: the verdicts that end the line stay
+    let screen = articula::tui::draw::render_text(&ui, &wb, 80, 24);
+    let status = screen.lines().last().unwrap_or("");
+    assert!(
+        !status.contains("recomputed in") && status.contains("residuals"),
         "{status}"
     );
     // another message replaces it

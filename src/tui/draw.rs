@@ -601,11 +601,12 @@ fn draw_status(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
     } else {
         let msg = wb.last_message();
         let first = msg.lines().next().unwrap_or("");
-        // the time of the recompute that said it, as the message's last clause
+        // the time of the recompute that said it, as the message's first clause: the one a
+        // narrow terminal drops first ([`fit_status`]), before the verdicts that end it
         let timed;
         let first = match ui.recompute_ms {
             Some((ms, n)) if n == wb.messages.len() => {
-                timed = format!("{first}; recomputed in {ms} ms");
+                timed = format!("recomputed in {ms} ms; {first}");
                 timed.as_str()
             }
             _ => first,
