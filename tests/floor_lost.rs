@@ -136,7 +136,7 @@ fn a_root_held_up_off_the_floor_has_left_its_floor() {
 fn a_ballistic_flight_as_high_has_not_left_its_floor() {
     let take = take_of(jumping());
     for reduce in [false, true] {
-        let (_, g, c) = consistent_take(&take, reduce, None).unwrap();
+        let (_, _, c) = consistent_take(&take, reduce, None).unwrap();
         assert!(c.floor_lost.is_empty(), "{:?}", c.floor_lost);
         assert!(c.floor_lost_note.is_none());
         assert!(
@@ -144,22 +144,22 @@ fn a_ballistic_flight_as_high_has_not_left_its_floor() {
             "{:?}",
             c.why
         );
-        // not for want of a flight as high: frames in which the feet carry nothing and stay
-        // well off the floor, over which the needed vertical force averages next to nothing
-        let weight = take.model.total_mass() * G;
-        let off: Vec<usize> = (0..g.loaded.len())
-            .filter(|&k| g.loaded[k].iter().all(|l| !l) && g.foot_height[k] > 0.1)
-            .collect();
-        let seconds = off.len() as f64 * take.bvh.frame_time;
-        let mean = off.iter().map(|&k| g.wrench[k][g.up]).sum::<f64>() / off.len() as f64;
-        println!(
-            "jump (reduce {reduce}): {seconds:.3} s off the floor unloaded, needing {:.3} body \
-             weights on average",
-            mean / weight
-        );
-        assert!(seconds > 0.2, "{seconds}");
-        assert!(mean.abs() < 0.1 * weight, "{}", mean / weight);
     }
+    // not for want of a flight as high: frames in which the feet carry nothing and stay well
+    // off the floor, over which the needed vertical force averages next to nothing
+    let (_, g, _) = consistent_take(&take, false, None).unwrap();
+    let weight = take.model.total_mass() * G;
+    let off: Vec<usize> = (0..g.loaded.len())
+        .filter(|&k| g.loaded[k].iter().all(|l| !l) && g.foot_height[k] > 0.1)
+        .collect();
+    let seconds = off.len() as f64 * take.bvh.frame_time;
+    let mean = off.iter().map(|&k| g.wrench[k][g.up]).sum::<f64>() / off.len() as f64;
+    println!(
+        "jump: {seconds:.3} s off the floor unloaded, needing {:.3} body weights on average",
+        mean / weight
+    );
+    assert!(seconds > 0.2, "{seconds}");
+    assert!(mean.abs() < 0.1 * weight, "{}", mean / weight);
 }
 
 #[test]

@@ -14,6 +14,7 @@ use crate::dynamics::rra::{
     Ground, Motion, ReductionBounds, Seed, Started, Trunk, com_heights, reduce_residuals,
 };
 use crate::error::Error;
+use crate::motion::contact::ContactParams;
 use nalgebra::Vector3;
 
 /// What residual reduction changed (`None` fields: not reduced).
@@ -181,11 +182,18 @@ pub fn consistent_take_keeping(
     let fig_before = figures(&before, &heights, &counted);
     let mass_kg = take.model.total_mass();
     let travel = pelvis_travel(&before.pelvis, up);
-    let floor = FloorSeen {
-        weight_n: mass_kg * take.model.gravity.norm(),
-        height_m: params.height_off + params.cop_margin,
-        dt: take.bvh.frame_time,
-    };
+    // where the capture has left its floor: a property of the take as captured, read from its
+    // own estimate (residual reduction holds its contact phases, and moves the feet by
+    // centimetres and the needed force by little)
+    let dt = take.bvh.frame_time;
+    let floor = (
+        before.floor_lost(
+            mass_kg * take.model.gravity.norm(),
+            off_floor_height(&params),
+            dt,
+        ),
+        dt,
+    );
     if !reduce {
         let c = finish(
             fig_before, None, None, mass_kg, &before, counted, travel, floor,
@@ -324,19 +332,15 @@ fn trunk_long_axis(take: &Take) -> Option<Vector3<f64>> {
     Some(lumbar.rot.transpose() * (at(spine.head) - at(spine.lumbar)))
 }
 
-/// What the floor-lost test of a take reads ([`GroundReactions::floor_lost`]): its body weight
-/// (N), the height (m) of the foot points above which no part of a foot touches the floor, and
-/// its frame time (s). That height is the contact test's exit height (a point below it may
-/// still be planted) plus the reach of the sole beyond the heel and toe points
-/// (`ContactParams::cop_margin`: the heel and the tips of the toes): a foot point 7–12 cm up
+/// The height (m) of the foot points above which no part of a foot touches the floor, for
+/// [`GroundReactions::floor_lost`]: the contact test's exit height (a point below it may still
+/// be planted) plus the reach of the sole beyond the heel and toe points
+/// (`ContactParams::cop_margin`: the heel and the tips of the toes). A foot point 7–12 cm up
 /// is as often a foot on the tips of its toes, or one whose floor level the other foot set
 /// (CMU 05_20's dancer standing on one foot, 7 cm over the level of both, through a kick), as a
 /// capture off its floor.
-#[derive(Clone, Copy)]
-struct FloorSeen {
-    weight_n: f64,
-    height_m: f64,
-    dt: f64,
+fn off_floor_height(params: &ContactParams) -> f64 {
+    params.height_off + params.cop_margin
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -348,18 +352,17 @@ fn finish(
     g: &GroundReactions,
     counted: Vec<bool>,
     travel: f64,
-    floor: FloorSeen,
+    (floor_lost, dt): (Vec<FloorLost>, f64),
 ) -> Consistency {
     let last = after.unwrap_or(before);
     let (force_n, moment_nm): (Vec<f64>, Vec<f64>) = g.residual.iter().map(split_norms).unzip();
     // the frames the feet cannot explain: those beyond the thresholds, and those where the
     // capture has left its floor (the root holds the body up there, whatever the thresholds)
-    let floor_lost = g.floor_lost(floor.weight_n, floor.height_m, floor.dt);
     let lost = |k: usize| floor_lost.iter().any(|l| (l.first..=l.last).contains(&k));
     let beyond: Vec<bool> = (0..g.residual.len())
         .map(|k| counted[k] && (last.beyond(&g.residual[k]) || lost(k)))
         .collect();
-    let floor_lost_note = floor_lost_text(&floor_lost, g.residual.len(), floor.dt);
+    let floor_lost_note = floor_lost_text(&floor_lost, g.residual.len(), dt);
     let mut why = vec![];
     if !last.meets() {
         why.extend(floor_lost_note.clone());

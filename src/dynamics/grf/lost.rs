@@ -60,8 +60,8 @@ impl FloorLost {
 /// One sentence for a user on the runs `lost` (none: `None`), `frames` the take's frame
 /// count and `dt` its frame time (s): where, how long, how high the lowest foot was and how
 /// much of body weight the motion needed there, e.g. `the capture leaves its floor at frames
-/// 505–857 (3.53 s, 35 % of the take): the feet carry nothing and stay off it (the lowest foot
-/// point 5–48 cm above it, a median 20 cm), yet the body is not in flight (…)`.
+/// 451–900 (4.50 s, 45 % of the take): the feet carry nothing and stay off it (the lowest foot
+/// point 4–47 cm above it, a median 16 cm), yet the body is not in flight (…)`.
 pub fn floor_lost_text(lost: &[FloorLost], frames: usize, dt: f64) -> Option<String> {
     if lost.is_empty() {
         return None;

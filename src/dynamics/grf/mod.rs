@@ -104,7 +104,8 @@ pub struct GroundReactions {
     /// foot's heel and toe heights over the floor levels of the heel and of the toe points,
     /// the heights the contact test measures ([`point_levels`]); where it exceeds the contact
     /// height no foot can touch the floor ([`GroundReactions::floor_lost`]). Empty for
-    /// measured ground reactions, whose feet's paths are not known.
+    /// measured ground reactions, whose feet's paths are not known, and for the residual alone
+    /// ([`estimate_ground_residuals`], residual reduction's trials).
     ///
     /// [`point_levels`]: crate::motion::contact::point_levels
     pub foot_height: Vec<f64>,
@@ -578,7 +579,10 @@ fn estimate_from(
         floor,
         contact,
         loaded,
-        foot_height: lost::lowest_point_heights(&points, up),
+        foot_height: match third {
+            Third::Torques(_) => lost::lowest_point_heights(&points, up),
+            Third::Residual => vec![],
+        },
         grf: vec![vec![Vector3::zeros(); nf]; n],
         cop: vec![vec![Vector3::zeros(); nf]; n],
         free_moment: vec![vec![0.0; nf]; n],
