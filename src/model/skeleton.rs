@@ -10,7 +10,8 @@
 //!   body's height above them, the pair most alike in length (a cane or a prop that reaches
 //!   the floor is not a leg); that branching joint is the **pelvis**;
 //! - along a leg, the **ankle** is the first joint from which the rest of the chain (foot and
-//!   toes, to the end) is shorter than [`FOOT_REACH`] of the body's height; the **knee** is the
+//!   toes, to the end) is shorter than [`FOOT_REACH`] of the body's height (of a rig without a
+//!   trunk, the height its pelvis gives: [`HIP_HEIGHT_SHARE`]); the **knee** is the
 //!   joint between hip and ankle where the chain bends most over the motion, among those a
 //!   plausible shank length above the ankle ([`SHANK_SHARE`]); the **hip** is the most proximal
 //!   joint from which the chain runs straight to the knee (twist helpers along a femur lie on
@@ -382,6 +383,12 @@ pub fn find_human(topo: &Topology, poses: &[Pose], up: usize) -> Result<Human, S
     let (_, _, e1, e2) =
         best.ok_or("no two legs: no two ends near the floor branch from high enough above it")?;
     let pelvis = topo.lca(e1, e2);
+    let top = (0..n).map(&height).fold(hi, f64::max);
+    let body = body.max(trunkless_height(
+        median(poses, |p| p.joints[pelvis][up]),
+        floor,
+        top,
+    ));
     let mut legs = vec![];
     for e in [e1, e2] {
         let chain = topo.chain(pelvis, e).ok_or("leg chain")?;
@@ -478,6 +485,29 @@ pub fn find_human(topo: &Topology, poses: &[Pose], up: usize) -> Result<Human, S
         standing_height,
     })
 }
+
+/// The height of a human (m if the positions are) whose skeleton has no trunk (a pelvis and two
+/// legs), from its pelvis's height `pelvis` over the `floor` where the highest point of the
+/// skeleton is `top`: the pelvis at [`HIP_HEIGHT_SHARE`] of the stature; 0 when the skeleton
+/// rises above its pelvis by more than a quarter of the pelvis's height (a trunk: a human's
+/// head lies 0.45 of its stature above its hips, a quarter of their height is 0.13).
+///
+/// A trunkless rig stands half a human's height, so that along its legs the thresholds made
+/// from its own height mistook its toes for its ankles: its foot, ankle to toe tip, is longer
+/// than [`FOOT_REACH`] of that height (a 19 cm foot under a 92 cm rig), and the foot's joint
+/// was taken for one inside the shank (`tests/legs_only.rs`).
+fn trunkless_height(pelvis: f64, floor: f64, top: f64) -> f64 {
+    let hips = pelvis - floor;
+    if hips <= 0.0 || top - pelvis > 0.25 * hips {
+        return 0.0;
+    }
+    hips / HIP_HEIGHT_SHARE
+}
+
+/// The hip joint's height as a share of the stature: 0.53 (Drillis & Contini 1966, *Body
+/// segment parameters*, Report 1166-03, New York University; Winter 2009, *Biomechanics and
+/// Motor Control of Human Movement*, 4th ed., fig. 4.1).
+pub const HIP_HEIGHT_SHARE: f64 = 0.53;
 
 /// See [`Human::standing_height`] (without a head, up to the pelvis's highest point).
 fn standing_height(poses: &[Pose], up: usize, legs: &[Leg; 2], head: Option<usize>) -> f64 {

@@ -4,8 +4,8 @@
 //! and where and why a take misses the thresholds.
 
 use super::{Take, anatomy::find_take_human, contact_feet};
-use crate::dynamics::grf::GroundReactions;
 use crate::dynamics::grf::measured::{FootLoads, apply_ground_reactions};
+use crate::dynamics::grf::{FloorLost, GroundReactions, floor_lost_text};
 use crate::dynamics::residual::{
     FORCE_SHARE, MOMENT_SHARE, ResidualFigures, counted_frames, external_forces, residual_figures,
     split_norms,
@@ -14,6 +14,7 @@ use crate::dynamics::rra::{
     Ground, Motion, ReductionBounds, Seed, Started, Trunk, com_heights, reduce_residuals,
 };
 use crate::error::Error;
+use crate::motion::contact::ContactParams;
 use nalgebra::Vector3;
 
 /// What residual reduction changed (`None` fields: not reduced).
@@ -125,6 +126,12 @@ pub struct Consistency {
     pub moment_nm: Vec<f64>,
     pub counted: Vec<bool>,
     pub beyond: Vec<bool>,
+    /// The runs of frames in which the take's capture has left its floor (the feet unloaded
+    /// and off it, yet no free fall: [`GroundReactions::floor_lost`]); their counted frames
+    /// are among those `beyond`.
+    pub floor_lost: Vec<FloorLost>,
+    /// What the take's notes say of them (`None`: no such run).
+    pub floor_lost_note: Option<String>,
     /// Why the thresholds are missed, when they are (empty when met).
     pub why: Vec<String>,
 }
@@ -175,8 +182,22 @@ pub fn consistent_take_keeping(
     let fig_before = figures(&before, &heights, &counted);
     let mass_kg = take.model.total_mass();
     let travel = pelvis_travel(&before.pelvis, up);
+    // where the capture has left its floor: a property of the take as captured, read from its
+    // own estimate (residual reduction holds its contact phases, and moves the feet by
+    // centimetres and the needed force by little)
+    let dt = take.bvh.frame_time;
+    let floor = (
+        before.floor_lost(
+            mass_kg * take.model.gravity.norm(),
+            off_floor_height(&params),
+            dt,
+        ),
+        dt,
+    );
     if !reduce {
-        let c = finish(fig_before, None, None, mass_kg, &before, counted, travel);
+        let c = finish(
+            fig_before, None, None, mass_kg, &before, counted, travel, floor,
+        );
         return Ok((None, before, c, None));
     }
     let duration = s.time.last().copied().unwrap_or(0.0) - s.time.first().copied().unwrap_or(0.0);
@@ -238,6 +259,7 @@ pub fn consistent_take_keeping(
         &r.ground,
         counted,
         travel,
+        floor,
     );
     let mut adjusted = take.clone();
     adjusted.model = r.model;
@@ -310,6 +332,18 @@ fn trunk_long_axis(take: &Take) -> Option<Vector3<f64>> {
     Some(lumbar.rot.transpose() * (at(spine.head) - at(spine.lumbar)))
 }
 
+/// The height (m) of the foot points above which no part of a foot touches the floor, for
+/// [`GroundReactions::floor_lost`]: the contact test's exit height (a point below it may still
+/// be planted) plus the reach of the sole beyond the heel and toe points
+/// (`ContactParams::cop_margin`: the heel and the tips of the toes). A foot point 7–12 cm up
+/// is as often a foot on the tips of its toes, or one whose floor level the other foot set
+/// (CMU 05_20's dancer standing on one foot, 7 cm over the level of both, through a kick), as a
+/// capture off its floor.
+fn off_floor_height(params: &ContactParams) -> f64 {
+    params.height_off + params.cop_margin
+}
+
+#[allow(clippy::too_many_arguments)]
 fn finish(
     before: ResidualFigures,
     after: Option<ResidualFigures>,
@@ -318,14 +352,20 @@ fn finish(
     g: &GroundReactions,
     counted: Vec<bool>,
     travel: f64,
+    (floor_lost, dt): (Vec<FloorLost>, f64),
 ) -> Consistency {
     let last = after.unwrap_or(before);
     let (force_n, moment_nm): (Vec<f64>, Vec<f64>) = g.residual.iter().map(split_norms).unzip();
+    // the frames the feet cannot explain: those beyond the thresholds, and those where the
+    // capture has left its floor (the root holds the body up there, whatever the thresholds)
+    let lost = |k: usize| floor_lost.iter().any(|l| (l.first..=l.last).contains(&k));
     let beyond: Vec<bool> = (0..g.residual.len())
-        .map(|k| counted[k] && last.beyond(&g.residual[k]))
+        .map(|k| counted[k] && (last.beyond(&g.residual[k]) || lost(k)))
         .collect();
+    let floor_lost_note = floor_lost_text(&floor_lost, g.residual.len(), dt);
     let mut why = vec![];
     if !last.meets() {
+        why.extend(floor_lost_note.clone());
         if travel < IN_PLACE_M {
             why.push(format!(
                 "the pelvis travels {:.0} cm over the take: it moves in place (a keyframed \
@@ -335,7 +375,7 @@ fn finish(
                 100.0 * travel
             ));
         }
-        why.extend(why_missed(&last, g, &counted, &beyond));
+        why.extend(why_missed(&last, g, &counted, &beyond, &floor_lost));
         match adjustments.as_ref() {
             Some(a) if !a.bounded.is_empty() => why.push(format!(
                 "the {} bound held the adjustments back (trunk mass centre ≤ {:.0} cm, pelvis \
@@ -366,6 +406,8 @@ fn finish(
         moment_nm,
         counted,
         beyond,
+        floor_lost,
+        floor_lost_note,
         why,
     }
 }
@@ -412,7 +454,10 @@ fn why_missed(
     g: &GroundReactions,
     counted: &[bool],
     beyond: &[bool],
+    floor_lost: &[FloorLost],
 ) -> Vec<String> {
+    let k = f.peak_force_frame;
+    let lost_at = floor_lost.iter().find(|l| (l.first..=l.last).contains(&k));
     let mut why = vec![];
     if f.peak_force_n > f.force_limit_n() {
         why.push(format!(
@@ -422,11 +467,17 @@ fn why_missed(
             100.0 * FORCE_SHARE,
             f.force_limit_n(),
             f.peak_force_frame,
-            if g.loaded[f.peak_force_frame].iter().any(|l| *l) {
-                ": a foot is on the floor but the force leaves its friction cone or pulls"
+            if g.loaded[k].iter().any(|l| *l) {
+                ": a foot is on the floor but the force leaves its friction cone or pulls".into()
+            } else if let Some(l) = lost_at {
+                format!(
+                    ": no foot is on the floor, which the capture has left there (frames {}–{})",
+                    l.first, l.last
+                )
             } else {
                 ": no foot is on the floor, yet the motion is not ballistic there (a missed \
                  contact, or the accelerations of a landing spread into the flight)"
+                    .to_string()
             }
         ));
     }
@@ -589,6 +640,13 @@ impl Consistency {
             "meets": self.last().meets(),
             "why": self.why,
             "frames_beyond": runs(&self.beyond),
+            "floor_lost": self.floor_lost.iter().map(|l| serde_json::json!({
+                "first": l.first,
+                "last": l.last,
+                "frames": l.frames(),
+                "lowest_foot_m": [l.lowest_m.0, l.lowest_m.1, l.lowest_m.2],
+                "needed_vertical_share": l.needed_share,
+            })).collect::<Vec<_>>(),
         })
     }
 }
@@ -729,6 +787,7 @@ pub fn anatomy_consistent(take: &Take, reduce: bool) -> Result<super::anatomy::A
     }
     let (adjusted, ground, c) = consistent_take(take, reduce, None)?;
     let mut a = super::anatomy::anatomy_with(adjusted.as_ref().unwrap_or(take), Some(&ground))?;
+    a.notes.extend(c.floor_lost_note.clone());
     a.consistency = Some(c);
     Ok(a)
 }
@@ -755,7 +814,14 @@ pub fn consistent_job(
         ));
     }
     let feet = take.options.contact == super::Contact::Feet;
-    let (adjusted, ground, c) = consistent_take(take, reduce, measured)?;
+    let (mut adjusted, ground, c) = consistent_take(take, reduce, measured)?;
+    if let Some(note) = &c.floor_lost_note {
+        // the notes of the take every output then reads
+        match adjusted.as_mut() {
+            Some(t) => t.notes.push(note.clone()),
+            None => job.take.iter_mut().for_each(|t| t.notes.push(note.clone())),
+        }
+    }
     if measured.is_some() {
         // the measured loads on the (adjusted) motion: what the root still supplies
         job.measured = Some(ground);

@@ -80,6 +80,7 @@ pub fn apply_ground_reactions(
         floor: if floor.is_finite() { floor } else { 0.0 },
         loaded: contact.clone(),
         contact,
+        foot_height: vec![],
         grf: loads.force.clone(),
         cop: loads.cop.clone(),
         free_moment: loads.free_moment.clone(),

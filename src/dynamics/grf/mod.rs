@@ -65,6 +65,7 @@
 //!
 //! [`acceleration_spread_s`]: crate::motion::contact::acceleration_spread_s
 
+mod lost;
 pub mod measured;
 mod passes;
 mod share;
@@ -77,6 +78,7 @@ use crate::motion::contact::{
     why_no_contact,
 };
 use crate::spatial::{ForceVec, SpatialTransform};
+pub use lost::{FloorLost, HELD_SHARE, MIN_LOST_S, floor_lost_text};
 use nalgebra::Vector3;
 use share::*;
 
@@ -98,6 +100,15 @@ pub struct GroundReactions {
     /// within [`ContactParams::spread_s`] of the foot's contact phase, where the smoothed
     /// estimate still needs a pressing force (see [`carry_across_spread`]).
     pub loaded: Vec<Vec<bool>>,
+    /// `[frame]`: the height (m) of the lowest foot point over the floor: the least of every
+    /// foot's heel and toe heights over the floor levels of the heel and of the toe points,
+    /// the heights the contact test measures ([`point_levels`]); where it exceeds the contact
+    /// height no foot can touch the floor ([`GroundReactions::floor_lost`]). Empty for
+    /// measured ground reactions, whose feet's paths are not known, and for the residual alone
+    /// ([`estimate_ground_residuals`], residual reduction's trials).
+    ///
+    /// [`point_levels`]: crate::motion::contact::point_levels
+    pub foot_height: Vec<f64>,
     /// `[frame][foot]`: force of the ground on the foot (N, world axes); zero off the floor.
     pub grf: Vec<Vec<Vector3<f64>>>,
     /// `[frame][foot]`: centre of pressure of that force on the floor (m, world); for an
@@ -568,6 +579,10 @@ fn estimate_from(
         floor,
         contact,
         loaded,
+        foot_height: match third {
+            Third::Torques(_) => lost::lowest_point_heights(&points, up),
+            Third::Residual => vec![],
+        },
         grf: vec![vec![Vector3::zeros(); nf]; n],
         cop: vec![vec![Vector3::zeros(); nf]; n],
         free_moment: vec![vec![0.0; nf]; n],

@@ -43,8 +43,9 @@ pub fn floor_height(feet: &[FootPoints], up: usize) -> f64 {
     detect_floor(&toes)
 }
 
-/// The floor levels of the heel points and of the toe points, over all feet (m along `up`).
-pub(super) fn point_levels(feet: &[FootPoints], up: usize) -> (f64, f64) {
+/// The floor levels of the heel points and of the toe points, over all feet (m along `up`):
+/// what the planted test measures each kind of point's height against.
+pub fn point_levels(feet: &[FootPoints], up: usize) -> (f64, f64) {
     let level = |pick: fn(&FootPoints) -> &Vec<Vector3<f64>>| {
         let h: Vec<f64> = feet
             .iter()

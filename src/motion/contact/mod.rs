@@ -33,7 +33,9 @@ mod phases;
 pub use feet::{
     Foot, Side, feet_at, feet_of_bvh, fit_heel_points, foot_bodies, limb_ends, skeleton_joint,
 };
-pub use floor::{FLOOR_QUANTILE, FootPoints, belt_velocity, detect_floor, floor_height};
+pub use floor::{
+    FLOOR_QUANTILE, FootPoints, belt_velocity, detect_floor, floor_height, point_levels,
+};
 pub use heights::{
     HEIGHT_PER_WOBBLE, MIN_HEIGHT_ON, MIN_SAMPLES, MIN_STILL_SHARE, REACH_PER_SPREAD, STILL_SHARE,
     WOBBLE_QUANTILE, Wobble, heights_note, planted_wobble,

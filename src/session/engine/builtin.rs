@@ -407,7 +407,10 @@ fn contact(
     x.brief = contact_brief(&g.quality(), c.last().meets());
     ctl.done(Stage::Contact);
     x.feet = vertical_forces(&g);
-    let said = format!("{}; {}", g.quality(), c.headline());
+    let mut said = format!("{}; {}", g.quality(), c.headline());
+    if let Some(lost) = &c.floor_lost_note {
+        said = format!("{said}; {lost}");
+    }
     x.note = if x.note.is_empty() {
         said
     } else {
