@@ -191,6 +191,39 @@ fn the_command_lines_moments_carry_the_consistency_json_prints() {
     );
     assert_eq!(sidecar(&id)["consistency"], json["consistency"]);
     assert!(json["consistency"]["before"].is_object());
+    // OpenSim's table: its header says the same figures, as metadata (`residuals=`)
+    let sto = dir.path().join("i.sto");
+    let json = common::cli::json_of(
+        common::cli::articula()
+            .arg("id")
+            .arg(&take)
+            .args(["--contact", "feet", "--consistent", "on", "--json", "-o"])
+            .arg(&sto),
+    );
+    let text = std::fs::read_to_string(&sto).unwrap();
+    let header = &text[..text.find("endheader").unwrap()];
+    let line = header
+        .lines()
+        .find(|l| l.starts_with("residuals="))
+        .unwrap_or_else(|| panic!("no residuals= in {header}"));
+    let c = &json["consistency"];
+    for want in [
+        "residuals after reduction:".to_string(),
+        format!(
+            "{:.1} %",
+            c["after"]["peak_residual_force_pct"].as_f64().unwrap()
+        ),
+        format!(
+            "{:.2} %",
+            c["after"]["rms_residual_moment_pct"].as_f64().unwrap()
+        ),
+        format!(
+            "{:.2} %",
+            c["before"]["rms_residual_moment_pct"].as_f64().unwrap()
+        ),
+    ] {
+        assert!(line.contains(&want), "{want:?} not in {line}");
+    }
     let none = dir.path().join("n.csv");
     common::cli::articula()
         .arg("id")

@@ -24,6 +24,7 @@ a "skipped" message when `opensim` cannot be imported.
 
 import argparse
 import csv
+import json
 import math
 import os
 import subprocess
@@ -173,6 +174,16 @@ def main():
     coords = [h for h in header[1:] if h.startswith("tau:")]
     mapping = [(f"{h[4:]}_{'force' if 'position' in h else 'moment'}", (h, 1.0)) for h in coords]
     check_table(c, opensim, p("id.sto"), p("id.csv"), mapping, False)
+    # with ground contact the header says the take's consistency, kept as the table's metadata
+    # (the same figures the CSV's sidecar holds under "consistency")
+    with open(p("id.csv") + ".json") as f:
+        consistency = json.load(f).get("consistency")
+    keys = list(opensim.TimeSeriesTable(p("id.sto")).getTableMetaDataKeys())
+    c.equal("id.sto metadata `residuals` present iff the take has contact",
+            "residuals" in keys, consistency is not None)
+    if "residuals" in keys:
+        line = opensim.TimeSeriesTable(p("id.sto")).getTableMetaDataAsString("residuals")
+        print(f"    residuals: {line}")
     # the session's twin of `id -o id.sto`: the same writer, the same numbers
     with open(p("id.session"), "w") as f:
         f.write(f"load {take}\nset consistent off\nexport id {p('session_id.sto')}\n")

@@ -127,7 +127,7 @@ pub(super) fn id(a: IdArgs) -> Result<ExitCode> {
             pipeline::consistency::consistent_job(&mut job, reduce, src.states.is_none(), None)?
         }
     };
-    let mut outcome = formats::write_inverse_dynamics_as(&job, &output, format)?;
+    let mut outcome = formats::write_inverse_dynamics_as(&job, &output, format, c.as_ref())?;
     if format == TableFormat::Csv {
         sidecar(
             &output,

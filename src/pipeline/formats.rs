@@ -139,11 +139,16 @@ pub fn export_states_as(take: &Take, path: &Path, format: TableFormat) -> Result
 
 /// `articula id` in `format`: as CSV ([`super::write_inverse_dynamics`]) or as `.sto` with
 /// OpenSim's inverse-dynamics names, `<coord>_moment` (N·m) for a rotation and `<coord>_force`
-/// (N) for a translation (`inDegrees=no`); the ground reactions then go to `export grf`.
+/// (N) for a translation (`inDegrees=no`); the ground reactions then go to `export grf`. With
+/// contact, the `.sto` header says the take's consistency (`residuals=`, the longest of
+/// [`Consistency::figure_lines`](super::consistency::Consistency::figure_lines): the residual
+/// figures against Hicks et al.'s thresholds), which OpenSim keeps as the table's metadata; a
+/// CSV's sidecar has it as its `consistency` key.
 pub fn write_inverse_dynamics_as(
     job: &Job,
     path: &Path,
     format: TableFormat,
+    consistency: Option<&super::consistency::Consistency>,
 ) -> Result<super::IdOutcome, Error> {
     if format == TableFormat::Csv {
         return super::write_inverse_dynamics(job, path);
@@ -168,7 +173,10 @@ pub fn write_inverse_dynamics_as(
     } else {
         "without ground contact"
     };
-    let metadata = [("units", format!("moments N*m, forces N, time s; {with}"))];
+    let mut metadata = vec![("units", format!("moments N*m, forces N, time s; {with}"))];
+    if let Some(line) = consistency.and_then(|c| c.figure_lines().into_iter().next()) {
+        metadata.push(("residuals", line));
+    }
     opensim::write_sto(
         path,
         &Sto {

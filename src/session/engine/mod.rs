@@ -325,7 +325,7 @@ pub trait Engine: Send + Sync {
                 let mut job = pipeline::Job::from_take(t.clone());
                 let c = pipeline::consistency::consistent_job(&mut job, reduce, true, None)?;
                 ctl.check()?;
-                write_inverse_dynamics_as(&job, path, format)?;
+                write_inverse_dynamics_as(&job, path, format, c.as_ref())?;
                 if format == TableFormat::Csv {
                     // the sidecar of `articula id`'s CSV: the (adjusted) take and model
                     let p = pipeline::summary::Provenance {
