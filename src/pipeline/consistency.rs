@@ -867,6 +867,8 @@ mod tests {
             moment_nm: vec![],
             counted: vec![],
             beyond: vec![],
+            floor_lost: vec![],
+            floor_lost_note: None,
             why: vec![],
         }
     }
