@@ -102,7 +102,7 @@ fn a_failed_expect_prints_the_value_rounded_in_the_coordinates_own_unit() {
         &mut wb,
         "expect peak LeftLeg.Xrotation torque between 110 120",
     );
-    insta::assert_snapshot!(e, @"expect failed: peak LeftLeg.Xrotation torque 156.2 N·m not in [110, 120] N·m");
+    insta::assert_snapshot!(e, @"expect failed: peak LeftLeg.Xrotation torque 146.2 N·m not in [110, 120] N·m");
     let e = fails(&mut wb, "expect max LeftLeg.Xrotation angle between 10 20");
     insta::assert_snapshot!(e, @"expect failed: max LeftLeg.Xrotation angle 57.9 deg not in [10, 20] deg");
     // bounds written in rad are shown back in the coordinate's unit
@@ -120,7 +120,7 @@ fn a_failed_expect_prints_the_value_rounded_in_the_coordinates_own_unit() {
     );
     assert_eq!(
         m,
-        "ok: peak LeftLeg.Xrotation torque 156.2 N·m in [110, 160] N·m"
+        "ok: peak LeftLeg.Xrotation torque 146.2 N·m in [110, 160] N·m"
     );
     // no message prints 17 digits or the old `rad|m`
     for m in &wb.messages {

@@ -157,6 +157,35 @@ impl Support {
     }
 }
 
+impl Support {
+    /// The largest free moment (N·m, about the vertical) the sole can hold by friction under
+    /// the vertical force `f_up`, whatever the pressure under it: on the sole the centre of
+    /// pressure may take (the heel–toe segment widened by `params.cop_margin` at both ends,
+    /// length ℓ) no point lies farther than ℓ/2 from the centre of pressure's side of it, so
+    /// the friction forces (μ times the pressure, f_up in all) twist it by at most
+    /// μ f_up ℓ / 2 (pressed evenly, μ f_up ℓ / 4). The bound, not the even pressure's value: it
+    /// only removes twists no sole could hold, and leaves the rest to the estimate. Without it
+    /// a foot that barely touched the floor took whatever twist the whole body needed about a
+    /// centre of pressure metres away (7808 N·m under 1 N on a Bandai run).
+    pub(super) fn torsion_limit(&self, f_up: f64, params: &ContactParams) -> f64 {
+        let length = (self.toe - self.heel).norm() + 2.0 * params.cop_margin;
+        params.friction * f_up.max(0.0) * length / 2.0
+    }
+}
+
+/// `free` within the torsional friction of the foot on `support` under `load`'s vertical
+/// force ([`Support::torsion_limit`]).
+fn within_torsion(
+    free: f64,
+    load: &FootLoad,
+    support: &Support,
+    up: usize,
+    p: &ContactParams,
+) -> f64 {
+    let limit = support.torsion_limit(load.force[up], p);
+    free.clamp(-limit, limit)
+}
+
 /// One foot's share of the ground reaction.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(super) struct FootLoad {
@@ -418,6 +447,9 @@ pub(super) fn assign_to_feet(
             loads[j].cop = support[j].clamp(&moved, params.cop_margin);
         }
     }
+    for (l, s) in loads.iter_mut().zip(support) {
+        l.free_moment = within_torsion(l.free_moment, l, s, up, params);
+    }
 }
 
 /// The shares of three or more feet in contact (a quadruped, a crab, a biped leaning on a hand):
@@ -545,6 +577,11 @@ pub(super) fn assign_step(
             loads[l].free_moment = free;
         }
     }
+    // each foot's free moment within its torsional friction
+    for j in [t, l] {
+        loads[j].free_moment =
+            within_torsion(loads[j].free_moment, &loads[j], &support[j], up, params);
+    }
 }
 
 #[cfg(test)]
@@ -618,5 +655,44 @@ mod tests {
             assert!(jump < 0.03, "at {p}: {last:?} → {share:?}");
             last = share;
         }
+    }
+
+    /// A foot that barely presses twists within its sole's friction (`Support::torsion_limit`):
+    /// a wrench whose centre of pressure lies 10 m off (1 N down, 50 N sideways) asked the
+    /// foot for 500 N·m before; one pressing with its centre of pressure on the sole keeps the
+    /// whole body's free moment.
+    #[test]
+    fn a_foot_twists_within_its_soles_friction() {
+        let params = ContactParams::default();
+        let sole = [Support {
+            heel: Vector3::zeros(),
+            toe: Vector3::new(0.13, 0.0, 0.0),
+        }];
+        let load = |w: ForceVec| {
+            let (mut share, mut loads) = (vec![0.0], vec![FootLoad::default()]);
+            let (contact, up) = ([true], 1);
+            assign_to_feet(
+                &w, &sole, &contact, None, up, 0.0, &params, &mut share, &mut loads,
+            );
+            loads[0]
+        };
+        // 1 N down at x = 10 m (moment about z 10 N·m), 50 N along z: 500 N·m about the vertical
+        let far = load(ForceVec::new(
+            Vector3::new(0.0, 0.0, 10.0),
+            Vector3::new(0.0, 1.0, 50.0),
+        ));
+        let limit = sole[0].torsion_limit(1.0, &params);
+        assert!((limit - 0.115).abs() < 1e-12, "{limit}");
+        assert!(
+            far.free_moment.abs() <= limit + 1e-12,
+            "{}",
+            far.free_moment
+        );
+        // 700 N down at the sole's middle and a 5 N·m twist: the foot gives all of it
+        let p = Vector3::new(0.065, 0.0, 0.0);
+        let f = Vector3::new(20.0, 700.0, -30.0);
+        let on = load(ForceVec::new(p.cross(&f) + Vector3::new(0.0, 5.0, 0.0), f));
+        assert!((on.free_moment - 5.0).abs() < 1e-9, "{}", on.free_moment);
+        assert!((on.cop - p).norm() < 1e-12);
     }
 }
