@@ -433,10 +433,16 @@ fn why_missed(
     }
     if f.rms_moment_nm > f.moment_limit_nm() {
         let frames: Vec<usize> = (0..beyond.len()).filter(|&k| beyond[k]).collect();
-        let mut gaps: Vec<f64> = frames.iter().map(|&k| g.cop_gap[k]).collect();
-        gaps.sort_by(f64::total_cmp);
-        let median = gaps.get(gaps.len() / 2).copied().unwrap_or(0.0);
         let feet_on = |k: usize| g.loaded[k].iter().filter(|l| **l).count();
+        // the centre-of-pressure gap of the frames with a foot down (in flight there is none
+        // to measure, and a median over them read 0.0 cm on takes mostly in the air)
+        let mut gaps: Vec<f64> = frames
+            .iter()
+            .filter(|&&k| feet_on(k) > 0)
+            .map(|&k| g.cop_gap[k])
+            .collect();
+        gaps.sort_by(f64::total_cmp);
+        let median = gaps.get(gaps.len() / 2).copied();
         let count = |n: usize| frames.iter().filter(|&&k| feet_on(k) == n).count();
         let (flight, single) = (count(0), count(1));
         let double = frames.len() - flight - single;
@@ -450,20 +456,26 @@ fn why_missed(
         why.push(format!(
             "RMS residual moment {:.1} N·m is {} the {:.0} % threshold ({:.1} N·m): {} frames \
              beyond it ({single} in single support, {double} in double support, {flight} in \
-             flight) hold {:.0} % of it; there the needed centre of pressure lies a median {:.1} \
-             cm off the feet{}",
+             flight) hold {:.0} % of it{}",
             f.rms_moment_nm,
             times(f.rms_moment_nm / f.moment_limit_nm().max(1e-9)),
             100.0 * MOMENT_SHARE,
             f.moment_limit_nm(),
             frames.len(),
             100.0 * share,
-            100.0 * median,
-            if median > 0.05 {
-                ": more than a smooth pelvis and trunk correction can move it (a missed \
-                 contact, a prop, or feet that slide), not noise"
-            } else {
-                ""
+            match median {
+                Some(m) => format!(
+                    "; where a foot is down there, the needed centre of pressure lies a median \
+                     {:.1} cm off the feet{}",
+                    100.0 * m,
+                    if m > 0.05 {
+                        ": more than a smooth pelvis and trunk correction can move it (a \
+                         missed contact, a prop, or feet that slide), not noise"
+                    } else {
+                        ""
+                    }
+                ),
+                None => String::new(),
             }
         ));
     }
