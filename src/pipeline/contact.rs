@@ -213,13 +213,13 @@ fn contact_model_note(take: &Take, feet: &[crate::motion::contact::Foot]) -> Opt
 }
 
 /// Why `take` has no ground contact, for a message: `contact auto chose none: <its reason>`
-/// when `auto` settled on none ([`resolve_contact`] noted it), else `None` (the user chose
-/// `--contact none`).
+/// when `auto` settled on none ([`resolve_contact`] keeps it in `Take::contact_auto`), else
+/// `None` (the user chose `--contact none`).
 pub fn auto_chose_none(take: &Take) -> Option<String> {
-    take.notes
-        .iter()
-        .find_map(|n| n.strip_prefix("contact auto: none: "))
-        .map(|w| format!("contact auto chose none: {w}"))
+    match &take.contact_auto {
+        Some((Contact::None, why)) => Some(format!("contact auto chose none: {why}")),
+        _ => None,
+    }
 }
 
 /// Settles `--contact auto` on a loaded take: sets [`TakeOptions::contact`] to what
@@ -249,6 +249,7 @@ pub fn resolve_contact_after(
     if let Some((contact, why)) = &choice {
         take.options.contact = *contact;
         take.notes.push(format!("contact auto: {contact}: {why}"));
+        take.contact_auto = Some((*contact, why.clone()));
     }
     if take.options.contact == Contact::Feet {
         // `auto` says fitted heights in its choice

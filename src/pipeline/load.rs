@@ -63,6 +63,9 @@ pub struct Take {
     /// (`pipeline::consistency`) keeps its source's, since moving the pelvis moves no floor and
     /// lifts no foot (its feet slide instead, by `stance_slide_m`).
     pub held_contact: Option<HeldContact>,
+    /// What `--contact auto` settled on and why (`pipeline::resolve_contact`); `None` while
+    /// unsettled, or when the contact was chosen by the user.
+    pub contact_auto: Option<(super::Contact, String)>,
 }
 
 /// The contact a take derived by residual reduction keeps from its source ([`Take::held_contact`]).
@@ -220,6 +223,7 @@ pub fn take_from_bvh_reusing(
         notes,
         human: built.found.landmarks,
         held_contact: None,
+        contact_auto: None,
     };
     match built.auto_lock {
         Some(tol) => reduce::lock_auto(take, tol),
