@@ -43,9 +43,25 @@ fn a_mass_edit_is_timed_and_reruns_the_model_and_contact_but_not_the_smoothing()
         assert!(!reran.contains_key(kept), "{kept} reran: {reran:?}");
     }
 
+    // without reduction: no preview (nothing to preview)
+    assert_eq!(j["preview_ms"].as_array().unwrap().len(), 0);
+    assert!(j["preview_median_ms"].is_null());
+
+    // with residual reduction (the default): each edit draws a preview first, timed apart,
+    // and the preview's stages are not counted as the edit's
+    let j = edit_json(&["--edit", "body.mass=80,70", "--contact", "feet"]);
+    let preview = j["preview_ms"].as_array().unwrap();
+    assert_eq!(preview.len(), 3, "{j}");
+    for (p, e) in preview.iter().zip(j["edit_ms"].as_array().unwrap()) {
+        assert!(p.as_f64().unwrap() > 0.0 && p.as_f64() < e.as_f64(), "{j}");
+    }
+    assert!(j["preview_median_ms"].as_f64().is_some());
+    assert_eq!(j["reran"]["contact"], 1.0, "{j}");
+
     // without contact: inverse dynamics instead of the contact stage
     let j = edit_json(&["--edit", "body.mass=80,70", "--contact", "none"]);
     assert_eq!(j["contact"], "none");
+    assert_eq!(j["preview_ms"].as_array().unwrap().len(), 0);
     let reran = j["reran"].as_object().unwrap();
     assert_eq!(reran["inverse_dynamics"], 1.0, "{reran:?}");
     assert!(!reran.contains_key("contact"), "{reran:?}");

@@ -135,9 +135,9 @@ fn a_smoothing_edit_reruns_the_smoothing_and_a_gain_edit_reruns_nothing() {
     assert_eq!(wb.stage_runs(Stage::Smooth), 3);
 }
 
-/// On the worker, the status line says how long the recompute after an edit took (its first
-/// clause, which a narrow terminal drops before the verdicts); a mass edit there reruns no
-/// smoothing either.
+/// On the worker, the status line says how long the recompute after an edit took, and its
+/// preview (its first clause, which a narrow terminal drops before the verdicts); a mass edit
+/// there reruns no smoothing either.
 #[test]
 fn the_status_line_shows_the_recompute_time_of_an_edit() {
     use articula::session::parse_line;
@@ -168,10 +168,12 @@ fn the_status_line_shows_the_recompute_time_of_an_edit() {
     // wide enough for the whole line, the time is its first clause
     let screen = articula::tui::draw::render_text(&ui, &wb, 240, 30);
     let status = screen.lines().last().unwrap_or("");
+    // the demo walk is reduced: the mass edit drew a preview first
     assert!(
-        status.starts_with("recomputed in ") && status.contains(" ms; "),
+        status.starts_with("preview in ") && status.contains(" ms, recomputed in "),
         "{status}"
     );
+    assert!(status.contains(" ms; "), "{status}");
     // at 80 columns it is the clause dropped first: the verdicts that end the line stay
     let screen = articula::tui::draw::render_text(&ui, &wb, 80, 24);
     let status = screen.lines().last().unwrap_or("");
@@ -186,4 +188,68 @@ fn the_status_line_shows_the_recompute_time_of_an_edit() {
     );
     let screen = ui.render_text(&wb);
     assert!(!screen.contains("recomputed in"), "{screen}");
+}
+
+/// On the worker, a mass edit of a reduced take draws a preview first (`Job::preview`: the
+/// last residual reduction evaluated on the new masses), said in the status line and never
+/// fresh; then the results proper replace it, the same bits as a fresh session's at that mass
+/// (the preview leaves no trace). A smoothing edit draws none.
+#[test]
+fn a_mass_edit_draws_a_preview_then_the_results_of_a_fresh_session() {
+    use articula::dynamics::rra::Started;
+    use articula::session::parse_line;
+    use articula::tui::Ui;
+    let dir = tempfile::tempdir().unwrap();
+    let mut wb = wb_in(dir.path());
+    let mut ui = Ui::new();
+    ui.color = false;
+    let started = |r: &Analysis| {
+        r.consistency
+            .as_ref()
+            .and_then(|c| c.adjustments.as_ref())
+            .map(|a| a.started)
+    };
+    // polls until the job is done; returns whether a preview was drawn before, checking it
+    let wait = |ui: &mut Ui, wb: &mut Workbench| -> bool {
+        let start = std::time::Instant::now();
+        let mut previewed = false;
+        while ui.running.is_some() {
+            ui.poll(wb);
+            if !previewed && ui.running.as_ref().is_some_and(|r| r.preview_ms.is_some()) {
+                let p = wb
+                    .preview
+                    .clone()
+                    .expect("a preview once the worker sent one");
+                assert_eq!(started(&p), Some(Started::Preview));
+                assert!(wb.fresh_results().is_none(), "a preview is never fresh");
+                assert!(Arc::ptr_eq(wb.latest_results().unwrap(), &p));
+                let screen = articula::tui::draw::render_text(ui, wb, 240, 30);
+                let status = screen.lines().last().unwrap_or("");
+                assert!(status.contains("drawn: a preview in "), "{status}");
+                previewed = true;
+            }
+            assert!(start.elapsed().as_secs() < 120, "no result: a hang");
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
+        previewed
+    };
+    let exec = |ui: &mut Ui, wb: &mut Workbench, line: &str| {
+        ui.exec(wb, &parse_line(line, 1).unwrap().unwrap());
+    };
+    exec(&mut ui, &mut wb, "load demo:walk");
+    assert!(
+        !wait(&mut ui, &mut wb),
+        "the first results have nothing to preview"
+    );
+    exec(&mut ui, &mut wb, "set body.mass 90");
+    assert!(wait(&mut ui, &mut wb), "the mass edit drew no preview");
+    assert!(ui.error.is_none(), "{:?}", ui.error);
+    assert!(wb.preview.is_none(), "the results replace the preview");
+    let edited = results(&wb);
+    assert_eq!(started(&edited), Some(Started::Cold));
+    let full = full_recompute(dir.path(), &["set body.mass 90"]);
+    assert!(bits(&edited) == bits(&full));
+    // another smoothing: no preview (the reduction's motion is another)
+    exec(&mut ui, &mut wb, "set smooth butterworth:8hz");
+    assert!(!wait(&mut ui, &mut wb), "a smoothing edit drew a preview");
 }

@@ -31,7 +31,7 @@ fn load(path: &Path, mass_kg: f64, segments: &str) -> Take {
 
 /// The reduced take's torques (with the ground reactions), its consistency and seed.
 fn reduce(take: &Take, seed: Option<&Seed>) -> (Vec<Vec<f64>>, Consistency, Seed) {
-    let (_, g, c, found) = consistent_take_keeping(take, true, None, &[], seed).unwrap();
+    let (_, g, c, found) = consistent_take_keeping(take, true, None, &[], seed.into()).unwrap();
     (g.tau, c, found.expect("a seed against estimated forces"))
 }
 
@@ -184,4 +184,53 @@ fn a_mass_edit_in_a_session_gives_what_a_fresh_session_gives() {
             assert!(edited == fresh, "{segments}: not bit-identical");
         }
     }
+}
+
+/// The workbench's preview after a mass edit (`Warm::Preview`, `Engine::preview_after`): the
+/// seed's adjustments evaluated on the new masses, nothing solved. Its pelvis offset and
+/// trunk offset are the seed's to the bit; its torques are the new masses', near the cold
+/// reduction's (the adjustments of 75 kg, not of 85); no seed comes of it. Masses scaled alike
+/// (where `Warm::Seed` is as quick, and exact) and another motion give no preview.
+#[test]
+fn a_preview_is_the_seeds_adjustments_at_the_new_masses() {
+    use articula::dynamics::rra::Warm;
+    let path = common::repo("data/demo_walk.bvh");
+    let (before, after) = (
+        load(&path, 75.0, "regression"),
+        load(&path, 85.0, "regression"),
+    );
+    let (tau75, c75, seed) = reduce(&before, None);
+    let (cold, c_cold, _) = reduce(&after, None);
+    let (_, g, c, found) =
+        consistent_take_keeping(&after, true, None, &[], Warm::Preview(&seed)).unwrap();
+    assert!(found.is_none(), "a preview is no seed");
+    let (a, a75) = (c.adjustments.unwrap(), c75.adjustments.unwrap());
+    assert_eq!(a.started, Started::Preview);
+    assert_eq!(a.trunk_offset_m, a75.trunk_offset_m);
+    assert_eq!(
+        (a.pelvis_peak_m, a.pelvis_rms_m),
+        (a75.pelvis_peak_m, a75.pelvis_rms_m)
+    );
+    assert_eq!(a.rotation_peak_rms_rad, a75.rotation_peak_rms_rad);
+    assert_eq!(a.refined_knot_spacing_s, a75.refined_knot_spacing_s);
+    // the new masses' torques: far from 75 kg's, near the cold reduction's at 85
+    let (near, far) = (off(&g.tau, &cold, 1.0), off(&g.tau, &tau75, 1.0));
+    eprintln!("preview vs cold at 85 kg {near:.2e}, vs 75 kg {far:.2e} of the peak");
+    assert!(near < 0.05 && near < 0.5 * far, "{near} {far}");
+    let (fp, fc) = (c.after.unwrap(), c_cold.after.unwrap());
+    eprintln!(
+        "residual moment: preview {:.3} %, cold {:.3} %",
+        fp.moment_pct(),
+        fc.moment_pct()
+    );
+    // masses scaled alike, or another motion: no preview
+    let (light, heavy) = (
+        load(&path, 60.0, "fractions"),
+        load(&path, 100.0, "fractions"),
+    );
+    let (_, _, seed60) = reduce(&light, None);
+    assert!(consistent_take_keeping(&heavy, true, None, &[], Warm::Preview(&seed60)).is_err());
+    let mut later = load(&path, 85.0, "regression");
+    later.states.time.iter_mut().for_each(|t| *t += 1e-3);
+    assert!(consistent_take_keeping(&later, true, None, &[], Warm::Preview(&seed)).is_err());
 }

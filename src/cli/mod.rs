@@ -248,8 +248,9 @@ pub struct BenchArgs {
     stages: bool,
     /// Time a workbench edit on the take: `set SETTING V` then `run id`, the values in
     /// turn (`body.mass=80,70`), as the terminal UI's "recomputed in N ms" (min and
-    /// median, and the stages each edit reran). The take flags set the workbench's take
-    /// options (`--contact feet`); see docs/workbench.md.
+    /// median, the stages each edit reran, and the time to the preview a mass edit of a
+    /// reduced take draws first). The take flags set the workbench's take options
+    /// (`--contact feet`); see docs/workbench.md.
     #[arg(
         long,
         value_name = "SETTING=V1,V2",

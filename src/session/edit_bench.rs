@@ -9,7 +9,7 @@
 //! applied as they are (`consistent=off`, `edges=include`). Besides the times, the stages the
 //! edits reran, per edit (`Workbench::stage_runs`): what an edit recomputes, counted.
 
-use super::{Builtin, Command, RunKind, Workbench};
+use super::{Builtin, Command, Control, RunKind, Workbench};
 use crate::error::Error;
 use crate::pipeline::TakeOptions;
 use crate::pipeline::stages::STAGES;
@@ -75,8 +75,13 @@ pub struct EditBench {
     /// The take's contact after `auto` is settled (`feet`, `none`).
     pub contact: String,
     pub settings: EditSettings,
-    /// Milliseconds of each timed edit (`set` + `run id`), in order.
+    /// Milliseconds of each timed edit (`set` + `run id`), in order: as the terminal UI's
+    /// worker does it, a preview first when the edit has one.
     pub ms: Vec<f64>,
+    /// Milliseconds from each timed edit to its preview (`Job::preview`: after an edit of the
+    /// masses alone, the last residual reduction at the new masses), the terminal UI's first
+    /// redraw; empty when the edits have none.
+    pub preview_ms: Vec<f64>,
     /// `(stage key, runs per edit)` for every stage that reran: what an edit recomputes.
     pub reran: Vec<(&'static str, f64)>,
 }
@@ -120,13 +125,23 @@ pub fn bench_edit(
     }
     command(&mut wb, Command::Run(RunKind::Id))?;
     let runs_before = wb.stage_runs;
-    let mut ms = Vec::with_capacity(settings.repeat);
+    let (mut ms, mut preview_ms) = (vec![], vec![]);
+    let since = |start: Instant| start.elapsed().as_secs_f64() * 1e3;
     for i in 0..settings.repeat {
         let value = &settings.values[i % settings.values.len()];
         let start = Instant::now();
         set(&mut wb, &settings.setting, value)?;
+        // the terminal UI's worker: the recompute's preview, when it has one, then the results
+        let job = wb
+            .prepare(&Command::Run(RunKind::Id))
+            .map_err(|e| Error::Invalid(e.to_string()))?;
+        if let Some(job) = job
+            && job.preview(&Control::default()).is_some()
+        {
+            preview_ms.push(since(start));
+        }
         command(&mut wb, Command::Run(RunKind::Id))?;
-        ms.push(start.elapsed().as_secs_f64() * 1e3);
+        ms.push(since(start));
     }
     let reran = STAGES
         .iter()
@@ -153,8 +168,13 @@ pub fn bench_edit(
         contact: contact.into(),
         settings: settings.clone(),
         ms,
+        preview_ms,
         reran,
     })
+}
+
+fn min(x: &[f64]) -> f64 {
+    x.iter().copied().fold(f64::INFINITY, f64::min)
 }
 
 fn median(x: &[f64]) -> f64 {
@@ -174,7 +194,7 @@ fn median(x: &[f64]) -> f64 {
 impl EditBench {
     /// The fastest edit (ms).
     pub fn min_ms(&self) -> f64 {
-        self.ms.iter().copied().fold(f64::INFINITY, f64::min)
+        min(&self.ms)
     }
 
     /// The median edit (ms).
@@ -184,7 +204,9 @@ impl EditBench {
 
     /// `--json`: `take`, `frames`, `nv`, `threads`, `contact`, `edit` (the setting), `values`,
     /// `before` (the `--set` lines), `repeat`, `edit_ms` (every timed edit), `median_ms`,
-    /// `min_ms`, `reran` (stage key → runs per edit).
+    /// `min_ms`, `preview_ms` (every timed edit's preview; empty without),
+    /// `preview_median_ms` and `preview_min_ms` (null without), `reran` (stage key → runs per
+    /// edit).
     pub fn json(&self) -> serde_json::Value {
         let before: serde_json::Map<String, serde_json::Value> = self
             .settings
@@ -210,6 +232,9 @@ impl EditBench {
             "edit_ms": self.ms,
             "median_ms": self.median_ms(),
             "min_ms": self.min_ms(),
+            "preview_ms": self.preview_ms,
+            "preview_median_ms": (!self.preview_ms.is_empty()).then(|| median(&self.preview_ms)),
+            "preview_min_ms": (!self.preview_ms.is_empty()).then(|| min(&self.preview_ms)),
             "reran": reran,
         })
     }
@@ -230,7 +255,7 @@ impl EditBench {
         format!(
             "{}: {} frames, nv {}, {} thread{}, contact {}{}\n\
              `set {} {}` + `run id`, {} timed edits after one run: min {:.2} ms, median {:.2} ms\n\
-             reran per edit: {}\n",
+             {}reran per edit: {}\n",
             self.take,
             self.frames,
             self.nv,
@@ -247,6 +272,17 @@ impl EditBench {
             self.settings.repeat,
             self.min_ms(),
             self.median_ms(),
+            if self.preview_ms.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "the preview drawn first (the last residual reduction at the new masses), \
+                     {} of them: min {:.2} ms, median {:.2} ms\n",
+                    self.preview_ms.len(),
+                    min(&self.preview_ms),
+                    median(&self.preview_ms)
+                )
+            },
             if reran.is_empty() {
                 "nothing".into()
             } else {

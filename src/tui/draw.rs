@@ -593,8 +593,15 @@ fn draw_status(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
             0 => String::new(),
             n => format!(", {n} command(s) wait"),
         };
+        // a recompute's preview is on screen: say what it is until the results replace it
+        let preview = match (r.preview_ms, &wb.preview) {
+            (Some(ms), Some(_)) => format!(
+                "; drawn: a preview in {ms} ms, the last residual reduction at the new masses"
+            ),
+            _ => String::new(),
+        };
         Line::from(format!(
-            "⟳ {} {:.0}%  (Esc cancels{waiting})",
+            "⟳ {} {:.0}%{preview}  (Esc cancels{waiting})",
             r.label,
             r.control.progress() * 100.0
         ))
@@ -605,8 +612,11 @@ fn draw_status(ui: &Ui, wb: &Workbench, f: &mut Frame, area: Rect) {
         // narrow terminal drops first ([`fit_status`]), before the verdicts that end it
         let timed;
         let first = match ui.recompute_ms {
-            Some((ms, n)) if n == wb.messages.len() => {
-                timed = format!("recomputed in {ms} ms; {first}");
+            Some((ms, preview, n)) if n == wb.messages.len() => {
+                timed = match preview {
+                    Some(p) => format!("preview in {p} ms, recomputed in {ms} ms; {first}"),
+                    None => format!("recomputed in {ms} ms; {first}"),
+                };
                 timed.as_str()
             }
             _ => first,

@@ -57,10 +57,20 @@ pub struct Running {
     pub control: Arc<Control>,
     /// Inverse dynamics of the active take (a recompute): a newer request replaces it.
     pub replaceable: bool,
-    /// Where the worker sends its result.
-    rx: Receiver<JobResult>,
+    /// Where the worker sends its preview, then its result.
+    rx: Receiver<Sent>,
     /// When the job started (the recompute time in the status line).
     started: std::time::Instant,
+    /// When its preview arrived (ms after the start), if it sent one.
+    pub preview_ms: Option<u128>,
+}
+
+/// What the worker sends: a recompute's preview first ([`Job::preview`], when it has one),
+/// then the job's result.
+#[derive(Debug)]
+enum Sent {
+    Preview(JobResult),
+    Done(JobResult),
 }
 
 impl Drop for Running {
@@ -115,9 +125,9 @@ pub struct Ui {
     /// The last error, shown in the status line until the next command.
     pub error: Option<String>,
     /// The wall time of the last recompute on the worker (ms) and the number of messages
-    /// once it was stored: the status line shows it beside that message. Never set in sync
-    /// mode, so replays stay deterministic.
-    pub recompute_ms: Option<(u128, usize)>,
+    /// once it was stored: the status line shows it beside that message, after the time of
+    /// its preview if it drew one. Never set in sync mode, so replays stay deterministic.
+    pub recompute_ms: Option<(u128, Option<u128>, usize)>,
     pub quit: bool,
     /// Screen size for `screen` in headless mode.
     pub size: (u16, u16),
@@ -271,7 +281,10 @@ impl Ui {
             .name("articula-worker".into())
             .spawn(move || {
                 // the receiver is gone when the job was replaced or the UI quit
-                let _ = tx.send(job.run(&c));
+                if let Some(p) = job.preview(&c) {
+                    let _ = tx.send(Sent::Preview(p));
+                }
+                let _ = tx.send(Sent::Done(job.run(&c)));
             })
             .map_err(|e| SessionError::Engine(crate::error::Error::io("worker thread", e)))?;
         self.running = Some(Running {
@@ -280,18 +293,25 @@ impl Ui {
             replaceable,
             rx,
             started: std::time::Instant::now(),
+            preview_ms: None,
         });
         Ok(())
     }
 
     /// Takes what the worker finished, if it did, then applies the commands that waited for
-    /// it and the recompute that followed it. Returns true when a job finished.
+    /// it and the recompute that followed it; shows a recompute's preview when it comes.
+    /// Returns true when a job finished or sent its preview (the screen changed).
     pub fn poll(&mut self, wb: &mut Workbench) -> bool {
-        let Some(r) = &self.running else {
+        let Some(r) = &mut self.running else {
             return false;
         };
         let done = match r.rx.try_recv() {
-            Ok(done) => done,
+            Ok(Sent::Done(done)) => done,
+            Ok(Sent::Preview(p)) => {
+                r.preview_ms = Some(r.started.elapsed().as_millis());
+                wb.show_preview(p);
+                return true;
+            }
             Err(TryRecvError::Empty) => return false,
             Err(TryRecvError::Disconnected) => {
                 // the job panicked: nothing was stored
@@ -308,10 +328,11 @@ impl Ui {
             }
         };
         let (ms, recompute) = (r.started.elapsed().as_millis(), r.replaceable);
+        let preview_ms = r.preview_ms;
         let stored = !done.is_cancelled();
         self.finish(wb, done);
         if recompute && stored && self.error.is_none() {
-            self.recompute_ms = Some((ms, wb.messages.len()));
+            self.recompute_ms = Some((ms, preview_ms, wb.messages.len()));
         }
         true
     }
@@ -320,6 +341,8 @@ impl Ui {
     pub fn finish(&mut self, wb: &mut Workbench, done: JobResult) {
         self.running = None;
         if done.is_cancelled() {
+            // the preview of a cancelled recompute goes with it
+            wb.preview = None;
             wb.messages.push(format!("cancelled {}", done.label()));
         } else if let Err(e) = wb.finish(done) {
             self.show_error(wb, e);

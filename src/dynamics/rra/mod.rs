@@ -183,13 +183,40 @@ pub struct Reduction {
     pub started: Started,
 }
 
-/// How a reduction started ([`reduce_residuals`]'s `seed`).
+/// How a reduction started ([`reduce_residuals`]'s `warm`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Started {
     /// Gauss–Newton from zero (no seed, or one of another take or settings).
     Cold,
     /// Every mass and inertia the seed's times one factor: its adjustments, evaluated.
     Scaled,
+    /// A preview ([`Warm::Preview`]): the seed's adjustments evaluated on masses that are not
+    /// the seed's scaled, so not this model's reduction; only a workbench shows it, until the
+    /// reduction proper replaces it.
+    Preview,
+}
+
+/// Where [`reduce_residuals`] starts.
+#[derive(Debug, Clone, Copy)]
+pub enum Warm<'a> {
+    /// From zero.
+    Cold,
+    /// From what an earlier reduction found ([`Seed`]): its adjustments evaluated when the
+    /// problem is the seed's with every mass and inertia scaled alike (by the reduction's
+    /// invariance they are this model's), else from zero. A result never depends on the seed.
+    Seed(&'a Seed),
+    /// A preview of the reduction of another body mass (the workbench's first redraw after a
+    /// mass edit, before the reduction proper): the seed's adjustments evaluated on this
+    /// model, nothing solved ([`Started::Preview`]; no seed is returned). An error when the
+    /// problem is not the seed's but for the inertias, or when its inertias are the seed's
+    /// scaled (then `Warm::Seed` is as quick, and exact).
+    Preview(&'a Seed),
+}
+
+impl<'a> From<Option<&'a Seed>> for Warm<'a> {
+    fn from(seed: Option<&'a Seed>) -> Self {
+        seed.map_or(Warm::Cold, Warm::Seed)
+    }
 }
 
 impl Reduction {
@@ -233,9 +260,7 @@ impl Trunk<'_> {
 
 /// Residual reduction (module doc) of the motion `motion` of `model` against the ground
 /// reactions `ground`, with the trunk `trunk` (whose mass centre may move across it) and the
-/// frames `counted` ([`super::residual::counted_frames`]); from `seed`, what an earlier
-/// reduction found, when it is of the same problem ([`Seed`]: its adjustments evaluated for a
-/// body scaled alike, Gauss–Newton from them for other masses, else from zero).
+/// frames `counted` ([`super::residual::counted_frames`]), started as `warm` says ([`Warm`]).
 ///
 /// Errors: those of the ground reactions' estimate or application; a model without a floating
 /// root whose translation is three prismatic joints or a free joint; a motion of one instant.
@@ -248,7 +273,7 @@ pub fn reduce_residuals(
     up: usize,
     counted: &[bool],
     bounds: &ReductionBounds,
-    seed: Option<&Seed>,
+    warm: Warm,
 ) -> Result<Reduction, Error> {
     let translation = root_translation(model).ok_or_else(|| {
         Error::Invalid(format!(
@@ -288,8 +313,21 @@ pub fn reduce_residuals(
         relative: Default::default(),
     };
     let key = Key::of(model, &ground, &trunk, &motion, up, counted, bounds);
-    let (found, started) = match Start::of(seed, key.as_ref(), model) {
+    let start = match warm {
+        Warm::Cold => Start::Cold,
+        Warm::Seed(s) => Start::of(Some(s), key.as_ref(), model),
+        Warm::Preview(s) => Start::preview(s, key.as_ref(), model).ok_or_else(|| {
+            Error::Invalid(
+                "residual reduction: no preview (the seed is of another problem, or of these \
+                 masses scaled alike)"
+                    .into(),
+            )
+        })?,
+    };
+    let preview = matches!(warm, Warm::Preview(_));
+    let (found, started) = match start {
         Start::Cold => (cold(&mut problem, bounds)?, Started::Cold),
+        Start::Scaled(s) if preview => (scaled(&mut problem, s)?, Started::Preview),
         Start::Scaled(s) => (scaled(&mut problem, s)?, Started::Scaled),
     };
     let Found {
@@ -328,7 +366,8 @@ pub fn reduce_residuals(
     }
     let refined_knot_spacing_s = refined.as_ref().map(|r| r.spacing_s);
     let trunk_offset = problem.trunk_offset(&x);
-    let seed = key.map(|key| Seed {
+    // a preview's adjustments are not this model's reduction: nothing to start from
+    let seed = key.filter(|_| !preview).map(|key| Seed {
         key,
         inertia: model.inertia.clone(),
         x,
@@ -396,7 +435,8 @@ fn cold(problem: &mut Problem, bounds: &ReductionBounds) -> Result<Found, Error>
 
 /// The seed's adjustments on a model whose every mass and inertia is the seed's times one
 /// factor: by the reduction's invariance they are this model's, so they are evaluated (the
-/// refined ones when the seed was refined) and nothing is solved.
+/// refined ones when the seed was refined) and nothing is solved. A preview
+/// ([`Warm::Preview`]) evaluates them the same way on other masses.
 fn scaled(problem: &mut Problem, seed: &Seed) -> Result<Found, Error> {
     problem.rotation = root_rotation(problem.model);
     problem.height = seed.height;

@@ -152,6 +152,17 @@ impl<'a> Start<'a> {
     }
 }
 
+impl<'a> Start<'a> {
+    /// A preview's start ([`super::Warm::Preview`]): the seed's adjustments, when the problem
+    /// is the seed's but for inertias that are not its scaled alike; `None` otherwise.
+    pub fn preview(seed: &'a Seed, key: Option<&Key>, model: &Model) -> Option<Self> {
+        (key == Some(&seed.key)
+            && seed.inertia.len() == model.inertia.len()
+            && !scaled_alike(&seed.inertia, &model.inertia))
+        .then_some(Start::Scaled(seed))
+    }
+}
+
 /// Whether every body of `new` is that of `old` with its mass and rotational inertia times
 /// one factor (the ratio of the total masses), within [`SCALED_TOL`] of each; the mass
 /// centres are the key's.

@@ -11,7 +11,7 @@ use crate::dynamics::residual::{
     split_norms,
 };
 use crate::dynamics::rra::{
-    Ground, Motion, ReductionBounds, Seed, Started, Trunk, com_heights, reduce_residuals,
+    Ground, Motion, ReductionBounds, Seed, Started, Trunk, Warm, com_heights, reduce_residuals,
 };
 use crate::error::Error;
 use crate::motion::contact::ContactParams;
@@ -90,20 +90,21 @@ pub fn consistent_take(
     reduce: bool,
     measured: Option<&FootLoads>,
 ) -> Result<(Option<Take>, GroundReactions, Consistency), Error> {
-    consistent_take_keeping(take, reduce, measured, &[], None).map(|(t, g, c, _)| (t, g, c))
+    consistent_take_keeping(take, reduce, measured, &[], Warm::Cold).map(|(t, g, c, _)| (t, g, c))
 }
 
 /// [`consistent_take`] whose estimate keeps the net moments on `moment_bodies`
 /// ([`GroundReactions::moments`], for the anatomical series) when the take is not reduced,
-/// and whose residual reduction starts from `seed` when it fits (what an earlier reduction of
-/// the same take found: `dynamics::rra::Seed`, kept by a session between edits of the
-/// masses). Returns besides what the reduction found to start the next one from.
+/// and whose residual reduction starts as `warm` says (`dynamics::rra::Warm`: from what an
+/// earlier reduction of the same take found, kept by a session between edits of the masses,
+/// when it fits; or a workbench's preview). Returns besides what the reduction found to start
+/// the next one from.
 pub fn consistent_take_keeping(
     take: &Take,
     reduce: bool,
     measured: Option<&FootLoads>,
     moment_bodies: &[usize],
-    seed: Option<&Seed>,
+    warm: Warm,
 ) -> Result<(Option<Take>, GroundReactions, Consistency, Option<Seed>), Error> {
     let s = &take.states;
     let up = take.up.index();
@@ -170,7 +171,7 @@ pub fn consistent_take_keeping(
         up,
         &counted,
         &bounds,
-        seed,
+        warm,
     )
     .map_err(|e| Error::Invalid(format!("{}: {e}", take.path.display())))?;
     let heights = com_heights(&r.model, &r.q, r.ground.up, r.ground.floor);

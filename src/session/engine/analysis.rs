@@ -144,8 +144,9 @@ pub struct Analysis {
     pub contact_auto: Option<(pipeline::Contact, String)>,
     /// What residual reduction found for these results (`dynamics::rra::Seed`), where the
     /// next edit's reduction starts: an edit that scales every mass alike reuses its
-    /// adjustments, one that changes masses otherwise starts Gauss–Newton there; `None`
-    /// without reduction.
+    /// adjustments, one that changes masses otherwise starts cold (and the workbench's
+    /// preview evaluates these adjustments on its masses: `Engine::preview_after`, whose
+    /// results keep the seed they evaluated); `None` without reduction.
     pub reduction: Option<Arc<crate::dynamics::rra::Seed>>,
     /// With ground contact: the take's consistency (`pipeline::consistency`: the residual
     /// figures before and after reduction against Hicks et al.'s thresholds), which the

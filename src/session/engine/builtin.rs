@@ -5,6 +5,7 @@ use super::{
     Analysis, Control, Engine, LeftOut, Params, Robot, Table, Take, TakeData, no_motion,
     pipeline_take, summarize_notes,
 };
+use crate::dynamics::rra::Warm;
 use crate::error::Error;
 use crate::io::bvh::detect_up;
 use crate::model::Model;
@@ -103,59 +104,32 @@ impl Engine for Builtin {
         previous: Option<&Analysis>,
         ctl: &Control,
     ) -> Result<Analysis, Error> {
-        ctl.check()?;
-        let (model, states, scale, tau, extras) = match &take.data {
-            TakeData::Bvh(bvh) => {
-                let (t, mut extras) = bvh_inverse_dynamics(take, bvh, params, previous, ctl)?;
-                let tau = extras.torques.take();
-                (
-                    Arc::new(t.model),
-                    Arc::new(t.states),
-                    t.scale_to_m,
-                    tau,
-                    extras,
-                )
-            }
-            TakeData::Robot(r) => {
-                let m = r.motion.clone().ok_or_else(|| no_motion(take))?;
-                (r.model.clone(), m, 1.0, None, Extras::default())
-            }
+        inverse_dynamics_as(take, params, previous, false, ctl)
+    }
+
+    fn preview_after(
+        &self,
+        take: &Take,
+        params: &Params,
+        previous: Option<&Analysis>,
+        ctl: &Control,
+    ) -> Option<Analysis> {
+        let p = previous?;
+        let source = p.source.as_deref()?;
+        // an edit of the masses alone, whose residual reduction would start cold
+        let masses_alone = |o: &pipeline::TakeOptions| pipeline::TakeOptions {
+            body: Default::default(),
+            keep_first_frame: false,
+            ..o.clone()
         };
-        // inverse dynamics (RNEA) frame by frame, with progress and cancel
-        let tau = match tau {
-            Some(tau) => tau,
-            None => {
-                let t = pipeline::inverse_dynamics_with(&model, &states, &mut ctl.stage(0.2, 1.0));
-                if t.tau.len() < states.len() {
-                    return Err(cancelled());
-                }
-                ctl.done(Stage::InverseDynamics);
-                t.tau
-            }
-        };
-        ctl.set_progress(1.0);
-        check_finite(&model, &tau, params)?;
-        Ok(Analysis {
-            q: table(&model.q_names, &states.q),
-            v: table(&model.v_names, &states.v),
-            a: table(&model.v_names, &states.a),
-            tau: table(&model.v_names, &tau),
-            time: states.time.clone(),
-            scale,
-            note: extras.note,
-            brief: extras.brief,
-            model,
-            anatomy: extras.anatomy,
-            left_out: extras.left_out,
-            anatomy_joints: extras.anatomy_joints,
-            feet: extras.feet,
-            source: extras.source,
-            calibration: extras.calibration,
-            contact_auto: extras.contact_auto,
-            reduction: extras.reduction,
-            consistency: extras.consistency,
-            reference: Table::default(),
-        })
+        let fits = p.reduction.is_some()
+            && params.consistent.unwrap_or(true)
+            && matches!(take.data, TakeData::Bvh(_))
+            && masses_alone(&source.options) == masses_alone(&params.take)
+            && source.options.body != params.take.body;
+        // no preview is no error: the results proper follow and say what went wrong
+        fits.then(|| inverse_dynamics_as(take, params, previous, true, ctl).ok())
+            .flatten()
     }
 
     fn simulate(&self, take: &Take, params: &Params, ctl: &Control) -> Result<Analysis, Error> {
@@ -295,6 +269,71 @@ impl Engine for Builtin {
     }
 }
 
+/// [`Engine::inverse_dynamics_after`], or with `preview` its preview
+/// ([`Engine::preview_after`]: the residual reduction of `previous` evaluated on this take's
+/// masses, `dynamics::rra::Warm::Preview`; an error when it has none to give).
+fn inverse_dynamics_as(
+    take: &Take,
+    params: &Params,
+    previous: Option<&Analysis>,
+    preview: bool,
+    ctl: &Control,
+) -> Result<Analysis, Error> {
+    ctl.check()?;
+    let (model, states, scale, tau, extras) = match &take.data {
+        TakeData::Bvh(bvh) => {
+            let (t, mut extras) = bvh_inverse_dynamics(take, bvh, params, previous, preview, ctl)?;
+            let tau = extras.torques.take();
+            (
+                Arc::new(t.model),
+                Arc::new(t.states),
+                t.scale_to_m,
+                tau,
+                extras,
+            )
+        }
+        TakeData::Robot(r) => {
+            let m = r.motion.clone().ok_or_else(|| no_motion(take))?;
+            (r.model.clone(), m, 1.0, None, Extras::default())
+        }
+    };
+    // inverse dynamics (RNEA) frame by frame, with progress and cancel
+    let tau = match tau {
+        Some(tau) => tau,
+        None => {
+            let t = pipeline::inverse_dynamics_with(&model, &states, &mut ctl.stage(0.2, 1.0));
+            if t.tau.len() < states.len() {
+                return Err(cancelled());
+            }
+            ctl.done(Stage::InverseDynamics);
+            t.tau
+        }
+    };
+    ctl.set_progress(1.0);
+    check_finite(&model, &tau, params)?;
+    Ok(Analysis {
+        q: table(&model.q_names, &states.q),
+        v: table(&model.v_names, &states.v),
+        a: table(&model.v_names, &states.a),
+        tau: table(&model.v_names, &tau),
+        time: states.time.clone(),
+        scale,
+        note: extras.note,
+        brief: extras.brief,
+        model,
+        anatomy: extras.anatomy,
+        left_out: extras.left_out,
+        anatomy_joints: extras.anatomy_joints,
+        feet: extras.feet,
+        source: extras.source,
+        calibration: extras.calibration,
+        contact_auto: extras.contact_auto,
+        reduction: extras.reduction,
+        consistency: extras.consistency,
+        reference: Table::default(),
+    })
+}
+
 /// What a BVH take's inverse dynamics gives besides its model and states (the fields of
 /// [`Analysis`] of the same names), and the torques when the contact's or the anatomy's RNEA
 /// already computed them.
@@ -316,7 +355,8 @@ struct Extras {
 
 /// A BVH take through the pipeline's stages: axes and unit, model, q, unwrap, smooth,
 /// differentiate (the states of `previous` when the edit keeps them; progress 0–0.2), the
-/// contact and residual reduction ([`contact`]), then the anatomical series and, when they
+/// contact and residual reduction ([`contact`]; with `preview`, `previous`'s reduction
+/// evaluated), then the anatomical series and, when they
 /// come from the same RNEA, the torques ([`anatomy_and_torques`]). Returns the take the
 /// torques are of and the rest of the results.
 fn bvh_inverse_dynamics(
@@ -324,6 +364,7 @@ fn bvh_inverse_dynamics(
     bvh: &Arc<crate::io::bvh::Bvh>,
     params: &Params,
     previous: Option<&Analysis>,
+    preview: bool,
     ctl: &Control,
 ) -> Result<(pipeline::Take, Extras), Error> {
     let mut t = pipeline::take_from_bvh_reusing(
@@ -345,7 +386,7 @@ fn bvh_inverse_dynamics(
     x.contact_auto = pipeline::resolve_contact_after(&mut t, settled);
     x.left_out = edge_marks(&t, params);
     x.note = summarize_notes(&t.notes);
-    let (t, g) = contact(t, params, previous, &mut x, ctl)?;
+    let (t, g) = contact(t, params, previous, preview, &mut x, ctl)?;
     ctl.check()?;
     let tau = anatomy_and_torques(&t, g.as_ref(), previous, &mut x, ctl)?;
     ctl.check()?;
@@ -369,13 +410,16 @@ fn edge_marks(t: &pipeline::Take, params: &Params) -> Vec<Option<LeftOut>> {
 
 /// With `contact feet`: the estimated ground reactions (and how far the feet could give the
 /// ground force the motion needs) of the take made consistent unless `consistent off`
-/// (residual reduction, started from what `previous` found when it fits: [`crate::dynamics::rra::Seed`]); the frames beyond the feet marked [`LeftOut::Beyond`], the verdicts
+/// (residual reduction, started from what `previous` found when it fits:
+/// [`crate::dynamics::rra::Seed`]; with `preview`, what it found evaluated on this take's
+/// masses, [`crate::dynamics::rra::Warm::Preview`], and kept as the seed); the frames beyond the feet marked [`LeftOut::Beyond`], the verdicts
 /// in the note and brief. The estimate keeps the net moments of the bodies the anatomical
 /// series read. Without contact, the take as it is.
 fn contact(
     t: pipeline::Take,
     params: &Params,
     previous: Option<&Analysis>,
+    preview: bool,
     x: &mut Extras,
     ctl: &Control,
 ) -> Result<
@@ -395,10 +439,20 @@ fn contact(
     let reduce = params.consistent.unwrap_or(true);
     // residual reduction from what the last results' found, when they are of the same take
     // (the seed itself checks that nothing but the masses changed)
-    let seed = previous.and_then(|p| p.reduction.as_deref());
+    let seed = previous.and_then(|p| p.reduction.as_ref());
+    let warm = match (preview, seed) {
+        (true, Some(s)) => Warm::Preview(s),
+        (true, None) => return Err(Error::Invalid("no residual reduction to preview".into())),
+        (false, s) => s.map(|s| &**s).into(),
+    };
     let (adjusted, g, c, found) =
-        pipeline::consistency::consistent_take_keeping(&t, reduce, None, &bodies, seed)?;
-    x.reduction = found.map(Arc::new);
+        pipeline::consistency::consistent_take_keeping(&t, reduce, None, &bodies, warm)?;
+    // a preview's adjustments are the seed's, not this model's: the next edit starts from it
+    x.reduction = if preview {
+        seed.cloned()
+    } else {
+        found.map(Arc::new)
+    };
     for (k, b) in c.beyond.iter().enumerate() {
         if *b && k < x.left_out.len() {
             x.left_out[k] = Some(LeftOut::Beyond);

@@ -93,6 +93,15 @@ impl Control {
     pub fn done(&self, s: Stage) {
         self.stage_runs[s as usize].fetch_add(1, Ordering::Relaxed);
     }
+    /// Forgets the stage runs counted so far: a preview's ([`Engine::preview_after`]), which
+    /// the job's results do not count.
+    ///
+    /// [`Engine::preview_after`]: super::Engine::preview_after
+    pub fn forget_stage_runs(&self) {
+        for n in &self.stage_runs {
+            n.store(0, Ordering::Relaxed);
+        }
+    }
     /// How many times each stage ran so far, indexed by `Stage as usize`.
     pub fn stage_runs(&self) -> [u32; STAGE_COUNT] {
         std::array::from_fn(|i| self.stage_runs[i].load(Ordering::Relaxed))

@@ -274,6 +274,23 @@ pub trait Engine: Send + Sync {
         let _ = previous;
         self.inverse_dynamics(take, params, ctl)
     }
+    /// A preview of [`inverse_dynamics_after`](Self::inverse_dynamics_after)'s results for a
+    /// workbench's first redraw after an edit of the body's masses alone, whose residual
+    /// reduction would start cold (tenths of a second on a long take): the reduction
+    /// `previous` found, its adjustments evaluated on the new masses, nothing solved
+    /// (`dynamics::rra::Warm::Preview`). Not these masses' reduction: the results proper
+    /// replace it. `None` when the edit is of anything else, when `previous` has no reduction,
+    /// or when the results proper are as quick (masses scaled alike). By default none.
+    fn preview_after(
+        &self,
+        take: &Take,
+        params: &Params,
+        previous: Option<&Analysis>,
+        ctl: &Control,
+    ) -> Option<Analysis> {
+        let _ = (take, params, previous, ctl);
+        None
+    }
     /// A computed-torque simulation tracking `take`; the results in the same shape.
     fn simulate(&self, take: &Take, params: &Params, ctl: &Control) -> Result<Analysis, Error>;
     /// Take `b` blended into take `a` over `window` (s).

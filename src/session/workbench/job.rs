@@ -191,6 +191,32 @@ impl Job {
         }
     }
 
+    /// For a recompute of inverse dynamics after an edit of the masses alone: a preview of its
+    /// results ([`Engine::preview_after`]), shown until [`run`](Self::run)'s replace them
+    /// ([`Workbench::show_preview`](super::Workbench::show_preview)). `None` for other jobs
+    /// and edits. Its stage runs are not counted.
+    pub fn preview(&self, ctl: &Control) -> Option<JobResult> {
+        if !self.is_inverse_dynamics() || self.fresh.is_some() {
+            return None;
+        }
+        let take = self.take.as_ref()?;
+        // the preview reports no progress: the bar is the results proper's
+        ctl.set_span(0.0, 0.0);
+        let r = self
+            .engine
+            .preview_after(take, &self.params, self.previous.as_deref(), ctl);
+        ctl.forget_stage_runs();
+        ctl.set_span(0.0, 1.0);
+        Some(JobResult {
+            label: self.label.clone(),
+            take: Some(take.name.clone()),
+            params: self.params.clone(),
+            analysis: None,
+            output: Ok(Output::Run(RunKind::Id, Arc::new(r?))),
+            stage_runs: [0; STAGE_COUNT],
+        })
+    }
+
     fn take(&self) -> Result<&Take, SessionError> {
         self.take
             .as_ref()

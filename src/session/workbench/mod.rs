@@ -192,6 +192,10 @@ pub struct Workbench {
     /// Inverse-dynamics results of the active take, and the parameters they were computed
     /// with.
     pub results: Option<(Arc<Analysis>, Params)>,
+    /// A preview of the inverse-dynamics results a recompute is computing (`Job::preview`:
+    /// after an edit of the masses alone, the last residual reduction evaluated on the new
+    /// masses), drawn until the results proper arrive; never fresh, never exported.
+    pub preview: Option<Arc<Analysis>>,
     /// Simulation results of the active take.
     pub sim: Option<(Arc<Analysis>, Params)>,
     /// Every message so far, oldest first.
@@ -248,6 +252,7 @@ impl Workbench {
             frame: 0,
             playing: false,
             results: None,
+            preview: None,
             sim: None,
             messages: vec![],
             motor_classes: motor::default_catalogue().unwrap_or_default(),
@@ -280,9 +285,24 @@ impl Workbench {
         self.stage_runs[s as usize]
     }
 
-    /// The latest results, even if parameters changed since (for drawing while recomputing).
+    /// The latest results, even if parameters changed since (for drawing while recomputing):
+    /// the preview of a recompute when there is one ([`show_preview`](Self::show_preview)).
     pub fn latest_results(&self) -> Option<&Arc<Analysis>> {
-        self.results.as_ref().map(|(r, _)| r)
+        self.preview
+            .as_ref()
+            .or(self.results.as_ref().map(|(r, _)| r))
+    }
+
+    /// Shows `done`, a recompute's preview ([`Job::preview`](job::Job::preview)), until its
+    /// results proper are stored (or the take changes, or the recompute is cancelled). A
+    /// preview of another take than the active one is dropped.
+    pub fn show_preview(&mut self, done: JobResult) {
+        if let Ok(Output::Run(RunKind::Id, r)) = done.output
+            && done.take.is_some()
+            && done.take.as_deref() == self.take().map(|t| t.name.as_str())
+        {
+            self.preview = Some(r);
+        }
     }
 
     /// The model a per-joint setting is checked against: the active robot's, or that of the
@@ -350,6 +370,7 @@ impl Workbench {
                 };
                 self.active = Some(i);
                 self.results = None;
+                self.preview = None;
                 self.comparison = None;
                 self.selection = selection_on_load(&self.takes[i], self.selection.as_deref());
                 if blended {
@@ -443,6 +464,7 @@ impl Workbench {
         params: Params,
         r: Arc<Analysis>,
     ) -> bool {
+        self.preview = None;
         if take.is_none() || self.take().map(|t| t.name.as_str()) != take {
             self.say(format!("dropped results for {}", take.unwrap_or("no take")));
             return false;
@@ -591,6 +613,7 @@ impl Workbench {
         if self.active != Some(i) {
             self.active = Some(i);
             self.results = None;
+            self.preview = None;
             self.sim = None;
             self.comparison = None;
             self.frame = 0;
@@ -696,6 +719,7 @@ impl Workbench {
         }
         self.frame = 0;
         self.results = None;
+        self.preview = None;
         self.sim = None;
     }
 }
