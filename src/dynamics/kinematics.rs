@@ -25,8 +25,16 @@ pub fn forward_kinematics(model: &Model, ws: &mut Workspace, q: &[f64]) {
 /// works in body frames and writes no world pose).
 pub fn forward_kinematics_through(model: &Model, ws: &mut Workspace, q: &[f64], last: usize) {
     let n = (last + 1).min(model.nbodies());
+    if n < 2 {
+        return;
+    }
     let (parent, idx_q, placement) = (&model.parent[..n], &model.idx_q[..n], &model.placement[..n]);
     let (steps, o_x_i) = (&ws.joint_steps[..n], &mut ws.o_x_i[..n]);
+    // the sines and cosines of the angles of bodies 1..n at once (coordinates in body order)
+    let nq = idx_q[n - 1] + model.joints[n - 1].nq();
+    let (sin_q, cos_q) = (&mut ws.sin_q[..nq], &mut ws.cos_q[..nq]);
+    crate::spatial::sin_cos_each(&q[..nq], sin_q, cos_q);
+    let sc = |iq: usize| (sin_q[iq], cos_q[iq]);
     for i in 1..n {
         let op = &o_x_i[parent[i]];
         o_x_i[i] = match steps[i] {
@@ -34,26 +42,26 @@ pub fn forward_kinematics_through(model: &Model, ws: &mut Workspace, q: &[f64], 
             | JointStep::Triple {
                 k: [k, _, _],
                 shifted,
-            } => axis_pose(k, op, shifted.then_some(&placement[i].trans), q[idx_q[i]]),
-            JointStep::InTriple { k } => axis_pose(k, op, None, q[idx_q[i]]),
+            } => axis_pose(k, op, shifted.then_some(&placement[i].trans), sc(idx_q[i])),
+            JointStep::InTriple { k } => axis_pose(k, op, None, sc(idx_q[i])),
             JointStep::General => then(op, &model.parent_transform(i, q)),
         };
     }
 }
 
-/// `0X_i = 0X_λ λX_i` across a revolute joint about coordinate axis `k` (angle `angle`) after
-/// the translation `t` (none: zero).
+/// `0X_i = 0X_λ λX_i` across a revolute joint about coordinate axis `k` (its angle's sine
+/// and cosine `sc`) after the translation `t` (none: zero).
 #[inline(always)]
 fn axis_pose(
     k: usize,
     op: &SpatialTransform,
     t: Option<&Vector3<f64>>,
-    angle: f64,
+    sc: (f64, f64),
 ) -> SpatialTransform {
     match k {
-        0 => axis_pose_k::<0>(op, t, angle),
-        1 => axis_pose_k::<1>(op, t, angle),
-        _ => axis_pose_k::<2>(op, t, angle),
+        0 => axis_pose_k::<0>(op, t, sc),
+        1 => axis_pose_k::<1>(op, t, sc),
+        _ => axis_pose_k::<2>(op, t, sc),
     }
 }
 
@@ -62,12 +70,9 @@ fn axis_pose(
 fn axis_pose_k<const K: usize>(
     op: &SpatialTransform,
     t: Option<&Vector3<f64>>,
-    angle: f64,
+    (sin, cos): (f64, f64),
 ) -> SpatialTransform {
-    let rot = AxisRotation {
-        axis: K,
-        ..AxisRotation::new(K, angle)
-    };
+    let rot = AxisRotation::from_sin_cos(K, sin, cos);
     SpatialTransform::new(
         rot.premul(&op.rot),
         t.map_or(op.trans, |t| op.trans + op.rot * t),

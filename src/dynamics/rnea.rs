@@ -77,9 +77,15 @@ fn forward_pass(
         v: wv,
         a: wa,
         f: wf,
+        sin_q,
+        cos_q,
         ..
     } = ws;
     let (steps, joint_rot, x_up) = (&joint_steps[..n], &mut joint_rot[..n], &mut x_up[..n]);
+    // every angle's sine and cosine at once (the axis joints' rotations), vectorised
+    let nq = model.nq;
+    crate::spatial::sin_cos_each(&q[..nq], &mut sin_q[..nq], &mut cos_q[..nq]);
+    let rotation = |k: usize, iq: usize| AxisRotation::from_sin_cos(k, sin_q[iq], cos_q[iq]);
     let (wv, wa, wf) = (&mut wv[..n], &mut wa[..n], &mut wf[..n]);
 
     // the world: at rest, accelerating upward to stand in for gravity
@@ -101,7 +107,7 @@ fn forward_pass(
         match steps[i] {
             JointStep::Axis { k, shifted } => {
                 let iv = idx_v[i];
-                let rot = AxisRotation::new(k, q[idx_q[i]]);
+                let rot = rotation(k, idx_q[i]);
                 joint_rot[i] = rot;
                 let t = shifted.then_some(&placement[i].trans);
                 let (vi, ai) = axis_step(k, rot, t, &wv[p], &wa[p], rate(v, iv), rate(a, iv));
@@ -117,7 +123,7 @@ fn forward_pass(
                 for (j, &kj) in k.iter().enumerate() {
                     let b = i + j;
                     let iv = idx_v[b];
-                    let rot = AxisRotation::new(kj, q[idx_q[b]]);
+                    let rot = rotation(kj, idx_q[b]);
                     joint_rot[b] = rot;
                     let t = (shifted && j == 0).then_some(&placement[i].trans);
                     (vb, ab) = axis_step(kj, rot, t, &vb, &ab, rate(v, iv), rate(a, iv));

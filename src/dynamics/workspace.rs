@@ -24,6 +24,10 @@ pub struct Workspace {
     /// The joint rotation of each joint of [`JointStep::Axis`] (`nbodies`, its placement
     /// being a translation only); written by `rnea`.
     pub joint_rot: Vec<AxisRotation>,
+    /// `sin q` and `cos q` of every coordinate of the pass's configuration
+    /// ([`crate::spatial::sin_cos_each`]), which the axis joints' rotations read.
+    pub sin_q: Vec<f64>,
+    pub cos_q: Vec<f64>,
     /// Pose of body i in the world frame (`nbodies`); written by `forward_kinematics` and the
     /// energy functions (and `aba`); `crba` writes it relative to the origin of the first body
     /// with mass (world axes). Entry 0 stays the identity.
@@ -111,6 +115,8 @@ impl Workspace {
             o_x_i: vec![SpatialTransform::IDENTITY; n],
             x_up: vec![FastTransform::default(); n],
             joint_rot: vec![AxisRotation::new(0, 0.0); n],
+            sin_q: vec![0.0; model.nq],
+            cos_q: vec![0.0; model.nq],
             s_world: vec![MotionVec::ZERO; nv],
             v: vec![MotionVec::ZERO; n],
             a: vec![MotionVec::ZERO; n],
