@@ -15,12 +15,13 @@
 //! ([`hinge_axes`](crate::rotation::hinge_axes)). The motion of every body then is the ball
 //! model's, whatever the take's rotation order.
 
+use crate::lanes::{atan2_many, sin_cos_many};
 use crate::motion::smooth::{SmoothSpec, Smoother};
 use crate::motion::unwrap::lock_distance;
 use crate::motion::unwrap::repick_fast;
 use crate::rotation::{
-    EulerOrder, euler_to_quaternion_axes, hinge_coordinate_rates, matrix_to_euler_fast_axes,
-    quat_log, with_axes,
+    EulerOrder, euler_half_angles_to_quaternion, hinge_coordinate_rates, matrix_to_euler_fast_args,
+    quat_log, quat_log_from, quat_log_parts, with_axes,
 };
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
@@ -54,14 +55,34 @@ impl TripleScratch {
     }
 }
 
-/// The rotation of each frame of a triple's angle columns `cols` into `out` (one per frame).
+/// Frames whose sines, cosines or arctangents are computed together ([`crate::lanes`], on the
+/// processor's vector lanes), their arguments and results in arrays on the stack.
+const BLOCK: usize = 64;
+
+/// The rotation of each frame of a triple's angle columns `cols` into `out` (one per frame):
+/// [`euler_to_quaternion`](crate::rotation::euler_to_quaternion) frame by frame, bit for bit,
+/// the sines and cosines of a block of frames' half angles at once.
 pub fn triple_rotations(order: EulerOrder, cols: [&[f64]; 3], out: &mut [UnitQuaternion<f64>]) {
     fn fill<const I: usize, const J: usize, const K: usize>(
         cols: [&[f64]; 3],
         out: &mut [UnitQuaternion<f64>],
     ) {
-        for (k, r) in out.iter_mut().enumerate() {
-            *r = euler_to_quaternion_axes([I, J, K], [cols[0][k], cols[1][k], cols[2][k]]);
+        let n = out.len();
+        let mut half = [0.0; 3 * BLOCK];
+        let (mut s, mut c) = ([0.0; 3 * BLOCK], [0.0; 3 * BLOCK]);
+        for k0 in (0..n).step_by(BLOCK) {
+            let m = BLOCK.min(n - k0);
+            // angle a of the block's frame d at a·m + d
+            for (a, col) in cols.iter().enumerate() {
+                for (h, x) in half[a * m..(a + 1) * m].iter_mut().zip(&col[k0..k0 + m]) {
+                    *h = 0.5 * x;
+                }
+            }
+            sin_cos_many(&half[..3 * m], &mut s, &mut c);
+            for (d, r) in out[k0..k0 + m].iter_mut().enumerate() {
+                let half = [0, 1, 2].map(|a| (s[a * m + d], c[a * m + d]));
+                *r = euler_half_angles_to_quaternion([I, J, K], half);
+            }
         }
     }
     with_axes!(order, fill(cols, out));
@@ -99,11 +120,29 @@ fn write_back<const I: usize, const J: usize, const K: usize>(
 ) {
     let [c0, c1, c2] = cols;
     let mut previous = [c0[0], c1[0], c2[0]];
-    for (k, r) in quats.iter().enumerate() {
-        let m: Matrix3<f64> = r.to_rotation_matrix().into_inner();
-        let x = repick_fast(order, matrix_to_euler_fast_axes([I, J, K], &m), previous);
-        (c0[k], c1[k], c2[k]) = (x[0], x[1], x[2]);
-        previous = x;
+    // matrix_to_euler_fast_axes a block of frames at a time, its atan2 together
+    let (mut y, mut x, mut angles) = ([0.0; 3 * BLOCK], [0.0; 3 * BLOCK], [0.0; 3 * BLOCK]);
+    let mut first = [false; BLOCK];
+    let n = quats.len();
+    for k0 in (0..n).step_by(BLOCK) {
+        let m = BLOCK.min(n - k0);
+        for (d, r) in quats[k0..k0 + m].iter().enumerate() {
+            let r: Matrix3<f64> = r.to_rotation_matrix().into_inner();
+            let (args, a1) = matrix_to_euler_fast_args([I, J, K], &r);
+            for (a, (ya, xa)) in args.into_iter().enumerate() {
+                (y[3 * d + a], x[3 * d + a]) = (ya, xa);
+            }
+            first[d] = a1;
+        }
+        atan2_many(&y[..3 * m], &x[..3 * m], &mut angles);
+        for d in 0..m {
+            let a = &angles[3 * d..3 * d + 3];
+            let triple = [if first[d] { a[0] } else { 0.0 }, a[1], a[2]];
+            let q = repick_fast(order, triple, previous);
+            let k = k0 + d;
+            (c0[k], c1[k], c2[k]) = (q[0], q[1], q[2]);
+            previous = q;
+        }
     }
 }
 
@@ -246,15 +285,22 @@ fn body_angular_velocity(q: &[UnitQuaternion<f64>], dt: f64, out: &mut Vec<Vecto
             let d = diff(0, 1) / dt;
             out.extend([d, d]);
         }
-        _ => out.extend((0..n).map(|k| {
-            if k == 0 {
-                (4.0 * diff(0, 1) - diff(0, 2)) / (2.0 * dt)
-            } else if k == n - 1 {
-                -(4.0 * diff(n - 1, n - 2) - diff(n - 1, n - 3)) / (2.0 * dt)
-            } else {
-                diff(k - 1, k + 1) / (2.0 * dt)
+        _ => {
+            out.push((4.0 * diff(0, 1) - diff(0, 2)) / (2.0 * dt));
+            // inside, diff(k − 1, k + 1) a block of frames at a time, its atan2 together
+            let mut v = [Vector3::zeros(); BLOCK];
+            let (mut s, mut w, mut half) = ([0.0; BLOCK], [0.0; BLOCK], [0.0; BLOCK]);
+            for k0 in (1..n - 1).step_by(BLOCK) {
+                let m = BLOCK.min(n - 1 - k0);
+                for d in 0..m {
+                    let k = k0 + d;
+                    (v[d], s[d], w[d]) = quat_log_parts(&(q[k - 1].inverse() * q[k + 1]));
+                }
+                atan2_many(&s[..m], &w[..m], &mut half);
+                out.extend((0..m).map(|d| quat_log_from(v[d], s[d], w[d], half[d]) / (2.0 * dt)));
             }
-        })),
+            out.push(-(4.0 * diff(n - 1, n - 2) - diff(n - 1, n - 3)) / (2.0 * dt));
+        }
     }
 }
 
