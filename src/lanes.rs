@@ -77,12 +77,16 @@ fn atan2_avx2(y: &[f64], x: &[f64], out: &mut [f64]) {
 fn sin_cos_body(x: &[f64], s: &mut [f64], c: &mut [f64]) {
     let n = x.len();
     let (s, c) = (&mut s[..n], &mut c[..n]);
+    let mut outside = false;
     for i in 0..n {
         (s[i], c[i]) = sin_cos_lane(x[i]);
+        outside |= !(x[i].abs() < SIN_COS_RANGE);
     }
-    for i in 0..n {
-        if !(x[i].abs() < SIN_COS_RANGE) {
-            (s[i], c[i]) = crate::spatial::sin_cos(x[i]);
+    if outside {
+        for i in 0..n {
+            if !(x[i].abs() < SIN_COS_RANGE) {
+                (s[i], c[i]) = crate::spatial::sin_cos(x[i]);
+            }
         }
     }
 }
@@ -92,12 +96,17 @@ fn sin_cos_body(x: &[f64], s: &mut [f64], c: &mut [f64]) {
 fn atan2_body(y: &[f64], x: &[f64], out: &mut [f64]) {
     let n = y.len();
     let (x, out) = (&x[..n], &mut out[..n]);
+    let mut special = false;
     for i in 0..n {
-        out[i] = atan2_lane(y[i], x[i]);
+        let r = (y[i] / x[i]).abs();
+        out[i] = atan2_lane(y[i], x[i], r);
+        special |= atan2_special(y[i], x[i], r);
     }
-    for i in 0..n {
-        if atan2_special(y[i], x[i]) {
-            out[i] = crate::spatial::atan2(y[i], x[i]);
+    if special {
+        for i in 0..n {
+            if atan2_special(y[i], x[i], (y[i] / x[i]).abs()) {
+                out[i] = crate::spatial::atan2(y[i], x[i]);
+            }
         }
     }
 }
@@ -153,23 +162,22 @@ fn sin_cos_lane(x: f64) -> (f64, f64) {
 }
 
 /// Whether `atan2(y, x)` is not [`atan2_lane`]'s: NaN, a zero or an infinity in either, or
-/// `|y/x|` outside `[2⁻⁶⁰, 2⁶⁰]` (libm's `x = 1` shortcut, `atan(y)`, gives the same bits as
+/// `r = |y/x|` outside `[2⁻⁶⁰, 2⁶⁰]` (libm's `x = 1` shortcut, `atan(y)`, gives the same bits as
 /// its general path inside that range: `y/1 = y` and `atan` is odd to the bit).
 #[inline(always)]
-fn atan2_special(y: f64, x: f64) -> bool {
+fn atan2_special(y: f64, x: f64, r: f64) -> bool {
     const LOW: f64 = f64::from_bits((1023 - 60) << 52);
     const HIGH: f64 = f64::from_bits((1023 + 60) << 52);
-    let r = (y / x).abs();
     !(x.is_finite() && y.is_finite() && x != 0.0 && y != 0.0 && (LOW..=HIGH).contains(&r))
 }
 
 /// musl's `atan2(y, x)` (`libm::atan2`) where [`atan2_special`] is false, without branches:
-/// `z = atan(|y/x|)` by [`atan_lane`], then the quadrant from the signs.
+/// `z = atan(r)` by [`atan_lane`] (`r = |y/x|`), then the quadrant from the signs.
 #[inline(always)]
-fn atan2_lane(y: f64, x: f64) -> f64 {
+fn atan2_lane(y: f64, x: f64, r: f64) -> f64 {
     const PI: f64 = f64::from_bits(0x4009_21FB_5444_2D18);
     const PI_LO: f64 = f64::from_bits(0x3CA1_A626_3314_5C07);
-    let z = atan_lane((y / x).abs());
+    let z = atan_lane(r);
     let t = z - PI_LO;
     let (neg_y, neg_x) = (y.is_sign_negative(), x.is_sign_negative());
     match (neg_x, neg_y) {
@@ -243,6 +251,109 @@ fn atan_lane(r: f64) -> f64 {
         near
     } else {
         far
+    }
+}
+
+/// Frames whose per-frame rotation arithmetic is done together: the callers' blocks.
+pub const BLOCK: usize = 64;
+
+/// [`crate::rotation::hinge_coordinate_rates`] (with `min_det = 0`) of up to [`BLOCK`] frames
+/// side by side, bit for bit: fill `axes` (`H` column-major, entry `(r, c)` at `3c + r`), `w`
+/// and `dw` for frames `0..m`, call [`HingeBlock::solve`], read `dq`, `ddq` and `ok` (false
+/// where `H` is exactly singular: no rates).
+#[derive(Debug, Clone)]
+pub struct HingeBlock {
+    pub axes: [[f64; BLOCK]; 9],
+    pub w: [[f64; BLOCK]; 3],
+    pub dw: [[f64; BLOCK]; 3],
+    pub dq: [[f64; BLOCK]; 3],
+    pub ddq: [[f64; BLOCK]; 3],
+    pub ok: [bool; BLOCK],
+}
+
+impl Default for HingeBlock {
+    fn default() -> Self {
+        Self {
+            axes: [[0.0; BLOCK]; 9],
+            w: [[0.0; BLOCK]; 3],
+            dw: [[0.0; BLOCK]; 3],
+            dq: [[0.0; BLOCK]; 3],
+            ddq: [[0.0; BLOCK]; 3],
+            ok: [false; BLOCK],
+        }
+    }
+}
+
+impl HingeBlock {
+    /// `q̇ = H⁻¹ ω` and `q̈ = H⁻¹ (α − Ḣ q̇)` of frames `0..m` (`m ≤ BLOCK`).
+    pub fn solve(&mut self, m: usize) {
+        #[cfg(target_arch = "x86_64")]
+        if avx2() {
+            // SAFETY: the processor has AVX2 (checked just above)
+            unsafe { hinge_solve_avx2(self, m) };
+            return;
+        }
+        hinge_solve_body(self, m);
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn hinge_solve_avx2(b: &mut HingeBlock, m: usize) {
+    hinge_solve_body(b, m);
+}
+
+/// [`HingeBlock::solve`] in the caller's instruction set: nalgebra's 3×3 inverse (its
+/// minors, determinant and quotients), matrix–vector products (`y = ((h₀x₀) + h₁x₁) + h₂x₂`)
+/// and cross products, in their order, frame by frame down the columns.
+#[inline(always)]
+fn hinge_solve_body(b: &mut HingeBlock, m: usize) {
+    let m = m.min(BLOCK);
+    let [a11, a21, a31, a12, a22, a32, a13, a23, a33] = &b.axes;
+    let [w1, w2, w3] = &b.w;
+    let [dw1, dw2, dw3] = &b.dw;
+    let [dq1, dq2, dq3] = &mut b.dq;
+    let [ddq1, ddq2, ddq3] = &mut b.ddq;
+    let ok = &mut b.ok;
+    for i in 0..m {
+        let (m11, m21, m31) = (a11[i], a21[i], a31[i]);
+        let (m12, m22, m32) = (a12[i], a22[i], a32[i]);
+        let (m13, m23, m33) = (a13[i], a23[i], a33[i]);
+        // nalgebra's Matrix3::try_inverse
+        let minor_m12_m23 = m22 * m33 - m32 * m23;
+        let minor_m11_m23 = m21 * m33 - m31 * m23;
+        let minor_m11_m22 = m21 * m32 - m31 * m22;
+        let det = m11 * minor_m12_m23 - m12 * minor_m11_m23 + m13 * minor_m11_m22;
+        let i11 = minor_m12_m23 / det;
+        let i12 = (m13 * m32 - m33 * m12) / det;
+        let i13 = (m12 * m23 - m22 * m13) / det;
+        let i21 = -minor_m11_m23 / det;
+        let i22 = (m11 * m33 - m31 * m13) / det;
+        let i23 = (m13 * m21 - m23 * m11) / det;
+        let i31 = minor_m11_m22 / det;
+        let i32 = (m12 * m31 - m32 * m11) / det;
+        let i33 = (m11 * m22 - m21 * m12) / det;
+        // q̇ = H⁻¹ ω
+        let (x1, x2, x3) = (w1[i], w2[i], w3[i]);
+        let d1 = i11 * x1 + i12 * x2 + i13 * x3;
+        let d2 = i21 * x1 + i22 * x2 + i23 * x3;
+        let d3 = i31 * x1 + i32 * x2 + i33 * x3;
+        // Ḣ q̇ = (w₀ × w₁) q̇₁ + ((w₀ + w₁ q̇₁) × w₂) q̇₂, w₀ the first axis times q̇₀
+        let (u1, u2, u3) = (m11 * d1, m21 * d1, m31 * d1);
+        let f1 = (u2 * m32 - u3 * m22) * d2;
+        let f2 = (u3 * m12 - u1 * m32) * d2;
+        let f3 = (u1 * m22 - u2 * m12) * d2;
+        let (t1, t2, t3) = (u1 + m12 * d2, u2 + m22 * d2, u3 + m32 * d2);
+        let g1 = (t2 * m33 - t3 * m23) * d3;
+        let g2 = (t3 * m13 - t1 * m33) * d3;
+        let g3 = (t1 * m23 - t2 * m13) * d3;
+        let (y1, y2, y3) = (dw1[i] - (f1 + g1), dw2[i] - (f2 + g2), dw3[i] - (f3 + g3));
+        // q̈ = H⁻¹ (α − Ḣ q̇)
+        ddq1[i] = i11 * y1 + i12 * y2 + i13 * y3;
+        ddq2[i] = i21 * y1 + i22 * y2 + i23 * y3;
+        ddq3[i] = i31 * y1 + i32 * y2 + i33 * y3;
+        (dq1[i], dq2[i], dq3[i]) = (d1, d2, d3);
+        ok[i] = det != 0.0;
     }
 }
 
@@ -350,6 +461,61 @@ mod tests {
             let want = libm::atan2(y[i], x[i]);
             assert!(same(out[i], want), "atan2({:e}, {:e})", y[i], x[i]);
             assert!(same(out0[i], want), "atan2({:e}, {:e})", y[i], x[i]);
+        }
+    }
+
+    #[test]
+    fn hinge_block_is_hinge_coordinate_rates_bit_for_bit() {
+        use crate::rotation::{EulerOrder, hinge_axes, hinge_coordinate_rates};
+        use nalgebra::{Matrix3, Vector3};
+        let mut b = HingeBlock::default();
+        let mut want = vec![];
+        let mut k = 0;
+        let mut check = |b: &mut HingeBlock, want: &mut Vec<_>, m: usize| {
+            b.solve(m);
+            for (i, w) in want.drain(..).enumerate() {
+                match w {
+                    None => assert!(!b.ok[i], "frame {i}"),
+                    Some((dq, ddq)) => {
+                        let (dq, ddq): (Vector3<f64>, Vector3<f64>) = (dq, ddq);
+                        assert!(b.ok[i], "frame {i}");
+                        for r in 0..3 {
+                            assert!(same(b.dq[r][i], dq[r]) && same(b.ddq[r][i], ddq[r]), "{i}");
+                        }
+                    }
+                }
+            }
+        };
+        for order in EulerOrder::ALL {
+            for j in 0..200 {
+                let t = j as f64 * 0.37 + order as usize as f64;
+                // angles through the lock (a2 = ±π/2 exactly at some frames) and far from it
+                let a2 = if j % 50 == 0 {
+                    std::f64::consts::FRAC_PI_2
+                } else {
+                    (t * 0.7).sin() * 1.6
+                };
+                let x = [t.sin() * 3.0, a2, (t * 1.3).cos() * 2.5];
+                let axes = if j % 67 == 0 {
+                    Matrix3::zeros()
+                } else {
+                    hinge_axes(Matrix3::identity(), order, x)
+                };
+                let w = Vector3::new(t.cos(), -2.0 * t.sin(), 0.3 + t);
+                let dw = Vector3::new(5.0 * t, (3.0 * t).sin(), -1.0);
+                for e in 0..9 {
+                    b.axes[e][k] = axes[(e % 3, e / 3)];
+                }
+                for r in 0..3 {
+                    (b.w[r][k], b.dw[r][k]) = (w[r], dw[r]);
+                }
+                want.push(hinge_coordinate_rates(&axes, &w, &dw, 0.0));
+                k += 1;
+                if k == BLOCK || j == 199 {
+                    check(&mut b, &mut want, k);
+                    k = 0;
+                }
+            }
         }
     }
 }

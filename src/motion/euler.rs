@@ -15,13 +15,13 @@
 //! ([`hinge_axes`](crate::rotation::hinge_axes)). The motion of every body then is the ball
 //! model's, whatever the take's rotation order.
 
-use crate::lanes::{atan2_many, sin_cos_many};
+use crate::lanes::{BLOCK, HingeBlock, atan2_many, sin_cos_many};
 use crate::motion::smooth::{SmoothSpec, Smoother};
 use crate::motion::unwrap::lock_distance;
 use crate::motion::unwrap::repick_fast;
 use crate::rotation::{
-    EulerOrder, euler_half_angles_to_quaternion, hinge_coordinate_rates, matrix_to_euler_fast_args,
-    quat_log, quat_log_from, quat_log_parts, with_axes,
+    EulerOrder, euler_half_angles_to_quaternion, matrix_to_euler_fast_args, quat_log,
+    quat_log_from, quat_log_parts, with_axes,
 };
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
@@ -54,10 +54,6 @@ impl TripleScratch {
         }
     }
 }
-
-/// Frames whose sines, cosines or arctangents are computed together ([`crate::lanes`], on the
-/// processor's vector lanes), their arguments and results in arrays on the stack.
-const BLOCK: usize = 64;
 
 /// The rotation of each frame of a triple's angle columns `cols` into `out` (one per frame):
 /// [`euler_to_quaternion`](crate::rotation::euler_to_quaternion) frame by frame, bit for bit,
@@ -185,8 +181,10 @@ pub fn triple_rates(
     with_axes!(order, coordinate_rates(quats, &s.omega, q, dt, v, a))
 }
 
-/// [`triple_rates`] from the rotations `quats` and their body angular velocities `w`, frame
-/// by frame.
+/// [`triple_rates`] from the rotations `quats` and their body angular velocities `w`: per
+/// frame `H`, `ω` and `α` in the parent's axes, then `H⁻¹` and the rates a block of frames at
+/// a time ([`HingeBlock`], the arithmetic of
+/// [`hinge_coordinate_rates`](crate::rotation::hinge_coordinate_rates) on the vector lanes).
 fn coordinate_rates<const I: usize, const J: usize, const K: usize>(
     quats: &[UnitQuaternion<f64>],
     w: &[Vector3<f64>],
@@ -200,27 +198,45 @@ fn coordinate_rates<const I: usize, const J: usize, const K: usize>(
     let [a0, a1, a2] = a;
     let h2 = 2.0 * dt;
     let mut left = 0;
-    for k in 0..n {
-        if at_gimbal_lock(q[1][k]) {
-            left += 1;
-            continue;
+    let mut b = HingeBlock::default();
+    let mut locked = [false; BLOCK];
+    for k0 in (0..n).step_by(BLOCK) {
+        let m = BLOCK.min(n - k0);
+        for d in 0..m {
+            let k = k0 + d;
+            locked[d] = at_gimbal_lock(q[1][k]);
+            if locked[d] {
+                left += 1;
+            }
+            // ω̇ by the scalar formulas of each component (pipeline::states' accelerations)
+            let dw = match n {
+                0..=2 => Vector3::zeros(),
+                _ if k == 0 => (-3.0 * w[0] + 4.0 * w[1] - w[2]) / h2,
+                _ if k == n - 1 => (3.0 * w[n - 1] - 4.0 * w[n - 2] + w[n - 3]) / h2,
+                _ => (w[k + 1] - w[k - 1]) / h2,
+            };
+            let r = quats[k].to_rotation_matrix().into_inner();
+            let axes = hinge_axes_at::<I, J, K>(&r, [q[0][k], q[1][k], q[2][k]]);
+            let (wp, dwp) = (r * w[k], r * dw);
+            for (e, x) in axes.iter().enumerate() {
+                b.axes[e][d] = *x;
+            }
+            for c in 0..3 {
+                (b.w[c][d], b.dw[c][d]) = (wp[c], dwp[c]);
+            }
         }
-        // ω̇ by the scalar formulas of each component (pipeline::states' accelerations)
-        let dw = match n {
-            0..=2 => Vector3::zeros(),
-            _ if k == 0 => (-3.0 * w[0] + 4.0 * w[1] - w[2]) / h2,
-            _ if k == n - 1 => (3.0 * w[n - 1] - 4.0 * w[n - 2] + w[n - 3]) / h2,
-            _ => (w[k + 1] - w[k - 1]) / h2,
-        };
-        let r = quats[k].to_rotation_matrix().into_inner();
-        let axes = hinge_axes_at::<I, J, K>(&r, [q[0][k], q[1][k], q[2][k]]);
-        let Some((dq, ddq)) = hinge_coordinate_rates(&axes, &(r * w[k]), &(r * dw), 0.0) else {
-            // a singular H at |cos a2| ≥ LOCK_DET is rounding's, not the take's: hold
-            continue;
-        };
-        (v0[k], v1[k], v2[k]) = (dq[0], dq[1], dq[2]);
-        if n > 2 {
-            (a0[k], a1[k], a2[k]) = (ddq[0], ddq[1], ddq[2]);
+        b.solve(m);
+        for d in 0..m {
+            // at the lock: the caller's; a singular H at |cos a2| ≥ LOCK_DET is rounding's,
+            // not the take's: hold
+            if locked[d] || !b.ok[d] {
+                continue;
+            }
+            let k = k0 + d;
+            (v0[k], v1[k], v2[k]) = (b.dq[0][d], b.dq[1][d], b.dq[2][d]);
+            if n > 2 {
+                (a0[k], a1[k], a2[k]) = (b.ddq[0][d], b.ddq[1][d], b.ddq[2][d]);
+            }
         }
     }
     left
