@@ -285,27 +285,35 @@ impl Default for HingeBlock {
 }
 
 impl HingeBlock {
-    /// `q̇ = H⁻¹ ω` and `q̈ = H⁻¹ (α − Ḣ q̇)` of frames `0..m` (`m ≤ BLOCK`).
+    /// `q̇ = H⁻¹ ω` and `q̈ = H⁻¹ (α − Ḣ q̇)` of frames `0..m` (`m ≤ BLOCK`), in the caller's
+    /// instruction set (call it inside [`vectorised`]): nalgebra's 3×3 inverse (its minors,
+    /// determinant and quotients), matrix–vector products (`y = ((h₀x₀) + h₁x₁) + h₂x₂`) and
+    /// cross products, in their order, frame by frame down the columns.
+    #[inline(always)]
     pub fn solve(&mut self, m: usize) {
-        #[cfg(target_arch = "x86_64")]
-        if avx2() {
-            // SAFETY: the processor has AVX2 (checked just above)
-            unsafe { hinge_solve_avx2(self, m) };
-            return;
-        }
         hinge_solve_body(self, m);
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn hinge_solve_avx2(b: &mut HingeBlock, m: usize) {
-    hinge_solve_body(b, m);
+/// Runs `f` compiled for AVX2 where the processor has it (checked once, then cached), else
+/// as built (SSE2 on baseline x86-64): for loops over frames side by side, which the compiler
+/// then vectorises four or two values wide. `f` should be an `#[inline(always)]` closure
+/// whose work is inlined into it. The results are the same bits either way: vectorising
+/// neither reorders nor fuses floating-point operations.
+#[inline(always)]
+pub fn vectorised<R>(f: impl FnOnce() -> R) -> R {
+    #[cfg(target_arch = "x86_64")]
+    if avx2() {
+        #[target_feature(enable = "avx2")]
+        fn with_avx2<R>(f: impl FnOnce() -> R) -> R {
+            f()
+        }
+        // SAFETY: the processor has AVX2 (checked just above)
+        return unsafe { with_avx2(f) };
+    }
+    f()
 }
 
-/// [`HingeBlock::solve`] in the caller's instruction set: nalgebra's 3×3 inverse (its
-/// minors, determinant and quotients), matrix–vector products (`y = ((h₀x₀) + h₁x₁) + h₂x₂`)
-/// and cross products, in their order, frame by frame down the columns.
 #[inline(always)]
 fn hinge_solve_body(b: &mut HingeBlock, m: usize) {
     let m = m.min(BLOCK);
@@ -472,7 +480,10 @@ mod tests {
         let mut want = vec![];
         let mut k = 0;
         let mut check = |b: &mut HingeBlock, want: &mut Vec<_>, m: usize| {
-            b.solve(m);
+            let mut plain = b.clone();
+            plain.solve(m);
+            vectorised(|| b.solve(m));
+            assert_eq!(format!("{:?}", plain.ddq), format!("{:?}", b.ddq));
             for (i, w) in want.drain(..).enumerate() {
                 match w {
                     None => assert!(!b.ok[i], "frame {i}"),
