@@ -80,11 +80,11 @@ fn sin_cos_body(x: &[f64], s: &mut [f64], c: &mut [f64]) {
     let mut outside = false;
     for i in 0..n {
         (s[i], c[i]) = sin_cos_lane(x[i]);
-        outside |= !(x[i].abs() < SIN_COS_RANGE);
+        outside |= beyond_sin_cos(x[i]);
     }
     if outside {
         for i in 0..n {
-            if !(x[i].abs() < SIN_COS_RANGE) {
+            if beyond_sin_cos(x[i]) {
                 (s[i], c[i]) = crate::spatial::sin_cos(x[i]);
             }
         }
@@ -114,6 +114,13 @@ fn atan2_body(y: &[f64], x: &[f64], out: &mut [f64]) {
 /// Below this `|x|` [`sin_cos_lane`] is [`crate::spatial::sin_cos`] (beyond, and for NaN, that
 /// goes to the standard library).
 const SIN_COS_RANGE: f64 = 823_549.6;
+
+/// Whether `x` is beyond [`sin_cos_lane`]'s range: what sends [`crate::spatial::sin_cos`] to
+/// the standard library.
+#[inline(always)]
+fn beyond_sin_cos(x: f64) -> bool {
+    x.abs() >= SIN_COS_RANGE || x.is_nan()
+}
 
 /// [`crate::spatial::sin_cos`] for `|x| < SIN_COS_RANGE`, without branches: the same
 /// reduction and kernels, the quadrant's swap and signs by bit masks.
@@ -479,7 +486,7 @@ mod tests {
         let mut b = HingeBlock::default();
         let mut want = vec![];
         let mut k = 0;
-        let mut check = |b: &mut HingeBlock, want: &mut Vec<_>, m: usize| {
+        let check = |b: &mut HingeBlock, want: &mut Vec<_>, m: usize| {
             let mut plain = b.clone();
             plain.solve(m);
             vectorised(|| b.solve(m));

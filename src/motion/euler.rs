@@ -181,13 +181,10 @@ pub fn triple_rates(
     with_axes!(order, coordinate_rates(quats, &s.omega, q, dt, v, a))
 }
 
-/// [`triple_rates`] from the rotations `quats` and their body angular velocities `w`, a
-/// block of frames at a time ([`RatesBlock`]): per frame the lock tests, `ω̇` and
-/// [`FirstAngle`], then on the
-/// vector lanes each frame's rotation matrix `r`, `H` ([`hinge_axes_at`]), `ω` and `α` in the
-/// parent's axes (`r ω`, `r ω̇`), `H⁻¹` and the rates ([`HingeBlock`], the arithmetic of
-/// [`hinge_coordinate_rates`](crate::rotation::hinge_coordinate_rates)): the same operations
-/// as frame by frame, so the same bits.
+/// [`triple_rates`] from the rotations `quats` and their body angular velocities `w`: per
+/// frame `H`, `ω` and `α` in the parent's axes, then `H⁻¹` and the rates a block of frames at
+/// a time ([`HingeBlock`], the arithmetic of
+/// [`hinge_coordinate_rates`](crate::rotation::hinge_coordinate_rates) on the vector lanes).
 fn coordinate_rates<const I: usize, const J: usize, const K: usize>(
     quats: &[UnitQuaternion<f64>],
     w: &[Vector3<f64>],
@@ -201,13 +198,14 @@ fn coordinate_rates<const I: usize, const J: usize, const K: usize>(
     let [a0, a1, a2] = a;
     let h2 = 2.0 * dt;
     let mut left = 0;
-    let mut b = RatesBlock::default();
+    let mut b = HingeBlock::default();
+    let mut locked = [false; BLOCK];
     for k0 in (0..n).step_by(BLOCK) {
         let m = BLOCK.min(n - k0);
-        for d in 0..m {
+        for (d, lock) in locked[..m].iter_mut().enumerate() {
             let k = k0 + d;
-            b.locked[d] = at_gimbal_lock(q[1][k]);
-            if b.locked[d] {
+            *lock = at_gimbal_lock(q[1][k]);
+            if *lock {
                 left += 1;
             }
             // ω̇ by the scalar formulas of each component (pipeline::states' accelerations)
@@ -217,102 +215,34 @@ fn coordinate_rates<const I: usize, const J: usize, const K: usize>(
                 _ if k == n - 1 => (3.0 * w[n - 1] - 4.0 * w[n - 2] + w[n - 3]) / h2,
                 _ => (w[k + 1] - w[k - 1]) / h2,
             };
-            let c = quats[k].coords;
-            for e in 0..4 {
-                b.quat[e][d] = c[e];
+            let r = quats[k].to_rotation_matrix().into_inner();
+            let axes = hinge_axes_at::<I, J, K>(&r, [q[0][k], q[1][k], q[2][k]]);
+            let (wp, dwp) = (r * w[k], r * dw);
+            for (e, x) in axes.iter().enumerate() {
+                b.axes[e][d] = *x;
             }
-            for e in 0..3 {
-                (b.w[e][d], b.dw[e][d]) = (w[k][e], dw[e]);
+            for c in 0..3 {
+                (b.w[c][d], b.dw[c][d]) = (wp[c], dwp[c]);
             }
-            b.first[d] = FirstAngle::of([q[0][k], q[1][k], q[2][k]]);
         }
         vectorised(
             #[inline(always)]
-            || b.solve::<I, J, K>(m),
+            || b.solve(m),
         );
-        for d in 0..m {
+        for (d, &lock) in locked[..m].iter().enumerate() {
             // at the lock: the caller's; a singular H at |cos a2| ≥ LOCK_DET is rounding's,
             // not the take's: hold
-            if b.locked[d] || !b.hinge.ok[d] {
+            if lock || !b.ok[d] {
                 continue;
             }
             let k = k0 + d;
-            let h = &b.hinge;
-            (v0[k], v1[k], v2[k]) = (h.dq[0][d], h.dq[1][d], h.dq[2][d]);
+            (v0[k], v1[k], v2[k]) = (b.dq[0][d], b.dq[1][d], b.dq[2][d]);
             if n > 2 {
-                (a0[k], a1[k], a2[k]) = (h.ddq[0][d], h.ddq[1][d], h.ddq[2][d]);
+                (a0[k], a1[k], a2[k]) = (b.ddq[0][d], b.ddq[1][d], b.ddq[2][d]);
             }
         }
     }
     left
-}
-
-/// A block of frames of [`coordinate_rates`], side by side: each frame's rotation (quaternion
-/// `[i, j, k, w]`), `ω` and `ω̇` (body axes), whether it is at gimbal lock, and
-/// [`hinge_axes_at`]'s choice.
-struct RatesBlock {
-    quat: [[f64; BLOCK]; 4],
-    w: [[f64; BLOCK]; 3],
-    dw: [[f64; BLOCK]; 3],
-    locked: [bool; BLOCK],
-    first: [FirstAngle; BLOCK],
-    hinge: HingeBlock,
-}
-
-impl Default for RatesBlock {
-    fn default() -> Self {
-        Self {
-            quat: [[0.0; BLOCK]; 4],
-            w: [[0.0; BLOCK]; 3],
-            dw: [[0.0; BLOCK]; 3],
-            locked: [false; BLOCK],
-            first: [FirstAngle::default(); BLOCK],
-            hinge: HingeBlock::default(),
-        }
-    }
-}
-
-impl RatesBlock {
-    /// Frames `0..m`: `r` (nalgebra's `to_rotation_matrix`), `H` ([`hinge_axes_at`]), `r ω`
-    /// and `r ω̇` (nalgebra's matrix–vector product) into the hinge block, then its rates.
-    #[inline(always)]
-    fn solve<const I: usize, const J: usize, const K: usize>(&mut self, m: usize) {
-        let h = &mut self.hinge;
-        for d in 0..m.min(BLOCK) {
-            let r = quat_matrix([0, 1, 2, 3].map(|e| self.quat[e][d]));
-            let axes = hinge_axes_at::<I, J, K>(&r, self.first[d]);
-            for (e, x) in axes.into_iter().enumerate() {
-                h.axes[e][d] = x;
-            }
-            let (w, dw) = (
-                [0, 1, 2].map(|e| self.w[e][d]),
-                [0, 1, 2].map(|e| self.dw[e][d]),
-            );
-            for row in 0..3 {
-                let rr = r[row];
-                h.w[row][d] = rr[0] * w[0] + rr[1] * w[1] + rr[2] * w[2];
-                h.dw[row][d] = rr[0] * dw[0] + rr[1] * dw[1] + rr[2] * dw[2];
-            }
-        }
-        h.solve(m);
-    }
-}
-
-/// nalgebra's `UnitQuaternion::to_rotation_matrix` of the quaternion `[i, j, k, w]`, by rows.
-#[inline(always)]
-fn quat_matrix([i, j, k, w]: [f64; 4]) -> [[f64; 3]; 3] {
-    let (ww, ii, jj, kk) = (w * w, i * i, j * j, k * k);
-    let ij = i * j * 2.0;
-    let wk = w * k * 2.0;
-    let wj = w * j * 2.0;
-    let ik = i * k * 2.0;
-    let jk = j * k * 2.0;
-    let wi = w * i * 2.0;
-    [
-        [ww + ii - jj - kk, ij - wk, wj + ik],
-        [wk + ij, ww - ii + jj - kk, jk - wi],
-        [ik - wj, wi + jk, ww - ii - jj + kk],
-    ]
 }
 
 /// The hinges' axes `H` ([`hinge_axes`](crate::rotation::hinge_axes) under the identity) of
@@ -325,57 +255,24 @@ fn quat_matrix([i, j, k, w]: [f64; 4]) -> [[f64; 3]; 3] {
 /// trigonometry. Nearer, from `sin_cos(a1)`.
 #[inline(always)]
 fn hinge_axes_at<const I: usize, const J: usize, const K: usize>(
-    r: &[[f64; 3]; 3],
-    first: FirstAngle,
-) -> [f64; 9] {
+    r: &Matrix3<f64>,
+    x: [f64; 3],
+) -> Matrix3<f64> {
     let p = if J == (I + 1) % 3 { 1.0 } else { -1.0 };
-    let (s1, c1) = if first.from_rotation {
-        let (y, z) = (r[J][K], r[K][K]);
-        let inv = first.a / (y * y + z * z).sqrt();
-        (-p * y * inv, z * inv)
-    } else {
-        (first.a, first.b)
-    };
-    // column-major: e_I, c1 e_J + p s1 e_K, r e_K
-    let mut axes = [0.0; 9];
-    axes[I] = 1.0;
-    axes[3 + J] = c1;
-    axes[3 + K] = p * s1;
-    for row in 0..3 {
-        axes[6 + row] = r[row][K];
-    }
-    axes
-}
-
-/// Where [`hinge_axes_at`] takes the first angle's sine and cosine from for the triple `x`:
-/// from the rotation (`a` the sign of `cos a2`, [`cos_sign`]) farther than
-/// [`AXES_FROM_ROTATION`] from gimbal lock, else from the angle (`a, b = sin a1, cos a1`).
-#[derive(Debug, Clone, Copy, Default)]
-struct FirstAngle {
-    from_rotation: bool,
-    a: f64,
-    b: f64,
-}
-
-impl FirstAngle {
-    #[inline(always)]
-    fn of(x: [f64; 3]) -> Self {
-        match lock_distance(x[1]) {
-            Some(d) if d > AXES_FROM_ROTATION => Self {
-                from_rotation: true,
-                a: cos_sign(x[1]),
-                b: 0.0,
-            },
-            _ => {
-                let (a, b) = x[0].sin_cos();
-                Self {
-                    from_rotation: false,
-                    a,
-                    b,
-                }
-            }
+    let (s1, c1) = match lock_distance(x[1]) {
+        Some(d) if d > AXES_FROM_ROTATION => {
+            let (y, z) = (r[(J, K)], r[(K, K)]);
+            let inv = cos_sign(x[1]) / (y * y + z * z).sqrt();
+            (-p * y * inv, z * inv)
         }
-    }
+        _ => x[0].sin_cos(),
+    };
+    let mut axes = Matrix3::zeros();
+    axes[(I, 0)] = 1.0;
+    axes[(J, 1)] = c1;
+    axes[(K, 1)] = p * s1;
+    axes.set_column(2, &r.column(K));
+    axes
 }
 
 /// The sign of `cos a` (+1 or −1) for an angle `a` not within rounding of an odd multiple of
@@ -441,8 +338,7 @@ mod tests {
             r: &Matrix3<f64>,
             x: [f64; 3],
         ) -> Matrix3<f64> {
-            let r = [0, 1, 2].map(|row| [0, 1, 2].map(|c| r[(row, c)]));
-            Matrix3::from_column_slice(&hinge_axes_at::<I, J, K>(&r, FirstAngle::of(x)))
+            hinge_axes_at::<I, J, K>(r, x)
         }
         let mut worst: f64 = 0.0;
         for order in EulerOrder::ALL {
