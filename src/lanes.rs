@@ -23,16 +23,10 @@
 //! [`spatial::atan2`]: crate::spatial::atan2
 
 /// Whether the AVX2 versions run (checked once by the standard library, then cached).
+#[cfg(target_arch = "x86_64")]
 #[inline]
 fn avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
+    std::arch::is_x86_feature_detected!("avx2")
 }
 
 /// `(s[i], c[i]) = sin_cos(x[i])` ([`crate::spatial::sin_cos`], bit for bit) for every `x[i]`;
