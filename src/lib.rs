@@ -7,6 +7,7 @@
 pub mod dynamics;
 pub mod error;
 pub mod io;
+pub mod lanes;
 pub mod model;
 pub mod motion;
 pub mod par;

@@ -117,9 +117,20 @@ pub fn euler_to_quaternion(order: EulerOrder, angles: [f64; 3]) -> UnitQuaternio
 /// c₁s₂eⱼ + p s₁s₂eₖ` (`eᵢeⱼ = p eₖ`, `p` the order's parity), then times `c₃ + s₃eₖ`.
 #[inline(always)]
 pub fn euler_to_quaternion_axes(ax: [usize; 3], angles: [f64; 3]) -> UnitQuaternion<f64> {
+    euler_half_angles_to_quaternion(ax, angles.map(|a| sin_cos(0.5 * a)))
+}
+
+/// [`euler_to_quaternion_axes`] from the sines and cosines of the half angles, `(sin a/2,
+/// cos a/2)` for each of the three (computed elsewhere, several frames at once:
+/// `motion::euler::triple_rotations`).
+#[inline(always)]
+pub fn euler_half_angles_to_quaternion(
+    ax: [usize; 3],
+    half: [(f64, f64); 3],
+) -> UnitQuaternion<f64> {
     let [i, j, k] = ax;
     debug_assert!(i != j && j != k && k != i, "a Tait–Bryan order");
-    let [(s1, c1), (s2, c2), (s3, c3)] = angles.map(|a| sin_cos(0.5 * a));
+    let [(s1, c1), (s2, c2), (s3, c3)] = half;
     let p = if j == (i + 1) % 3 { 1.0 } else { -1.0 };
     let (w, mut v) = (c1 * c2, [0.0; 3]);
     (v[i], v[j], v[k]) = (s1 * c2, c1 * s2, p * s1 * s2);
@@ -138,17 +149,35 @@ pub fn euler_to_quaternion_axes(ax: [usize; 3], angles: [f64; 3]) -> UnitQuatern
 /// first-order series below 1e-12 rad).
 #[inline]
 pub fn quat_log(q: &UnitQuaternion<f64>) -> Vector3<f64> {
+    let (v, s, w) = quat_log_parts(q);
+    if s < 1e-12 {
+        return quat_log_from(v, s, w, 0.0);
+    }
+    quat_log_from(v, s, w, atan2(s, w))
+}
+
+/// The parts of [`quat_log`] before its `atan2`: `q`'s vector part `v` and scalar part `w`
+/// on the hemisphere `w ≥ 0`, and `s = |v|`; the logarithm is [`quat_log_from`]`(v, s, w,
+/// atan2(s, w))`. For the logarithms of several frames at once (`motion::euler`).
+#[inline(always)]
+pub fn quat_log_parts(q: &UnitQuaternion<f64>) -> (Vector3<f64>, f64, f64) {
     let (mut w, mut v) = (q.w, q.imag());
     if w < 0.0 {
         w = -w;
         v = -v;
     }
-    let s = v.norm();
+    (v, v.norm(), w)
+}
+
+/// [`quat_log`] from its [`quat_log_parts`] and `half = atan2(s, w)` (half the angle; not
+/// read below `s < 1e-12`).
+#[inline(always)]
+pub fn quat_log_from(v: Vector3<f64>, s: f64, w: f64, half: f64) -> Vector3<f64> {
     if s < 1e-12 {
         // θ ≈ 2s, n = v/s: θ n ≈ 2v/w
         return v * (2.0 / w);
     }
-    v * (2.0 * atan2(s, w) / s)
+    v * (2.0 * half / s)
 }
 
 /// The unit quaternion of the rotation vector `r = θ·n` (inverse of [`quat_log`]).
@@ -195,21 +224,32 @@ pub fn matrix_to_euler_fast(order: EulerOrder, r: &Matrix3<f64>) -> [f64; 3] {
 /// [`with_axes`]).
 #[inline(always)]
 pub fn matrix_to_euler_fast_axes(ax: [usize; 3], r: &Matrix3<f64>) -> [f64; 3] {
+    let (args, first) = matrix_to_euler_fast_args(ax, r);
+    let [a1, a2, a3] = args.map(|(y, x)| atan2(y, x));
+    [if first { a1 } else { 0.0 }, a2, a3]
+}
+
+/// The arguments `(y, x)` of the three `atan2` that give [`matrix_to_euler_fast_axes`]'s
+/// angles, and whether the first angle is its `atan2` (else 0: at gimbal lock, where the
+/// third column leaves it undetermined). For the angles of several frames at once
+/// (`motion::euler`'s write-back).
+#[inline(always)]
+pub fn matrix_to_euler_fast_args(ax: [usize; 3], r: &Matrix3<f64>) -> ([(f64, f64); 3], bool) {
     let [i, j, k] = ax;
     // the parity: +1 for the cyclic orders XYZ, YZX, ZXY
     let s = if j == (i + 1) % 3 { 1.0 } else { -1.0 };
     // entries of a rotation: no overflow or underflow for `hypot` to guard against
     let h = (r[(j, k)] * r[(j, k)] + r[(k, k)] * r[(k, k)]).sqrt();
-    let (a1, s1, c1) = if h > 1e-12 {
-        let (y, x) = (-s * r[(j, k)], r[(k, k)]);
-        (atan2(y, x), y / h, x / h)
-    } else {
-        (0.0, 0.0, 1.0)
-    };
+    let first = h > 1e-12;
+    let (y1, x1) = (-s * r[(j, k)], r[(k, k)]);
+    let (s1, c1) = if first { (y1 / h, x1 / h) } else { (0.0, 1.0) };
     let m = axis_rotation_sc(i, s1, c1).transpose() * r;
-    let a2 = atan2(s * m[(i, k)], m[(k, k)]);
-    let a3 = atan2(s * m[(j, i)], m[(j, j)]);
-    [a1, a2, a3]
+    let args = [
+        (y1, x1),
+        (s * m[(i, k)], m[(k, k)]),
+        (s * m[(j, i)], m[(j, j)]),
+    ];
+    (args, first)
 }
 
 /// The axes of three hinges `R = before · R_c1(q1) R_c2(q2) R_c3(q3)` (a BVH joint of the euler

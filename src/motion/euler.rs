@@ -15,12 +15,13 @@
 //! ([`hinge_axes`](crate::rotation::hinge_axes)). The motion of every body then is the ball
 //! model's, whatever the take's rotation order.
 
+use crate::lanes::{BLOCK, HingeBlock, atan2_many, sin_cos_many, vectorised};
 use crate::motion::smooth::{SmoothSpec, Smoother};
 use crate::motion::unwrap::lock_distance;
 use crate::motion::unwrap::repick_fast;
 use crate::rotation::{
-    EulerOrder, euler_to_quaternion_axes, hinge_coordinate_rates, matrix_to_euler_fast_axes,
-    quat_log, with_axes,
+    EulerOrder, euler_half_angles_to_quaternion, matrix_to_euler_fast_args, quat_log,
+    quat_log_from, quat_log_parts, with_axes,
 };
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
@@ -54,14 +55,30 @@ impl TripleScratch {
     }
 }
 
-/// The rotation of each frame of a triple's angle columns `cols` into `out` (one per frame).
+/// The rotation of each frame of a triple's angle columns `cols` into `out` (one per frame):
+/// [`euler_to_quaternion`](crate::rotation::euler_to_quaternion) frame by frame, bit for bit,
+/// the sines and cosines of a block of frames' half angles at once.
 pub fn triple_rotations(order: EulerOrder, cols: [&[f64]; 3], out: &mut [UnitQuaternion<f64>]) {
     fn fill<const I: usize, const J: usize, const K: usize>(
         cols: [&[f64]; 3],
         out: &mut [UnitQuaternion<f64>],
     ) {
-        for (k, r) in out.iter_mut().enumerate() {
-            *r = euler_to_quaternion_axes([I, J, K], [cols[0][k], cols[1][k], cols[2][k]]);
+        let n = out.len();
+        let mut half = [0.0; 3 * BLOCK];
+        let (mut s, mut c) = ([0.0; 3 * BLOCK], [0.0; 3 * BLOCK]);
+        for k0 in (0..n).step_by(BLOCK) {
+            let m = BLOCK.min(n - k0);
+            // angle a of the block's frame d at a·m + d
+            for (a, col) in cols.iter().enumerate() {
+                for (h, x) in half[a * m..(a + 1) * m].iter_mut().zip(&col[k0..k0 + m]) {
+                    *h = 0.5 * x;
+                }
+            }
+            sin_cos_many(&half[..3 * m], &mut s, &mut c);
+            for (d, r) in out[k0..k0 + m].iter_mut().enumerate() {
+                let half = [0, 1, 2].map(|a| (s[a * m + d], c[a * m + d]));
+                *r = euler_half_angles_to_quaternion([I, J, K], half);
+            }
         }
     }
     with_axes!(order, fill(cols, out));
@@ -99,11 +116,29 @@ fn write_back<const I: usize, const J: usize, const K: usize>(
 ) {
     let [c0, c1, c2] = cols;
     let mut previous = [c0[0], c1[0], c2[0]];
-    for (k, r) in quats.iter().enumerate() {
-        let m: Matrix3<f64> = r.to_rotation_matrix().into_inner();
-        let x = repick_fast(order, matrix_to_euler_fast_axes([I, J, K], &m), previous);
-        (c0[k], c1[k], c2[k]) = (x[0], x[1], x[2]);
-        previous = x;
+    // matrix_to_euler_fast_axes a block of frames at a time, its atan2 together
+    let (mut y, mut x, mut angles) = ([0.0; 3 * BLOCK], [0.0; 3 * BLOCK], [0.0; 3 * BLOCK]);
+    let mut first = [false; BLOCK];
+    let n = quats.len();
+    for k0 in (0..n).step_by(BLOCK) {
+        let m = BLOCK.min(n - k0);
+        for (d, r) in quats[k0..k0 + m].iter().enumerate() {
+            let r: Matrix3<f64> = r.to_rotation_matrix().into_inner();
+            let (args, a1) = matrix_to_euler_fast_args([I, J, K], &r);
+            for (a, (ya, xa)) in args.into_iter().enumerate() {
+                (y[3 * d + a], x[3 * d + a]) = (ya, xa);
+            }
+            first[d] = a1;
+        }
+        atan2_many(&y[..3 * m], &x[..3 * m], &mut angles);
+        for d in 0..m {
+            let a = &angles[3 * d..3 * d + 3];
+            let triple = [if first[d] { a[0] } else { 0.0 }, a[1], a[2]];
+            let q = repick_fast(order, triple, previous);
+            let k = k0 + d;
+            (c0[k], c1[k], c2[k]) = (q[0], q[1], q[2]);
+            previous = q;
+        }
     }
 }
 
@@ -146,8 +181,10 @@ pub fn triple_rates(
     with_axes!(order, coordinate_rates(quats, &s.omega, q, dt, v, a))
 }
 
-/// [`triple_rates`] from the rotations `quats` and their body angular velocities `w`, frame
-/// by frame.
+/// [`triple_rates`] from the rotations `quats` and their body angular velocities `w`: per
+/// frame `H`, `ω` and `α` in the parent's axes, then `H⁻¹` and the rates a block of frames at
+/// a time ([`HingeBlock`], the arithmetic of
+/// [`hinge_coordinate_rates`](crate::rotation::hinge_coordinate_rates) on the vector lanes).
 fn coordinate_rates<const I: usize, const J: usize, const K: usize>(
     quats: &[UnitQuaternion<f64>],
     w: &[Vector3<f64>],
@@ -161,27 +198,48 @@ fn coordinate_rates<const I: usize, const J: usize, const K: usize>(
     let [a0, a1, a2] = a;
     let h2 = 2.0 * dt;
     let mut left = 0;
-    for k in 0..n {
-        if at_gimbal_lock(q[1][k]) {
-            left += 1;
-            continue;
+    let mut b = HingeBlock::default();
+    let mut locked = [false; BLOCK];
+    for k0 in (0..n).step_by(BLOCK) {
+        let m = BLOCK.min(n - k0);
+        for (d, lock) in locked[..m].iter_mut().enumerate() {
+            let k = k0 + d;
+            *lock = at_gimbal_lock(q[1][k]);
+            if *lock {
+                left += 1;
+            }
+            // ω̇ by the scalar formulas of each component (pipeline::states' accelerations)
+            let dw = match n {
+                0..=2 => Vector3::zeros(),
+                _ if k == 0 => (-3.0 * w[0] + 4.0 * w[1] - w[2]) / h2,
+                _ if k == n - 1 => (3.0 * w[n - 1] - 4.0 * w[n - 2] + w[n - 3]) / h2,
+                _ => (w[k + 1] - w[k - 1]) / h2,
+            };
+            let r = quats[k].to_rotation_matrix().into_inner();
+            let axes = hinge_axes_at::<I, J, K>(&r, [q[0][k], q[1][k], q[2][k]]);
+            let (wp, dwp) = (r * w[k], r * dw);
+            for (e, x) in axes.iter().enumerate() {
+                b.axes[e][d] = *x;
+            }
+            for c in 0..3 {
+                (b.w[c][d], b.dw[c][d]) = (wp[c], dwp[c]);
+            }
         }
-        // ω̇ by the scalar formulas of each component (pipeline::states' accelerations)
-        let dw = match n {
-            0..=2 => Vector3::zeros(),
-            _ if k == 0 => (-3.0 * w[0] + 4.0 * w[1] - w[2]) / h2,
-            _ if k == n - 1 => (3.0 * w[n - 1] - 4.0 * w[n - 2] + w[n - 3]) / h2,
-            _ => (w[k + 1] - w[k - 1]) / h2,
-        };
-        let r = quats[k].to_rotation_matrix().into_inner();
-        let axes = hinge_axes_at::<I, J, K>(&r, [q[0][k], q[1][k], q[2][k]]);
-        let Some((dq, ddq)) = hinge_coordinate_rates(&axes, &(r * w[k]), &(r * dw), 0.0) else {
-            // a singular H at |cos a2| ≥ LOCK_DET is rounding's, not the take's: hold
-            continue;
-        };
-        (v0[k], v1[k], v2[k]) = (dq[0], dq[1], dq[2]);
-        if n > 2 {
-            (a0[k], a1[k], a2[k]) = (ddq[0], ddq[1], ddq[2]);
+        vectorised(
+            #[inline(always)]
+            || b.solve(m),
+        );
+        for (d, &lock) in locked[..m].iter().enumerate() {
+            // at the lock: the caller's; a singular H at |cos a2| ≥ LOCK_DET is rounding's,
+            // not the take's: hold
+            if lock || !b.ok[d] {
+                continue;
+            }
+            let k = k0 + d;
+            (v0[k], v1[k], v2[k]) = (b.dq[0][d], b.dq[1][d], b.dq[2][d]);
+            if n > 2 {
+                (a0[k], a1[k], a2[k]) = (b.ddq[0][d], b.ddq[1][d], b.ddq[2][d]);
+            }
         }
     }
     left
@@ -246,15 +304,22 @@ fn body_angular_velocity(q: &[UnitQuaternion<f64>], dt: f64, out: &mut Vec<Vecto
             let d = diff(0, 1) / dt;
             out.extend([d, d]);
         }
-        _ => out.extend((0..n).map(|k| {
-            if k == 0 {
-                (4.0 * diff(0, 1) - diff(0, 2)) / (2.0 * dt)
-            } else if k == n - 1 {
-                -(4.0 * diff(n - 1, n - 2) - diff(n - 1, n - 3)) / (2.0 * dt)
-            } else {
-                diff(k - 1, k + 1) / (2.0 * dt)
+        _ => {
+            out.push((4.0 * diff(0, 1) - diff(0, 2)) / (2.0 * dt));
+            // inside, diff(k − 1, k + 1) a block of frames at a time, its atan2 together
+            let mut v = [Vector3::zeros(); BLOCK];
+            let (mut s, mut w, mut half) = ([0.0; BLOCK], [0.0; BLOCK], [0.0; BLOCK]);
+            for k0 in (1..n - 1).step_by(BLOCK) {
+                let m = BLOCK.min(n - 1 - k0);
+                for d in 0..m {
+                    let k = k0 + d;
+                    (v[d], s[d], w[d]) = quat_log_parts(&(q[k - 1].inverse() * q[k + 1]));
+                }
+                atan2_many(&s[..m], &w[..m], &mut half);
+                out.extend((0..m).map(|d| quat_log_from(v[d], s[d], w[d], half[d]) / (2.0 * dt)));
             }
-        })),
+            out.push(-(4.0 * diff(n - 1, n - 2) - diff(n - 1, n - 3)) / (2.0 * dt));
+        }
     }
 }
 

@@ -42,9 +42,28 @@ impl AngleUnit {
 /// phase unwrapping, as NumPy's `unwrap`). The first frame is kept. Allocates nothing.
 pub fn unwrap_angles(unit: AngleUnit, x: &mut [f64]) {
     let turn = unit.full_turn();
-    for k in 1..x.len() {
+    let step = |x: &mut [f64], k: usize| {
         let d = x[k] - x[k - 1];
         x[k] -= turn * round_turns(d / turn);
+    };
+    // the common case, every step under half a turn (the Euler triples re-picked before this,
+    // most captured channels), in one pass without the loop's chain of divisions from frame
+    // to frame: there each frame's shift is a zero (`round_turns` of a ratio under ½), which
+    // leaves a value as it is, but turns −0 into +0 where the zero is −0 and the value −0
+    let mut small = true;
+    for k in 1..x.len() {
+        small &= (x[k] - x[k - 1]).abs() < 0.49 * turn;
+    }
+    if small {
+        for k in 1..x.len() {
+            if x[k] == 0.0 {
+                step(x, k);
+            }
+        }
+        return;
+    }
+    for k in 1..x.len() {
+        step(x, k);
     }
 }
 
@@ -333,5 +352,34 @@ mod tests {
         let mut x = [170.0, 179.0, -172.0, -165.0, 175.0, 10.0];
         unwrap_angles(AngleUnit::Degrees, &mut x);
         assert_eq!(x, [170.0, 179.0, 188.0, 195.0, 175.0, 10.0]);
+    }
+
+    /// The one-pass common case gives what the frame-by-frame loop gives, to the bit (signed
+    /// zeros included), on walks with small steps through ±0 and with steps near half a turn.
+    #[test]
+    fn unwrapping_small_steps_is_the_loop_bit_for_bit() {
+        fn by_loop(unit: AngleUnit, x: &mut [f64]) {
+            let turn = unit.full_turn();
+            for k in 1..x.len() {
+                let d = x[k] - x[k - 1];
+                x[k] -= turn * round_turns(d / turn);
+            }
+        }
+        let walks: [&[f64]; 5] = [
+            &[0.0, -0.0, -0.0, 0.1, -0.0, 0.0, -0.2, -0.0],
+            &[-0.0, -0.0, 3.0, -3.0, 0.0, -0.0],
+            &[1.0, 1.0 + 0.49 * std::f64::consts::TAU, -0.0, 2.0],
+            &[179.0, -179.0, -0.0, 0.0, 176.3, -0.0],
+            &[f64::NAN, 0.0, -0.0],
+        ];
+        for unit in [AngleUnit::Radians, AngleUnit::Degrees] {
+            for w in walks {
+                let (mut a, mut b) = (w.to_vec(), w.to_vec());
+                unwrap_angles(unit, &mut a);
+                by_loop(unit, &mut b);
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&a), bits(&b), "{w:?}");
+            }
+        }
     }
 }
