@@ -112,14 +112,14 @@ const SIN_COS_RANGE: f64 = 823_549.6;
 /// Whether `x` is beyond [`sin_cos_lane`]'s range: what sends [`crate::spatial::sin_cos`] to
 /// the standard library.
 #[inline(always)]
-fn beyond_sin_cos(x: f64) -> bool {
+pub(crate) fn beyond_sin_cos(x: f64) -> bool {
     x.abs() >= SIN_COS_RANGE || x.is_nan()
 }
 
 /// [`crate::spatial::sin_cos`] for `|x| < SIN_COS_RANGE`, without branches: the same
 /// reduction and kernels, the quadrant's swap and signs by bit masks.
 #[inline(always)]
-fn sin_cos_lane(x: f64) -> (f64, f64) {
+pub(crate) fn sin_cos_lane(x: f64) -> (f64, f64) {
     const TWO_OVER_PI: f64 = std::f64::consts::FRAC_2_PI;
     const P1: f64 = 1.570_796_326_734_125_6;
     const P2: f64 = 6.077_100_506_303_966e-11;

@@ -292,100 +292,16 @@ pub fn atan2(y: f64, x: f64) -> f64 {
 /// Arguments beyond `|x| < 2¹⁹·π/2` (≈ 8·10⁵ rad), infinities and NaN go to the standard
 /// library's `sin_cos`. About a sixth of the instructions of glibc's `sincos`, whose last-bit
 /// accuracy the dynamics has no use for (the Pinocchio fixtures hold at 1e-10; the tests check
-/// this function against `f64::sin_cos` to 2.3e-16 absolute).
+/// this function against `f64::sin_cos` to 2.3e-16 absolute). Without a branch on the
+/// quadrant (which mispredicted on every other hinge of a capture): it is the kernel
+/// [`crate::lanes::sin_cos_many`] runs on many values at once, here on one.
 #[inline]
 pub fn sin_cos(x: f64) -> (f64, f64) {
     // also NaN and ±∞
-    if x.abs() >= SIN_COS_LIMIT || x.is_nan() {
+    if crate::lanes::beyond_sin_cos(x) {
         return x.sin_cos();
     }
-    sin_cos_lane(x)
-}
-
-/// [`sin_cos`] of every `x[k]` into `s[k]`, `c[k]` (the three of equal length): the same
-/// bits, computed without a branch per value so that the processor's vector units take
-/// several at once — with AVX2 where the machine has it (checked once, at run time; the
-/// operations are the same, no fused multiply-add, so the bits do not depend on the path).
-/// The joint angles of a frame before a recursive pass ([`crate::dynamics::rnea`]): the
-/// scalar function's quadrant `match` mispredicts on every other hinge of a capture.
-pub fn sin_cos_each(x: &[f64], s: &mut [f64], c: &mut [f64]) {
-    assert!(
-        x.len() == s.len() && x.len() == c.len(),
-        "one sine and cosine per angle"
-    );
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2, checked just above
-        unsafe { sin_cos_each_avx2(x, s, c) };
-        return;
-    }
-    sin_cos_each_portable(x, s, c);
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn sin_cos_each_avx2(x: &[f64], s: &mut [f64], c: &mut [f64]) {
-    sin_cos_each_portable(x, s, c);
-}
-
-#[inline(always)]
-fn sin_cos_each_portable(x: &[f64], s: &mut [f64], c: &mut [f64]) {
-    for ((x, s), c) in x.iter().zip(s.iter_mut()).zip(c.iter_mut()) {
-        (*s, *c) = sin_cos_lane(*x);
-    }
-    // the arguments the kernel does not cover, as `sin_cos` treats them
-    for ((x, s), c) in x.iter().zip(s.iter_mut()).zip(c.iter_mut()) {
-        if x.abs() >= SIN_COS_LIMIT || x.is_nan() {
-            (*s, *c) = x.sin_cos();
-        }
-    }
-}
-
-/// `|x|` from which [`sin_cos`] leaves the reduction to the standard library.
-const SIN_COS_LIMIT: f64 = 823_549.6;
-
-/// [`sin_cos`] for `|x| <` [`SIN_COS_LIMIT`], without branches: the quadrant's swap and signs
-/// by bit operations, the tiny arguments' `(x, 1)` by a select.
-#[inline(always)]
-fn sin_cos_lane(x: f64) -> (f64, f64) {
-    const TWO_OVER_PI: f64 = std::f64::consts::FRAC_2_PI;
-    const P1: f64 = 1.570_796_326_734_125_6;
-    const P2: f64 = 6.077_100_506_303_966e-11;
-    const P3: f64 = 2.022_266_248_795_950_7e-21;
-    const SHIFT: f64 = 6_755_399_441_055_744.0;
-    let t = x * TWO_OVER_PI + SHIFT;
-    let n = t - SHIFT;
-    let r = ((x - n * P1) - n * P2) - n * P3;
-    let z = r * r;
-    let sin = r + r
-        * z
-        * (-1.666_666_666_666_663_2e-1
-            + z * (8.333_333_333_322_49e-3
-                + z * (-1.984_126_982_985_795e-4
-                    + z * (2.755_731_370_707_007e-6
-                        + z * (-2.505_076_025_340_686_3e-8 + z * 1.589_690_995_211_55e-10)))));
-    let cc = z
-        * z
-        * (4.166_666_666_666_659_4e-2
-            + z * (-1.388_888_888_887_411e-3
-                + z * (2.480_158_728_947_673e-5
-                    + z * (-2.755_731_435_139_066_3e-7
-                        + z * (2.087_572_321_298_175e-9 + z * -1.135_964_755_778_819_5e-11)))));
-    let hz = 0.5 * z;
-    let w = 1.0 - hz;
-    let cos = w + (((1.0 - w) - hz) + cc);
-    // quadrant q = n mod 4: sin x = (sin, cos, −sin, −cos)[q], cos x = (cos, −sin, −cos, sin)[q]
-    let q = t.to_bits();
-    let swap = 0u64.wrapping_sub(q & 1);
-    let (sb, cb) = (sin.to_bits(), cos.to_bits());
-    let s0 = (sb & !swap) | (cb & swap);
-    let c0 = (cb & !swap) | (sb & swap);
-    let s_sign = (q & 2) << 62;
-    let c_sign = (q.wrapping_add(1) & 2) << 62;
-    let (s1, c1) = (f64::from_bits(s0 ^ s_sign), f64::from_bits(c0 ^ c_sign));
-    // below 2⁻²⁷: sin x = x and cos x = 1 after rounding (keeps the sign of −0)
-    let tiny = x.abs() < 7.45e-9;
-    (if tiny { x } else { s1 }, if tiny { 1.0 } else { c1 })
+    crate::lanes::sin_cos_lane(x)
 }
 
 /// A rotation by an angle about a coordinate axis (x, y or z): the joint rotation of a revolute
@@ -708,39 +624,6 @@ mod tests {
             let (y, x) = (t.sin() * 1.3, t.cos() * 0.8 - 0.1);
             assert!((atan2(y, x) - y.atan2(x)).abs() <= 9e-16, "{y} {x}");
         }
-    }
-
-    #[test]
-    fn sin_cos_each_gives_the_bits_of_sin_cos() {
-        // every quadrant, the tiny and signed-zero arguments, the kernel's limit, beyond it
-        let mut x: Vec<f64> = (-40_000..40_000).map(|k| k as f64 * 1.37e-3).collect();
-        x.extend([
-            0.0,
-            -0.0,
-            1e-300,
-            -7e-9,
-            7.5e-9,
-            1e-9,
-            f64::NAN,
-            f64::INFINITY,
-        ]);
-        x.extend([-f64::INFINITY, 823_549.5, 823_549.7, -1e7, 3e15, -2.5e300]);
-        x.extend((0..2000).map(|k| (k as f64 * 0.7).sin() * 10f64.powi(k % 13 - 6)));
-        let (mut s, mut c) = (vec![0.0; x.len()], vec![0.0; x.len()]);
-        sin_cos_each(&x, &mut s, &mut c);
-        for (k, xk) in x.iter().enumerate() {
-            let (sk, ck) = sin_cos(*xk);
-            assert_eq!(
-                (s[k].to_bits(), c[k].to_bits()),
-                (sk.to_bits(), ck.to_bits()),
-                "{xk:e}"
-            );
-        }
-        // the portable path too, where the machine has AVX2
-        let (mut s2, mut c2) = (vec![0.0; x.len()], vec![0.0; x.len()]);
-        sin_cos_each_portable(&x, &mut s2, &mut c2);
-        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        assert!(bits(&s2) == bits(&s) && bits(&c2) == bits(&c));
     }
 
     #[test]

@@ -33,7 +33,7 @@ pub fn forward_kinematics_through(model: &Model, ws: &mut Workspace, q: &[f64], 
     // the sines and cosines of the angles of bodies 1..n at once (coordinates in body order)
     let nq = idx_q[n - 1] + model.joints[n - 1].nq();
     let (sin_q, cos_q) = (&mut ws.sin_q[..nq], &mut ws.cos_q[..nq]);
-    crate::spatial::sin_cos_each(&q[..nq], sin_q, cos_q);
+    crate::lanes::sin_cos_many(&q[..nq], sin_q, cos_q);
     let sc = |iq: usize| (sin_q[iq], cos_q[iq]);
     for i in 1..n {
         let op = &o_x_i[parent[i]];

@@ -84,7 +84,7 @@ fn forward_pass(
     let (steps, joint_rot, x_up) = (&joint_steps[..n], &mut joint_rot[..n], &mut x_up[..n]);
     // every angle's sine and cosine at once (the axis joints' rotations), vectorised
     let nq = model.nq;
-    crate::spatial::sin_cos_each(&q[..nq], &mut sin_q[..nq], &mut cos_q[..nq]);
+    crate::lanes::sin_cos_many(&q[..nq], &mut sin_q[..nq], &mut cos_q[..nq]);
     let rotation = |k: usize, iq: usize| AxisRotation::from_sin_cos(k, sin_q[iq], cos_q[iq]);
     let (wv, wa, wf) = (&mut wv[..n], &mut wa[..n], &mut wf[..n]);
 

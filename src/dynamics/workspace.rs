@@ -25,7 +25,7 @@ pub struct Workspace {
     /// being a translation only); written by `rnea`.
     pub joint_rot: Vec<AxisRotation>,
     /// `sin q` and `cos q` of every coordinate of the pass's configuration
-    /// ([`crate::spatial::sin_cos_each`]), which the axis joints' rotations read.
+    /// ([`crate::lanes::sin_cos_many`]), which the axis joints' rotations read.
     pub sin_q: Vec<f64>,
     pub cos_q: Vec<f64>,
     /// Pose of body i in the world frame (`nbodies`); written by `forward_kinematics` and the
