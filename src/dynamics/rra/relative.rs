@@ -27,7 +27,7 @@ use crate::dynamics::rnea::rnea_terms;
 use crate::dynamics::{Workspace, forward_kinematics};
 use crate::model::Model;
 use crate::spatial::{ForceVec, MotionVec, SpatialInertia, SpatialTransform};
-use nalgebra::{Matrix6, Vector3};
+use nalgebra::{Matrix3, Matrix6, Vector3};
 
 /// One frame's terms of the bodies other than the trunk's, in P's frame.
 #[derive(Clone, Copy)]
@@ -73,6 +73,10 @@ struct Kept {
     pose: SpatialTransform,
     v: MotionVec,
     a: MotionVec,
+    /// The body's rotational inertia about its mass centre in P's axes, `R Ic Rᵀ`
+    /// ([`SpatialInertia::transformed`]'s), for the terms' own inertia `trunk_ic`: a trial
+    /// moves the trunk's mass centres, not their rotational inertias, so it is made once.
+    rotated_ic: Matrix3<f64>,
 }
 
 /// The root-relative terms of a take (module doc), for the bodies the estimate keeps
@@ -85,6 +89,9 @@ pub(super) struct RootRelative {
     kept: Vec<usize>,
     kept_poses: Vec<SpatialTransform>,
     trunk: Vec<usize>,
+    /// Per trunk body: its rotational inertia about its mass centre (body frame) in the model
+    /// the terms were made for; a trial whose inertia differs makes `R Ic Rᵀ` itself.
+    trunk_ic: Vec<Matrix3<f64>>,
     /// `[frame * trunk.len() + j]`.
     trunk_motion: Vec<Kept>,
     rest: Vec<Rest>,
@@ -164,6 +171,7 @@ impl RootRelative {
                     pose: SpatialTransform::IDENTITY,
                     v: MotionVec::ZERO,
                     a: MotionVec::ZERO,
+                    rotated_ic: Matrix3::zeros(),
                 };
                 q.len() * trunk.len()
             ],
@@ -171,6 +179,10 @@ impl RootRelative {
             chain,
             kept,
             trunk: trunk.to_vec(),
+            trunk_ic: trunk
+                .iter()
+                .map(|&b| model.inertia[b].inertia_com)
+                .collect(),
         };
         for k in 0..q.len() {
             forward_kinematics(model, &mut ws, &q[k]);
@@ -206,6 +218,7 @@ impl RootRelative {
                         pose: x,
                         v: ws.v[i],
                         a: ws.a[i],
+                        rotated_ic: model.inertia[i].transformed(&x).inertia_com,
                     };
                     continue;
                 }
@@ -271,24 +284,76 @@ impl RootRelative {
     /// Frame `k`'s whole-body terms for `model` (its trunk's inertia, the rest's scaled by
     /// `scale`): what [`RootRelative::wrench`] needs for any motion of the root.
     pub fn composite(&self, k: usize, model: &Model, scale: f64) -> Composite {
-        let nt = self.trunk.len();
         let rest = &self.rest[k];
+        // `x * 1.0 == x` for every float: the unscaled rest is copied as it is
+        let scaled = |m: &Matrix6<f64>| if scale == 1.0 { *m } else { m * scale };
+        let (momentum, momentum_rate, first_moment, mass) = if scale == 1.0 {
+            (
+                rest.momentum,
+                rest.momentum_rate,
+                rest.first_moment,
+                rest.mass,
+            )
+        } else {
+            (
+                rest.momentum * scale,
+                rest.momentum_rate * scale,
+                rest.first_moment * scale,
+                rest.mass * scale,
+            )
+        };
         let mut c = Composite {
-            rest: rest.inertia * scale,
-            rest_rate: rest.inertia_rate * scale,
+            rest: scaled(&rest.inertia),
+            rest_rate: scaled(&rest.inertia_rate),
             trunk: [(SpatialInertia::ZERO, MotionVec::ZERO); MAX_TRUNK],
-            trunk_len: nt,
-            momentum: rest.momentum * scale,
-            momentum_rate: rest.momentum_rate * scale,
+            trunk_len: self.trunk.len(),
+            rest_momentum: [momentum, momentum_rate],
+            rest_first_moment: first_moment,
+            rest_mass: mass,
+            momentum,
+            momentum_rate,
             com: Vector3::zeros(),
         };
-        let mut first_moment = rest.first_moment * scale;
-        let mut mass = rest.mass * scale;
+        self.add_trunk(k, model, &mut c);
+        c
+    }
+
+    /// Frame `k`'s whole-body terms for `model`, whose bodies other than the trunk's are
+    /// those `base` was made for ([`RootRelative::composite`] of another trunk inertia, at the
+    /// same mass scale): `base`'s rest and `model`'s trunk, the same bits as
+    /// [`RootRelative::composite`] of `model`.
+    pub fn with_trunk_of(&self, base: &Composite, k: usize, model: &Model) -> Composite {
+        let mut c = Composite {
+            trunk: [(SpatialInertia::ZERO, MotionVec::ZERO); MAX_TRUNK],
+            momentum: base.rest_momentum[0],
+            momentum_rate: base.rest_momentum[1],
+            com: Vector3::zeros(),
+            ..*base
+        };
+        self.add_trunk(k, model, &mut c);
+        c
+    }
+
+    /// Adds `model`'s trunk bodies at frame `k` to the terms `c` of the rest.
+    fn add_trunk(&self, k: usize, model: &Model, c: &mut Composite) {
+        let nt = self.trunk.len();
+        let mut first_moment = c.rest_first_moment;
+        let mut mass = c.rest_mass;
         for (j, &b) in self.trunk.iter().enumerate() {
             let t = &self.trunk_motion[k * nt + j];
             let inertia = model.inertia[b];
-            // the body's inertia and relative velocity in P's frame
-            c.trunk[j] = (inertia.transformed(&t.pose), t.pose.act_motion(&t.v));
+            // the body's inertia and relative velocity in P's frame (`R Ic Rᵀ` kept when the
+            // rotational inertia is the terms' own)
+            let ip = if inertia.inertia_com == self.trunk_ic[j] {
+                SpatialInertia {
+                    com: t.pose.transform_point(&inertia.com),
+                    inertia_com: t.rotated_ic,
+                    ..inertia
+                }
+            } else {
+                inertia.transformed(&t.pose)
+            };
+            c.trunk[j] = (ip, t.pose.act_motion(&t.v));
             let (h, dh) = body_momentum(&inertia, &t.v, &t.a);
             c.momentum += t.pose.act_force(&h);
             c.momentum_rate += t.pose.act_force(&dh);
@@ -296,7 +361,6 @@ impl RootRelative {
             mass += inertia.mass;
         }
         c.com = first_moment / mass.max(1e-12);
-        c
     }
 
     /// The wrench the whole body with terms `c` needs (world axes, about the world origin)
@@ -309,7 +373,18 @@ impl RootRelative {
         [q, v, a]: [&[f64]; 3],
         ws: &mut Workspace,
     ) -> ForceVec {
-        let (vp, ap) = self.root_motion(model, q, v, a, ws);
+        let root = self.root_motion(model, q, v, a, ws);
+        self.wrench_at(c, &root, &ws.o_x_i[self.root()])
+    }
+
+    /// [`RootRelative::wrench`] for the root's motion `(v_P, a_P)` already found
+    /// ([`RootRelative::root_motion`]), `o_x_p` the root's world pose: the same bits.
+    pub fn wrench_at(
+        &self,
+        c: &Composite,
+        &(vp, ap): &(MotionVec, MotionVec),
+        o_x_p: &SpatialTransform,
+    ) -> ForceVec {
         let mut inertia_v = times(&c.rest, &vp);
         let mut inertia_a = times(&c.rest, &ap);
         let mut rate_v = times(&c.rest_rate, &vp);
@@ -320,14 +395,14 @@ impl RootRelative {
             rate_v += vt.cross_force(&iv) - ip.mul_motion(&vt.cross_motion(&vp));
         }
         let f = inertia_a + rate_v + vp.cross_force(&(inertia_v + c.momentum)) + c.momentum_rate;
-        ws.o_x_i[self.root()].act_force(&f)
+        o_x_p.act_force(&f)
     }
 
     /// The root body's velocity and acceleration against gravity (its frame) through the
     /// root's joints: `vᵢ = λXᵢ⁻¹ v_λ + Sᵢ q̇ᵢ`, `aᵢ = λXᵢ⁻¹ a_λ + Sᵢ q̈ᵢ + vᵢ × Sᵢ q̇ᵢ` from
     /// the world at rest accelerating at `−g` (RNEA's forward pass on the chain), and the
     /// chain's world poses into `ws.o_x_i` (`0Xᵢ = 0X_λ λXᵢ`).
-    fn root_motion(
+    pub fn root_motion(
         &self,
         model: &Model,
         q: &[f64],
@@ -355,21 +430,19 @@ impl RootRelative {
 /// The most trunk bodies the terms keep apart (more: trials run the whole estimate).
 const MAX_TRUNK: usize = 12;
 
-impl Composite {
-    /// The whole body's centre of mass (m, P's frame).
-    pub fn com(&self) -> Vector3<f64> {
-        self.com
-    }
-}
-
 /// One frame's whole-body terms for one model ([`RootRelative::composite`]), in P's frame:
 /// the rest's `I_C` and `İ_C` (scaled), each trunk body's inertia and relative velocity, the
 /// whole body's `h`, `ḣ` and centre of mass.
+#[derive(Clone, Copy)]
 pub(super) struct Composite {
     rest: Matrix6<f64>,
     rest_rate: Matrix6<f64>,
     trunk: [(SpatialInertia, MotionVec); MAX_TRUNK],
     trunk_len: usize,
+    /// The rest's `h`, `ḣ` (scaled), first moment and mass: where the trunk's are added to.
+    rest_momentum: [ForceVec; 2],
+    rest_first_moment: Vector3<f64>,
+    rest_mass: f64,
     momentum: ForceVec,
     momentum_rate: ForceVec,
     com: Vector3<f64>,
