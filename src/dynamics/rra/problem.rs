@@ -377,23 +377,24 @@ impl Problem<'_> {
             n[blocks[i]] += 1;
         }
         let s: [f64; 4] = std::array::from_fn(|b| (s[b] / n[b].max(1) as f64).max(1e-12));
+        // held: a held parameter's step is zero (its row and column of the system the unit's)
+        let held = |i: usize| self.free.as_ref().is_some_and(|f| !f[i]);
+        let mut system = KnotSystem::new(&jtj, &order, &held);
         for _ in 0..20 {
-            let mut a = jtj.clone();
             let mut rhs = -&jtr;
             for i in 0..np {
                 let block = blocks[i];
                 let l = mu[block] * s[block];
-                a[(i, i)] += l;
-                rhs[i] -= l * x[i];
+                rhs[i] = if held(i) { 0.0 } else { rhs[i] - l * x[i] };
             }
-            // a held parameter's step is zero
-            for (i, _) in self.free.iter().flatten().enumerate().filter(|(_, f)| !**f) {
-                a.row_mut(i).fill(0.0);
-                a.column_mut(i).fill(0.0);
-                a[(i, i)] = 1.0;
-                rhs[i] = 0.0;
-            }
-            let next = x + solve_by_knots(&a, &rhs, &order)?;
+            let diagonal = |i: usize| {
+                if held(i) {
+                    1.0
+                } else {
+                    jtj[(i, i)] + mu[blocks[i]] * s[blocks[i]]
+                }
+            };
+            let next = x + system.solve(&jtj, &diagonal, &rhs)?;
             let ok = self.within(&next, bounds);
             if ok.iter().all(|b| *b) {
                 return Some(next);
@@ -408,32 +409,91 @@ impl Problem<'_> {
     }
 }
 
-/// Three entries of a wrench `[fx, fy, fz, tx, ty, tz]` from `at`.
-/// The solution of `a x = b` (`a` symmetric positive definite, `None` otherwise) by a sparse
-/// Cholesky factor (`nalgebra-sparse`, CSparse's up-looking algorithm) of `a` with its rows
-/// and columns taken in `order` ([`Problem::knot_order`]): the band of the spline
-/// coefficients and the dense last rows fill nothing outside them, so the factor costs
-/// O(n·w²) instead of the dense O(n³) (n ≈ 700, w ≈ 20 on a 23 s take). The same solution
-/// to rounding (a test compares it with the dense one).
-fn solve_by_knots(a: &DMatrix<f64>, b: &DVector<f64>, order: &[usize]) -> Option<DVector<f64>> {
-    use nalgebra_sparse::{CooMatrix, CscMatrix, factorization::CscCholesky};
-    let n = order.len();
-    let mut coo = CooMatrix::new(n, n);
-    for (jj, &j) in order.iter().enumerate() {
-        for (ii, &i) in order.iter().enumerate() {
-            let v = a[(i, j)];
-            if v != 0.0 {
-                coo.push(ii, jj, v);
+/// The system `A x = b` of one Gauss–Newton step, solved by a sparse Cholesky factor
+/// (`nalgebra-sparse`, CSparse's up-looking algorithm) of `A` with its rows and columns taken
+/// in `order` ([`Problem::knot_order`]): the band of the spline coefficients and the dense
+/// last rows fill nothing outside them, so the factor costs O(n·w²) instead of the dense
+/// O(n³) (n ≈ 700, w ≈ 20 on a 23 s take); the same solution to rounding (a test compares it
+/// with the dense one). `A` is `JᵀJ` with another diagonal (the Tikhonov weights) and the held
+/// parameters' rows and columns the unit's: its pattern, and the symbolic factor, are made
+/// once per step, and each trial of the weights only refactors the values.
+struct KnotSystem<'a> {
+    order: &'a [usize],
+    /// `A`'s stored entries in knot order (CSC: the diagonal, and the non-zero entries of
+    /// `JᵀJ` between free parameters).
+    pattern: nalgebra_sparse::pattern::SparsityPattern,
+    /// Per stored entry: its row and column in `x`'s order.
+    at: Vec<(usize, usize)>,
+    factor: Option<nalgebra_sparse::factorization::CscCholesky<f64>>,
+}
+
+impl<'a> KnotSystem<'a> {
+    fn new(jtj: &DMatrix<f64>, order: &'a [usize], held: &dyn Fn(usize) -> bool) -> Self {
+        let n = order.len();
+        let (mut offsets, mut rows, mut at) = (Vec::with_capacity(n + 1), vec![], vec![]);
+        offsets.push(0);
+        for &j in order {
+            for (ii, &i) in order.iter().enumerate() {
+                if i == j || (!held(i) && !held(j) && jtj[(i, j)] != 0.0) {
+                    rows.push(ii);
+                    at.push((i, j));
+                }
             }
+            offsets.push(rows.len());
+        }
+        let pattern = nalgebra_sparse::pattern::SparsityPattern::try_from_offsets_and_indices(
+            n, n, offsets, rows,
+        )
+        .expect("rows ascend within each column");
+        Self {
+            order,
+            pattern,
+            at,
+            factor: None,
         }
     }
-    let factor = CscCholesky::factor(&CscMatrix::from(&coo)).ok()?;
-    let y = factor.solve(&DMatrix::from_iterator(n, 1, order.iter().map(|&i| b[i])));
-    let mut x = DVector::zeros(n);
-    for (ii, &i) in order.iter().enumerate() {
-        x[i] = y[(ii, 0)];
+
+    /// The solution for `A`'s off-diagonal entries `jtj`'s, its diagonal `diagonal`, and the
+    /// right-hand side `b`; `None` when `A` is not positive definite.
+    fn solve(
+        &mut self,
+        jtj: &DMatrix<f64>,
+        diagonal: &dyn Fn(usize) -> f64,
+        b: &DVector<f64>,
+    ) -> Option<DVector<f64>> {
+        use nalgebra_sparse::factorization::{CscCholesky, CscSymbolicCholesky};
+        let values: Vec<f64> = self
+            .at
+            .iter()
+            .map(|&(i, j)| if i == j { diagonal(i) } else { jtj[(i, j)] })
+            .collect();
+        match &mut self.factor {
+            Some(f) => f.refactor(&values).ok()?,
+            None => {
+                let symbolic = CscSymbolicCholesky::factor(self.pattern.clone());
+                self.factor = Some(CscCholesky::factor_numerical(symbolic, &values).ok()?);
+            }
+        }
+        let f = self.factor.as_ref()?;
+        let n = self.order.len();
+        let y = f.solve(&DMatrix::from_iterator(
+            n,
+            1,
+            self.order.iter().map(|&i| b[i]),
+        ));
+        let mut x = DVector::zeros(n);
+        for (ii, &i) in self.order.iter().enumerate() {
+            x[i] = y[(ii, 0)];
+        }
+        Some(x)
     }
-    Some(x)
+}
+
+/// The solution of `a x = b` (`a` symmetric positive definite, `None` otherwise) by
+/// [`KnotSystem`] in `order`, every parameter free.
+#[cfg(test)]
+fn solve_by_knots(a: &DMatrix<f64>, b: &DVector<f64>, order: &[usize]) -> Option<DVector<f64>> {
+    KnotSystem::new(a, order, &|_| false).solve(a, &|i| a[(i, i)], b)
 }
 
 #[cfg(test)]
