@@ -472,6 +472,7 @@ mod tests {
             base_pelvis: &[],
             free: None,
             relative: Default::default(),
+            reuse: Default::default(),
         };
         let layout = problem.layout();
         assert!(layout.rotation.is_some() && layout.mass.is_some());

@@ -286,6 +286,7 @@ pub fn reduce_residuals(
         base_pelvis: &[],
         free: None,
         relative: Default::default(),
+        reuse: Default::default(),
     };
     let key = Key::of(model, &ground, &trunk, &motion, up, counted, bounds);
     let (found, started) = match Start::of(seed, key.as_ref(), model) {
@@ -577,6 +578,7 @@ fn fine_problem_of<'a>(
         } else {
             Default::default()
         },
+        reuse: Default::default(),
     })
 }
 
@@ -622,6 +624,7 @@ fn solve(
                 accepted = Some((trial, t));
                 break;
             }
+            problem.recycle(t);
             dx *= 0.5;
         }
         let Some((xn, mut en)) = accepted else {
@@ -629,7 +632,9 @@ fn solve(
         };
         let gain = (e.cost - en.cost) / e.cost.max(1e-12);
         en.steps = e.steps + 1;
-        (x, e) = (xn, en);
+        let superseded = std::mem::replace(&mut e, en);
+        problem.recycle(superseded);
+        x = xn;
         if gain < 1e-3 {
             break;
         }

@@ -20,7 +20,7 @@ use crate::error::Error;
 use crate::model::Model;
 use crate::motion::spline::UniformBSpline;
 use crate::spatial::SpatialInertia;
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 /// The trunk offset's coordinates.
 pub(super) const NT: usize = 2;
@@ -49,6 +49,18 @@ pub(super) struct Problem<'a> {
     /// (`None` inside: a model they do not fit; trials then run the whole estimate); shared
     /// with the refinement's problem ([`super::refine`]).
     pub relative: std::sync::Arc<std::sync::OnceLock<Option<RootRelative>>>,
+    /// What the evaluations reuse ([`Reuse`]).
+    pub reuse: Reuse,
+}
+
+/// What every evaluation of one problem reuses: the root's world rotation at every frame of
+/// the motion (the trials' adjustments are made about it; made at the first evaluation), and
+/// the states of rejected or superseded trials, whose rows the next trial overwrites
+/// ([`Problem::recycle`]) instead of allocating its own.
+#[derive(Default)]
+pub(super) struct Reuse {
+    root_rotations: std::sync::OnceLock<Vec<Matrix3<f64>>>,
+    spare: std::sync::Mutex<Vec<[Vec<Vec<f64>>; 3]>>,
 }
 
 /// One evaluation: the adjusted model, motion and their ground reactions.
@@ -243,7 +255,8 @@ impl Problem<'_> {
         Ok(())
     }
 
-    /// The model and motion adjusted by `x` (no ground reactions).
+    /// The model and motion adjusted by `x` (no ground reactions); frames in parallel, each
+    /// computing what it would alone (`crate::par`).
     pub fn adjusted(&self, x: &DVector<f64>) -> Result<Adjusted, Error> {
         let trunk = with_trunk_offset(self.model, self.trunk.bodies, &self.trunk_offset(x));
         let s = self.mass_scale(x);
@@ -252,39 +265,81 @@ impl Problem<'_> {
         } else {
             with_mass_scale(&trunk, s)
         };
-        let (mut q, mut v, mut a) = (
-            self.motion.q.to_vec(),
-            self.motion.v.to_vec(),
-            self.motion.a.to_vec(),
-        );
-        let mut ws = Workspace::new(&model);
-        for k in 0..q.len() {
-            let t = self.motion.time[k];
-            let [p, dp, ddp] = self.pelvis_at(x, t);
-            forward_kinematics_through(&model, &mut ws, &q[k], self.root);
-            let rot = ws.o_x_i[self.root].rot;
-            shift_root(
-                &self.translation,
-                &rot,
-                &p,
-                &dp,
-                &ddp,
-                &mut q[k],
-                &mut v[k],
-                &mut a[k],
-            );
-            if let (Some(r), Some([th, dth, ddth])) = (&self.rotation, self.rotation_at(x, t)) {
-                let d = BodyRotation::exp(&th, &dth, &ddth);
-                if !rotate_root(r, &rot, &d, &mut q[k], &mut v[k], &mut a[k]) {
-                    return Err(Error::Invalid(format!(
-                        "residual reduction: the root's Euler angles reach gimbal lock at \
-                         {t:.3} s under the pelvis rotation; use --joints ball or \
-                         --consistent off"
-                    )));
+        let rotations = self.root_rotations();
+        let [mut q, mut v, mut a] = self.states();
+        // per frame: its rows, and whether the root could follow the rotation there
+        let mut frames: Vec<_> = q
+            .iter_mut()
+            .zip(v.iter_mut())
+            .zip(a.iter_mut())
+            .map(|((q, v), a)| (q, v, a, true))
+            .collect();
+        let m = self.motion;
+        crate::par::for_each_block(
+            &mut frames,
+            crate::par::even_block(m.q.len()),
+            &mut crate::par::scratch(|| ()),
+            |_, first, block| {
+                for (i, (q, v, a, ok)) in block.iter_mut().enumerate() {
+                    let k = first + i;
+                    q.copy_from_slice(&m.q[k]);
+                    v.copy_from_slice(&m.v[k]);
+                    a.copy_from_slice(&m.a[k]);
+                    let t = m.time[k];
+                    let [p, dp, ddp] = self.pelvis_at(x, t);
+                    let rot = &rotations[k];
+                    shift_root(&self.translation, rot, &p, &dp, &ddp, q, v, a);
+                    if let (Some(r), Some([th, dth, ddth])) =
+                        (&self.rotation, self.rotation_at(x, t))
+                    {
+                        let d = BodyRotation::exp(&th, &dth, &ddth);
+                        *ok = rotate_root(r, rot, &d, q, v, a);
+                    }
                 }
-            }
+            },
+        );
+        if let Some(k) = frames.iter().position(|f| !f.3) {
+            let t = m.time[k];
+            return Err(Error::Invalid(format!(
+                "residual reduction: the root's Euler angles reach gimbal lock at \
+                 {t:.3} s under the pelvis rotation; use --joints ball or \
+                 --consistent off"
+            )));
         }
+        drop(frames);
         Ok(Adjusted { model, q, v, a })
+    }
+
+    /// Per frame of the motion: the root body's world rotation (made once).
+    fn root_rotations(&self) -> &[Matrix3<f64>] {
+        self.reuse.root_rotations.get_or_init(|| {
+            let mut ws = Workspace::new(self.model);
+            self.motion
+                .q
+                .iter()
+                .map(|q| {
+                    forward_kinematics_through(self.model, &mut ws, q, self.root);
+                    ws.o_x_i[self.root].rot
+                })
+                .collect()
+        })
+    }
+
+    /// Rows for an evaluation's states: a recycled trial's, else new ones of the motion's
+    /// sizes (their values are overwritten).
+    fn states(&self) -> [Vec<Vec<f64>>; 3] {
+        let spare = self.reuse.spare.lock().ok().and_then(|mut s| s.pop());
+        spare.unwrap_or_else(|| {
+            let m = self.motion;
+            [m.q.to_vec(), m.v.to_vec(), m.a.to_vec()]
+        })
+    }
+
+    /// Keeps the states of an evaluation no longer needed for the next one's rows.
+    pub fn recycle(&self, e: Evaluated) {
+        if let Ok(mut s) = self.reuse.spare.lock() {
+            s.push([e.q, e.v, e.a]);
+        }
     }
 
     /// `Σ |n|² + h² |f|²` over the counted frames.

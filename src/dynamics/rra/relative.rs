@@ -45,6 +45,17 @@ struct Rest {
 }
 
 impl Rest {
+    fn zero() -> Self {
+        Self {
+            inertia: Matrix6::zeros(),
+            inertia_rate: Matrix6::zeros(),
+            momentum: ForceVec::ZERO,
+            momentum_rate: ForceVec::ZERO,
+            first_moment: Vector3::zeros(),
+            mass: 0.0,
+        }
+    }
+
     /// Adds a body of inertia `inertia` at `x` (`ᴾXᵢ`) moving relative to the root with `v`,
     /// `a` (its frame).
     fn add(
@@ -118,6 +129,14 @@ fn root_chain(model: &Model, root: usize) -> Option<Vec<usize>> {
     (massless && hung).then_some(chain)
 }
 
+/// `v` (`n · m` items) as `n` rows of `m` (empty rows when `m` is 0).
+fn rows<T>(v: &mut [T], n: usize, m: usize) -> Vec<&mut [T]> {
+    if m == 0 {
+        return (0..n).map(|_| &mut [][..]).collect();
+    }
+    v.chunks_mut(m).collect()
+}
+
 /// `crm(m)`: the 6×6 matrix of `m ×ₘ` (Featherstone eq. 2.31).
 fn crm(m: &MotionVec) -> Matrix6<f64> {
     let (w, v) = (crate::spatial::skew(&m.ang), crate::spatial::skew(&m.lin));
@@ -157,15 +176,13 @@ impl RootRelative {
         let chain = root_chain(model, root)?;
         let on_chain = chain.clone();
         let in_chain = |i: usize| on_chain.binary_search(&i).is_ok();
-        let mut ws = Workspace::new(model);
-        let (mut vr, mut ar) = (vec![0.0; model.nv], vec![0.0; model.nv]);
         let chain_dofs: Vec<usize> = chain
             .iter()
             .flat_map(|&b| model.idx_v[b]..model.idx_v[b] + model.joints[b].nv())
             .collect();
         let nt = trunk.len();
         let mut out = Self {
-            kept_poses: Vec::with_capacity(q.len() * kept.len()),
+            kept_poses: vec![SpatialTransform::IDENTITY; q.len() * kept.len()],
             trunk_motion: vec![
                 Kept {
                     pose: SpatialTransform::IDENTITY,
@@ -175,7 +192,7 @@ impl RootRelative {
                 };
                 q.len() * trunk.len()
             ],
-            rest: Vec::with_capacity(q.len()),
+            rest: vec![Rest::zero(); q.len()],
             chain,
             kept,
             trunk: trunk.to_vec(),
@@ -184,50 +201,65 @@ impl RootRelative {
                 .map(|&b| model.inertia[b].inertia_com)
                 .collect(),
         };
-        for k in 0..q.len() {
-            forward_kinematics(model, &mut ws, &q[k]);
-            // the motion with the root's joints still: each body's velocity and acceleration
-            // relative to the root, in its own frame
-            vr.copy_from_slice(&v[k]);
-            ar.copy_from_slice(&a[k]);
-            for &d in &chain_dofs {
-                (vr[d], ar[d]) = (0.0, 0.0);
-            }
-            rnea_terms(model, &mut ws, &q[k], Some(&vr), Some(&ar), None, false);
-            let p_x_0 = ws.o_x_i[root].inverse();
-            let relative = |i: usize| p_x_0.compose(&ws.o_x_i[i]);
-            out.kept_poses.extend(out.kept.iter().map(|&b| {
-                if in_chain(b) {
-                    SpatialTransform::IDENTITY
-                } else {
-                    relative(b)
+        // frames in parallel, each computing what it would alone (`crate::par`)
+        let (n, nk) = (q.len(), out.kept.len());
+        let (kept, trunk_of) = (&out.kept, &out.trunk);
+        let mut frames: Vec<_> = rows(&mut out.kept_poses, n, nk)
+            .into_iter()
+            .zip(rows(&mut out.trunk_motion, n, nt))
+            .zip(out.rest.iter_mut())
+            .map(|((x, t), r)| (x, t, r))
+            .collect();
+        crate::par::for_each_block(
+            &mut frames,
+            crate::par::even_block(n),
+            &mut crate::par::scratch(|| {
+                (
+                    Workspace::new(model),
+                    vec![0.0; model.nv],
+                    vec![0.0; model.nv],
+                )
+            }),
+            |(ws, vr, ar), first, block| {
+                for (i, (kept_poses, trunk_motion, rest)) in block.iter_mut().enumerate() {
+                    let k = first + i;
+                    forward_kinematics(model, ws, &q[k]);
+                    // the motion with the root's joints still: each body's velocity and
+                    // acceleration relative to the root, in its own frame
+                    vr.copy_from_slice(&v[k]);
+                    ar.copy_from_slice(&a[k]);
+                    for &d in &chain_dofs {
+                        (vr[d], ar[d]) = (0.0, 0.0);
+                    }
+                    rnea_terms(model, ws, &q[k], Some(vr), Some(ar), None, false);
+                    let p_x_0 = ws.o_x_i[root].inverse();
+                    let relative = |i: usize| p_x_0.compose(&ws.o_x_i[i]);
+                    for (x, &b) in kept_poses.iter_mut().zip(kept) {
+                        *x = if in_chain(b) {
+                            SpatialTransform::IDENTITY
+                        } else {
+                            relative(b)
+                        };
+                    }
+                    for i in (1..model.nbodies()).filter(|&i| !in_chain(i) || i == root) {
+                        let x = relative(i);
+                        if let Some(j) = trunk_of.iter().position(|&b| b == i) {
+                            trunk_motion[j] = Kept {
+                                pose: x,
+                                v: ws.v[i],
+                                a: ws.a[i],
+                                rotated_ic: model.inertia[i].transformed(&x).inertia_com,
+                            };
+                            continue;
+                        }
+                        if !model.inertia[i].is_zero() {
+                            rest.add(&model.inertia[i], &x, &ws.v[i], &ws.a[i]);
+                        }
+                    }
                 }
-            }));
-            let mut rest = Rest {
-                inertia: Matrix6::zeros(),
-                inertia_rate: Matrix6::zeros(),
-                momentum: ForceVec::ZERO,
-                momentum_rate: ForceVec::ZERO,
-                first_moment: Vector3::zeros(),
-                mass: 0.0,
-            };
-            for i in (1..model.nbodies()).filter(|&i| !in_chain(i) || i == root) {
-                let x = relative(i);
-                if let Some(j) = out.trunk.iter().position(|&b| b == i) {
-                    out.trunk_motion[k * nt + j] = Kept {
-                        pose: x,
-                        v: ws.v[i],
-                        a: ws.a[i],
-                        rotated_ic: model.inertia[i].transformed(&x).inertia_com,
-                    };
-                    continue;
-                }
-                if !model.inertia[i].is_zero() {
-                    rest.add(&model.inertia[i], &x, &ws.v[i], &ws.a[i]);
-                }
-            }
-            out.rest.push(rest);
-        }
+            },
+        );
+        drop(frames);
         Some(out)
     }
 
@@ -238,25 +270,41 @@ impl RootRelative {
         let n = q.len();
         let root = self.root();
         let nk = self.kept.len();
-        let mut ws = Workspace::new(model);
         let mut out = NeededWrenches {
-            needed: Vec::with_capacity(n),
-            com: Vec::with_capacity(n),
-            poses: Vec::with_capacity(n * nk),
+            needed: vec![ForceVec::ZERO; n],
+            com: vec![Vector3::zeros(); n],
+            poses: vec![SpatialTransform::IDENTITY; n * nk],
         };
-        for k in 0..n {
-            let (w, com) = self.frame(k, model, scale, [&q[k], &v[k], &a[k]], &mut ws);
-            out.needed.push(w);
-            out.com.push(com);
-            let o_x_p = ws.o_x_i[root];
-            for (j, &b) in self.kept.iter().enumerate() {
-                out.poses.push(if self.chain.contains(&b) {
-                    ws.o_x_i[b]
-                } else {
-                    o_x_p.compose(&self.kept_poses[k * nk + j])
-                });
-            }
-        }
+        // frames in parallel, each computing what it would alone (`crate::par`)
+        let mut frames: Vec<_> = out
+            .needed
+            .iter_mut()
+            .zip(out.com.iter_mut())
+            .zip(rows(&mut out.poses, n, nk))
+            .map(|((w, c), x)| (w, c, x))
+            .collect();
+        crate::par::for_each_block(
+            &mut frames,
+            crate::par::even_block(n),
+            &mut crate::par::scratch(|| Workspace::new(model)),
+            |ws, first, block| {
+                for (i, (w, c, x)) in block.iter_mut().enumerate() {
+                    let k = first + i;
+                    (**w, **c) = self.frame(k, model, scale, [&q[k], &v[k], &a[k]], ws);
+                    let o_x_p = ws.o_x_i[root];
+                    for ((x, &b), kept) in
+                        x.iter_mut().zip(&self.kept).zip(&self.kept_poses[k * nk..])
+                    {
+                        *x = if self.chain.contains(&b) {
+                            ws.o_x_i[b]
+                        } else {
+                            o_x_p.compose(kept)
+                        };
+                    }
+                }
+            },
+        );
+        drop(frames);
         out
     }
 
