@@ -123,10 +123,14 @@ impl Local {
     fn accumulate(&self, rk: &[f64; 6], jtj: &mut DMatrix<f64>, jtr: &mut DVector<f64>) {
         let dot = |a: &[f64; 6], b: &[f64; 6]| (0..6).map(|r| a[r] * b[r]).sum::<f64>();
         let (cols, jac) = (&self.cols[..self.len], &self.jac[..self.len]);
-        for (a, ja) in cols.iter().zip(jac) {
+        for (n, (a, ja)) in cols.iter().zip(jac).enumerate() {
             jtr[*a] += dot(ja, rk);
-            for (b, jb) in cols.iter().zip(jac) {
-                jtj[(*a, *b)] += dot(ja, jb);
+            jtj[(*a, *a)] += dot(ja, ja);
+            // `dot(ja, jb) == dot(jb, ja)` to the bit (products commute): made once for both
+            for (b, jb) in cols[..n].iter().zip(jac) {
+                let d = dot(ja, jb);
+                jtj[(*a, *b)] += d;
+                jtj[(*b, *a)] += d;
             }
         }
     }

@@ -86,8 +86,27 @@ struct Kept {
     a: MotionVec,
     /// The body's rotational inertia about its mass centre in P's axes, `R Ic Rᵀ`
     /// ([`SpatialInertia::transformed`]'s), for the terms' own inertia `trunk_ic`: a trial
-    /// moves the trunk's mass centres, not their rotational inertias, so it is made once.
+    /// moves the trunk's mass centres, not their rotational inertias, so it is made once;
+    /// likewise `Ic ω` and `Ic ω̇` of the relative motion (body frame), and the relative
+    /// velocity in P's frame.
     rotated_ic: Matrix3<f64>,
+    ic_v: Vector3<f64>,
+    ic_a: Vector3<f64>,
+    v_p: MotionVec,
+}
+
+impl Kept {
+    fn new(pose: SpatialTransform, v: MotionVec, a: MotionVec, inertia: &SpatialInertia) -> Self {
+        Self {
+            pose,
+            v,
+            a,
+            rotated_ic: inertia.transformed(&pose).inertia_com,
+            ic_v: inertia.inertia_com * v.ang,
+            ic_a: inertia.inertia_com * a.ang,
+            v_p: pose.act_motion(&v),
+        }
+    }
 }
 
 /// The root-relative terms of a take (module doc), for the bodies the estimate keeps
@@ -184,12 +203,12 @@ impl RootRelative {
         let mut out = Self {
             kept_poses: vec![SpatialTransform::IDENTITY; q.len() * kept.len()],
             trunk_motion: vec![
-                Kept {
-                    pose: SpatialTransform::IDENTITY,
-                    v: MotionVec::ZERO,
-                    a: MotionVec::ZERO,
-                    rotated_ic: Matrix3::zeros(),
-                };
+                Kept::new(
+                    SpatialTransform::IDENTITY,
+                    MotionVec::ZERO,
+                    MotionVec::ZERO,
+                    &SpatialInertia::ZERO,
+                );
                 q.len() * trunk.len()
             ],
             rest: vec![Rest::zero(); q.len()],
@@ -244,12 +263,7 @@ impl RootRelative {
                     for i in (1..model.nbodies()).filter(|&i| !in_chain(i) || i == root) {
                         let x = relative(i);
                         if let Some(j) = trunk_of.iter().position(|&b| b == i) {
-                            trunk_motion[j] = Kept {
-                                pose: x,
-                                v: ws.v[i],
-                                a: ws.a[i],
-                                rotated_ic: model.inertia[i].transformed(&x).inertia_com,
-                            };
+                            trunk_motion[j] = Kept::new(x, ws.v[i], ws.a[i], &model.inertia[i]);
                             continue;
                         }
                         if !model.inertia[i].is_zero() {
@@ -390,22 +404,36 @@ impl RootRelative {
         for (j, &b) in self.trunk.iter().enumerate() {
             let t = &self.trunk_motion[k * nt + j];
             let inertia = model.inertia[b];
-            // the body's inertia and relative velocity in P's frame (`R Ic Rᵀ` kept when the
-            // rotational inertia is the terms' own)
-            let ip = if inertia.inertia_com == self.trunk_ic[j] {
-                SpatialInertia {
-                    com: t.pose.transform_point(&inertia.com),
+            // the body's inertia and relative velocity in P's frame, and its momentum and
+            // rate (what depends on the rotational inertia alone kept when it is the terms'
+            // own: the same operations, made once)
+            let com = t.pose.transform_point(&inertia.com);
+            let (ip, (h, dh)) = if inertia.inertia_com == self.trunk_ic[j] {
+                let ip = SpatialInertia {
+                    com,
                     inertia_com: t.rotated_ic,
                     ..inertia
-                }
+                };
+                let times = |m: &MotionVec, ic_m: &Vector3<f64>| {
+                    // `SpatialInertia::mul_motion` with `Ic m.ang` given
+                    let lin = (m.lin - inertia.com.cross(&m.ang)) * inertia.mass;
+                    ForceVec {
+                        ang: ic_m + inertia.com.cross(&lin),
+                        lin,
+                    }
+                };
+                let h = times(&t.v, &t.ic_v);
+                (ip, (h, times(&t.a, &t.ic_a) + t.v.cross_force(&h)))
             } else {
-                inertia.transformed(&t.pose)
+                (
+                    inertia.transformed(&t.pose),
+                    body_momentum(&inertia, &t.v, &t.a),
+                )
             };
-            c.trunk[j] = (ip, t.pose.act_motion(&t.v));
-            let (h, dh) = body_momentum(&inertia, &t.v, &t.a);
+            c.trunk[j] = (ip, t.v_p);
             c.momentum += t.pose.act_force(&h);
             c.momentum_rate += t.pose.act_force(&dh);
-            first_moment += t.pose.transform_point(&inertia.com) * inertia.mass;
+            first_moment += com * inertia.mass;
             mass += inertia.mass;
         }
         c.com = first_moment / mass.max(1e-12);
