@@ -55,6 +55,7 @@ fn id_is_the_same_bytes_with_one_and_two_threads_on_the_demo() {
         &[][..],
         &["--contact", "none"],
         &["--joints", "ball"],
+        &["--consistent", "on"],
         &["--smooth", "gaussian:0.02", "--contact", "none"],
         &["--smooth", "none", "--joints", "ball", "--contact", "none"],
     ] {
@@ -80,7 +81,11 @@ fn anatomy_is_the_same_bytes_with_one_and_two_threads() {
 #[ignore = "real takes: ARTICULA_REAL_TAKES=../shared/data/bvh cargo test -- --ignored"]
 fn id_is_the_same_bytes_with_one_and_two_threads_on_every_real_take() {
     for take in common::real_takes() {
-        for args in [&[][..], &["--joints", "ball", "--contact", "none"]] {
+        for args in [
+            &[][..],
+            &["--joints", "ball", "--contact", "none"],
+            &["--consistent", "on"],
+        ] {
             same_with_one_and_two_threads(&take, args);
         }
     }

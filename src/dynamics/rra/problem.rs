@@ -553,7 +553,71 @@ fn solve_by_knots(a: &DMatrix<f64>, b: &DVector<f64>, order: &[usize]) -> Option
 
 #[cfg(test)]
 mod tests {
-    use super::solve_by_knots;
+    use super::{KnotSystem, solve_by_knots};
+    use nalgebra::{DMatrix, DVector};
+
+    /// A band of half-width 4 along the permutation `order`, with three dense last rows, made
+    /// symmetric positive definite: the normal equations' shape.
+    fn banded(n: usize, order: &[usize], next: &mut dyn FnMut() -> f64) -> DMatrix<f64> {
+        let mut m = DMatrix::zeros(n, n);
+        for (ii, &i) in order.iter().enumerate() {
+            for (jj, &j) in order.iter().enumerate() {
+                if ii.abs_diff(jj) <= 4 || ii >= n - 3 || jj >= n - 3 {
+                    m[(i, j)] = next();
+                }
+            }
+        }
+        let a = m.transpose() * &m;
+        (&a + a.transpose()) * 0.5
+    }
+
+    fn xorshift(mut rng: u64) -> impl FnMut() -> f64 {
+        move || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            (rng >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        }
+    }
+
+    /// A step tries several Tikhonov weights on one system, factoring its pattern once and
+    /// refactoring the values for each: every trial's solution must be the bits a system made
+    /// afresh for it gives (what each trial computed before), held parameters included, whose
+    /// step is zero and whose rows and columns leave the others' solution that of the system
+    /// without them.
+    #[test]
+    fn refactoring_a_knot_system_gives_a_fresh_ones_bits() {
+        let n = 41;
+        let order: Vec<usize> = (0..n).map(|k| (k * 7) % n).collect();
+        let mut next = xorshift(0x9e37_79b9_7f4a_7c15);
+        let jtj = banded(n, &order, &mut next);
+        let b = DVector::from_fn(n, |_, _| next());
+        let held = |i: usize| i % 5 == 2;
+        let mut kept = KnotSystem::new(&jtj, &order, &held);
+        for mu in [1e-4, 4e-4, 1.6e-3, 1e-1] {
+            let diagonal = |i: usize| if held(i) { 1.0 } else { jtj[(i, i)] + mu };
+            let rhs = DVector::from_fn(n, |i, _| if held(i) { 0.0 } else { b[i] });
+            let again = kept.solve(&jtj, &diagonal, &rhs).unwrap();
+            let fresh = KnotSystem::new(&jtj, &order, &held)
+                .solve(&jtj, &diagonal, &rhs)
+                .unwrap();
+            let bits = |x: &DVector<f64>| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&again), bits(&fresh), "mu {mu}");
+            // the dense solve of the same system, held rows and columns the unit's
+            let mut a = jtj.clone();
+            for i in 0..n {
+                for j in 0..n {
+                    if i != j && (held(i) || held(j)) {
+                        a[(i, j)] = 0.0;
+                    }
+                }
+                a[(i, i)] = diagonal(i);
+            }
+            let dense = a.cholesky().unwrap().solve(&rhs);
+            assert!((&again - &dense).amax() < 1e-12 * dense.amax(), "mu {mu}");
+            assert!((0..n).filter(|&i| held(i)).all(|i| again[i] == 0.0));
+        }
+    }
 
     /// The sparse solve in a permuted order gives the dense Cholesky's solution, on a band with
     /// dense last rows (the normal equations' shape) and on a full matrix.

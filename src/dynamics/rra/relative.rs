@@ -531,6 +531,46 @@ mod tests {
     use crate::dynamics::residual::{centre_of_mass, with_trunk_offset};
     use crate::dynamics::rnea;
 
+    /// A trial's terms made from another trial's composite of the same frame
+    /// ([`RootRelative::with_trunk_of`]), its wrench from a root motion found once
+    /// ([`RootRelative::wrench_at`]), and the trunk's rotated inertias and `Ic ω` kept per
+    /// frame are the bits of the whole composite and wrench, and of the trunk's inertias
+    /// rotated anew (what the Jacobian's trunk differences computed before).
+    #[test]
+    fn the_terms_reused_across_trunk_offsets_are_the_same_bits() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/demo_walk.bvh");
+        let take = crate::pipeline::load_take(&path, &Default::default()).unwrap();
+        let model = &take.model;
+        let root = crate::dynamics::grf::floating_root(model).unwrap();
+        let s = &take.states;
+        let kept: Vec<usize> = (1..model.nbodies()).collect();
+        let trunk: Vec<usize> = (1..model.nbodies())
+            .rev()
+            .filter(|&i| model.body_names[i].starts_with("Spine"))
+            .collect();
+        let rel = RootRelative::new(model, root, kept.clone(), &trunk, [&s.q, &s.v, &s.a])
+            .expect("terms");
+        // the same terms, made to rotate every trunk inertia anew (NaN equals no inertia)
+        let mut anew = RootRelative::new(model, root, kept, &trunk, [&s.q, &s.v, &s.a]).unwrap();
+        anew.trunk_ic.fill(Matrix3::from_element(f64::NAN));
+        let a = with_trunk_offset(model, &trunk, &Vector3::new(0.01, -0.02, 0.005));
+        let b = with_trunk_offset(model, &trunk, &Vector3::new(0.015, -0.02, 0.005));
+        let bits = |w: &ForceVec| w.to_vector6().map(f64::to_bits);
+        let mut ws = Workspace::new(model);
+        for k in 0..s.len() {
+            let qva = [&s.q[k][..], &s.v[k], &s.a[k]];
+            let whole = rel.composite(k, &b, 1.0);
+            let w = rel.wrench(&whole, &b, qva, &mut ws);
+            let reused = rel.with_trunk_of(&rel.composite(k, &a, 1.0), k, &b);
+            let motion = rel.root_motion(&b, qva[0], qva[1], qva[2], &mut ws);
+            let w_at = rel.wrench_at(&reused, &motion, &ws.o_x_i[root]);
+            let w_anew = anew.wrench(&anew.composite(k, &b, 1.0), &b, qva, &mut ws);
+            assert_eq!(bits(&w), bits(&w_at), "frame {k}: reused terms");
+            assert_eq!(bits(&w), bits(&w_anew), "frame {k}: inertias rotated anew");
+            assert_eq!(whole.com, reused.com, "frame {k}");
+        }
+    }
+
     /// The kept terms give what the whole kinematics and RNEA give, on the demo walk with the
     /// root moved, the trunk's inertia moved and the masses scaled, on both joint models.
     #[test]
