@@ -266,7 +266,14 @@ impl Problem<'_> {
             with_mass_scale(&trunk, s)
         };
         let rotations = self.root_rotations();
-        let [mut q, mut v, mut a] = self.states();
+        let ([mut q, mut v, mut a], recycled) = self.states();
+        // a recycled row differs from the motion's in the root's coordinates alone (all a
+        // trial moves), which come first: those are copied back (else the whole row)
+        let (nq, nv) = match (recycled, self.root_coordinates()) {
+            (false, _) => (0, 0),
+            (true, Some(n)) => n,
+            (true, None) => (self.model.nq, self.model.nv),
+        };
         // per frame: its rows, and whether the root could follow the rotation there
         let mut frames: Vec<_> = q
             .iter_mut()
@@ -282,9 +289,9 @@ impl Problem<'_> {
             |_, first, block| {
                 for (i, (q, v, a, ok)) in block.iter_mut().enumerate() {
                     let k = first + i;
-                    q.copy_from_slice(&m.q[k]);
-                    v.copy_from_slice(&m.v[k]);
-                    a.copy_from_slice(&m.a[k]);
+                    q[..nq].copy_from_slice(&m.q[k][..nq]);
+                    v[..nv].copy_from_slice(&m.v[k][..nv]);
+                    a[..nv].copy_from_slice(&m.a[k][..nv]);
                     let t = m.time[k];
                     let [p, dp, ddp] = self.pelvis_at(x, t);
                     let rot = &rotations[k];
@@ -325,17 +332,36 @@ impl Problem<'_> {
         })
     }
 
-    /// Rows for an evaluation's states: a recycled trial's, else new ones of the motion's
-    /// sizes (their values are overwritten).
-    fn states(&self) -> [Vec<Vec<f64>>; 3] {
+    /// Rows for an evaluation's states: a recycled trial's (`true`), else a copy of the
+    /// motion.
+    fn states(&self) -> ([Vec<Vec<f64>>; 3], bool) {
         let spare = self.reuse.spare.lock().ok().and_then(|mut s| s.pop());
-        spare.unwrap_or_else(|| {
-            let m = self.motion;
-            [m.q.to_vec(), m.v.to_vec(), m.a.to_vec()]
-        })
+        match spare {
+            Some(rows) => (rows, true),
+            None => {
+                let m = self.motion;
+                ([m.q.to_vec(), m.v.to_vec(), m.a.to_vec()], false)
+            }
+        }
     }
 
-    /// Keeps the states of an evaluation no longer needed for the next one's rows.
+    /// How many of q's and v's first coordinates are the root's joints' (bodies `1..=root`),
+    /// when no other body's come before them.
+    fn root_coordinates(&self) -> Option<(usize, usize)> {
+        let m = self.model;
+        let end = |b: usize| (m.idx_q[b] + m.joints[b].nq(), m.idx_v[b] + m.joints[b].nv());
+        let (nq, nv) = (1..=self.root)
+            .map(end)
+            .fold((0, 0), |(q, v), (bq, bv)| (q.max(bq), v.max(bv)));
+        let after = |b: usize| {
+            (m.joints[b].nq() == 0 || m.idx_q[b] >= nq)
+                && (m.joints[b].nv() == 0 || m.idx_v[b] >= nv)
+        };
+        (self.root + 1..m.nbodies()).all(after).then_some((nq, nv))
+    }
+
+    /// Keeps the states of an evaluation no longer needed for the next one's rows (they
+    /// differ from the motion in the root's coordinates alone).
     pub fn recycle(&self, e: Evaluated) {
         if let Ok(mut s) = self.reuse.spare.lock() {
             s.push([e.q, e.v, e.a]);
