@@ -148,6 +148,39 @@ fn root_chain(model: &Model, root: usize) -> Option<Vec<usize>> {
     (massless && hung).then_some(chain)
 }
 
+/// One frame's terms ([`RootRelative::new`]) from `ws`, posed by forward kinematics and
+/// moved by RNEA's forward pass with the root's joints still: the `kept` bodies' poses
+/// relative to the root (identity on the root's `chain`), the `trunk` bodies' motion, and the
+/// rest's sums.
+fn frame_terms(
+    model: &Model,
+    ws: &Workspace,
+    (kept, trunk, chain): (&[usize], &[usize], &[usize]),
+    (kept_poses, trunk_motion, rest): (&mut [SpatialTransform], &mut [Kept], &mut Rest),
+) {
+    let root = *chain.last().expect("the root");
+    let in_chain = |i: usize| chain.binary_search(&i).is_ok();
+    let p_x_0 = ws.o_x_i[root].inverse();
+    let relative = |i: usize| p_x_0.compose(&ws.o_x_i[i]);
+    for (x, &b) in kept_poses.iter_mut().zip(kept) {
+        *x = if in_chain(b) {
+            SpatialTransform::IDENTITY
+        } else {
+            relative(b)
+        };
+    }
+    for i in (1..model.nbodies()).filter(|&i| !in_chain(i) || i == root) {
+        let x = relative(i);
+        if let Some(j) = trunk.iter().position(|&b| b == i) {
+            trunk_motion[j] = Kept::new(x, ws.v[i], ws.a[i], &model.inertia[i]);
+            continue;
+        }
+        if !model.inertia[i].is_zero() {
+            rest.add(&model.inertia[i], &x, &ws.v[i], &ws.a[i]);
+        }
+    }
+}
+
 /// `v` (`n · m` items) as `n` rows of `m` (empty rows when `m` is 0).
 fn rows<T>(v: &mut [T], n: usize, m: usize) -> Vec<&mut [T]> {
     if m == 0 {
@@ -194,7 +227,6 @@ impl RootRelative {
         }
         let chain = root_chain(model, root)?;
         let on_chain = chain.clone();
-        let in_chain = |i: usize| on_chain.binary_search(&i).is_ok();
         let chain_dofs: Vec<usize> = chain
             .iter()
             .flat_map(|&b| model.idx_v[b]..model.idx_v[b] + model.joints[b].nv())
@@ -251,25 +283,8 @@ impl RootRelative {
                         (vr[d], ar[d]) = (0.0, 0.0);
                     }
                     rnea_terms(model, ws, &q[k], Some(vr), Some(ar), None, false);
-                    let p_x_0 = ws.o_x_i[root].inverse();
-                    let relative = |i: usize| p_x_0.compose(&ws.o_x_i[i]);
-                    for (x, &b) in kept_poses.iter_mut().zip(kept) {
-                        *x = if in_chain(b) {
-                            SpatialTransform::IDENTITY
-                        } else {
-                            relative(b)
-                        };
-                    }
-                    for i in (1..model.nbodies()).filter(|&i| !in_chain(i) || i == root) {
-                        let x = relative(i);
-                        if let Some(j) = trunk_of.iter().position(|&b| b == i) {
-                            trunk_motion[j] = Kept::new(x, ws.v[i], ws.a[i], &model.inertia[i]);
-                            continue;
-                        }
-                        if !model.inertia[i].is_zero() {
-                            rest.add(&model.inertia[i], &x, &ws.v[i], &ws.a[i]);
-                        }
-                    }
+                    let parts = (&kept[..], &trunk_of[..], &on_chain[..]);
+                    frame_terms(model, ws, parts, (kept_poses, trunk_motion, rest));
                 }
             },
         );
