@@ -123,10 +123,14 @@ impl Local {
     fn accumulate(&self, rk: &[f64; 6], jtj: &mut DMatrix<f64>, jtr: &mut DVector<f64>) {
         let dot = |a: &[f64; 6], b: &[f64; 6]| (0..6).map(|r| a[r] * b[r]).sum::<f64>();
         let (cols, jac) = (&self.cols[..self.len], &self.jac[..self.len]);
-        for (a, ja) in cols.iter().zip(jac) {
+        for (n, (a, ja)) in cols.iter().zip(jac).enumerate() {
             jtr[*a] += dot(ja, rk);
-            for (b, jb) in cols.iter().zip(jac) {
-                jtj[(*a, *b)] += dot(ja, jb);
+            jtj[(*a, *a)] += dot(ja, ja);
+            // `dot(ja, jb) == dot(jb, ja)` to the bit (products commute): made once for both
+            for (b, jb) in cols[..n].iter().zip(jac) {
+                let d = dot(ja, jb);
+                jtj[(*a, *b)] += d;
+                jtj[(*b, *a)] += d;
             }
         }
     }
@@ -241,20 +245,29 @@ impl Problem<'_> {
         local.clear();
         let relative = self.relative.get().and_then(Option::as_ref);
         let qva = [&e.q[k][..], &e.v[k], &e.a[k]];
-        // the whole-body terms of the evaluated model at this frame, for its rotations
-        let terms = relative.map(|r| (r, r.composite(k, &e.model, shared.mass_scale)));
-        let com = match &terms {
-            Some((r, c)) => {
-                // its wrench is `e`'s already; what is read is the root's chain it poses
-                r.wrench(c, &e.model, qva, ws);
-                ws.o_x_i[self.root].transform_point(&c.com())
-            }
+        let needed = e.ground.wrench[k];
+        let rotation = layout.rotation.zip(self.rotation.as_ref());
+        let trunk = !self.trunk.bodies.is_empty();
+        // the frame's whole-body terms and root motion, when a column reads them (the same
+        // for every trunk offset: the kinematics are the model's); the centre of mass and the
+        // pelvis are the evaluation's own (the same terms made them)
+        let terms = relative.filter(|_| trunk || rotation.is_some()).map(|r| {
+            let c = r.composite(k, &e.model, shared.mass_scale);
+            let root = r.root_motion(&e.model, qva[0], qva[1], qva[2], ws);
+            (r, c, root, ws.o_x_i[self.root])
+        });
+        let (com, pelvis, rot) = match relative {
+            Some(_) => (
+                e.ground.com[k],
+                e.ground.pelvis[k],
+                terms.as_ref().map_or(Matrix3::identity(), |t| t.3.rot),
+            ),
             None => {
                 forward_kinematics(&e.model, ws, &e.q[k]);
-                centre_of_mass(&e.model, ws)
+                let x = ws.o_x_i[self.root];
+                (centre_of_mass(&e.model, ws), x.trans, x.rot)
             }
         };
-        let pelvis = ws.o_x_i[self.root].trans;
         let pass = Pass::new(
             &e.ground,
             k,
@@ -263,18 +276,23 @@ impl Problem<'_> {
             shared.measured,
             shared.weight,
         );
-        let needed = e.ground.wrench[k];
-        // trunk: finite differences of the needed wrench
+        // trunk: finite differences of the needed wrench (without trunk bodies the moved
+        // models are the evaluated one, and the columns zero)
         for (j, m) in moved.iter().enumerate() {
-            let w = needed_wrench(relative, k, m, shared, qva, &mut scratch.ws);
-            let w = about(&w, &pelvis);
+            let w = match (&terms, relative) {
+                _ if !trunk && relative.is_some() => needed,
+                (Some((r, c, root, o_x_p)), _) => about(
+                    &r.wrench_at(&r.with_trunk_of(c, k, m), root, o_x_p),
+                    &pelvis,
+                ),
+                _ => about(&rnea_wrench(m, shared, qva, &mut scratch.ws), &pelvis),
+            };
             let d: [f64; 6] = std::array::from_fn(|c| (w[c] - needed[c]) / TRUNK_STEP);
             local.push(j, pass.apply(v3(&d, 3), v3(&d, 0)));
         }
         self.pelvis_columns(shared, &com, &pelvis, &e.ground, k, &pass, local);
-        if let (Some(at), Some(r)) = (layout.rotation, &self.rotation) {
-            let rot = ws.o_x_i[self.root].rot;
-            let terms = terms.as_ref().map(|(r, c)| (*r, c));
+        if let Some((at, r)) = rotation {
+            let terms = terms.as_ref().map(|(r, c, _, _)| (*r, c));
             self.rotation_columns(
                 e, k, at, r, &rot, &pelvis, &pass, shared, terms, scratch, local,
             );
@@ -378,23 +396,6 @@ impl Problem<'_> {
     }
 }
 
-/// The wrench `model` needs at frame `k` over the state `qva` (world axes, about the world
-/// origin): from the root-relative terms when there are some, else by kinematics through the
-/// root-level bodies and RNEA.
-fn needed_wrench(
-    relative: Option<&RootRelative>,
-    k: usize,
-    model: &Model,
-    shared: &Shared,
-    [q, v, a]: [&[f64]; 3],
-    ws: &mut Workspace,
-) -> ForceVec {
-    match relative {
-        Some(r) => r.frame(k, model, shared.mass_scale, [q, v, a], ws).0,
-        None => rnea_wrench(model, shared, [q, v, a], ws),
-    }
-}
-
 /// The wrench `model` needs over the state `qva` by kinematics through the root-level bodies
 /// and RNEA (world axes, about the world origin): what the root-relative terms stand in for.
 fn rnea_wrench(
@@ -475,6 +476,7 @@ mod tests {
             base_pelvis: &[],
             free: None,
             relative: Default::default(),
+            reuse: Default::default(),
         };
         let layout = problem.layout();
         assert!(layout.rotation.is_some() && layout.mass.is_some());

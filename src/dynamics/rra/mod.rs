@@ -311,6 +311,7 @@ pub fn reduce_residuals(
         base_pelvis: &[],
         free: None,
         relative: Default::default(),
+        reuse: Default::default(),
     };
     let key = Key::of(model, &ground, &trunk, &motion, up, counted, bounds);
     let start = match warm {
@@ -617,6 +618,7 @@ fn fine_problem_of<'a>(
         } else {
             Default::default()
         },
+        reuse: Default::default(),
     })
 }
 
@@ -662,6 +664,7 @@ fn solve(
                 accepted = Some((trial, t));
                 break;
             }
+            problem.recycle(t);
             dx *= 0.5;
         }
         let Some((xn, mut en)) = accepted else {
@@ -669,7 +672,9 @@ fn solve(
         };
         let gain = (e.cost - en.cost) / e.cost.max(1e-12);
         en.steps = e.steps + 1;
-        (x, e) = (xn, en);
+        let superseded = std::mem::replace(&mut e, en);
+        problem.recycle(superseded);
+        x = xn;
         if gain < 1e-3 {
             break;
         }
@@ -688,13 +693,20 @@ fn mean_com_height(model: &Model, q: &[Vec<f64>], counted: &[bool], up: usize, f
         / counted.iter().filter(|c| **c).count().max(1) as f64
 }
 
-/// Per sample: the height of the whole-body centre of mass over the floor (m).
+/// Per sample: the height of the whole-body centre of mass over the floor (m); samples in
+/// parallel, each computing what it would alone (`crate::par`).
 pub fn com_heights(model: &Model, q: &[Vec<f64>], up: usize, floor: f64) -> Vec<f64> {
-    let mut ws = Workspace::new(model);
-    q.iter()
-        .map(|qk| {
-            forward_kinematics(model, &mut ws, qk);
-            centre_of_mass(model, &ws)[up] - floor
-        })
-        .collect()
+    let mut out = vec![0.0; q.len()];
+    crate::par::for_each_block(
+        &mut out,
+        crate::par::even_block(q.len()),
+        &mut crate::par::scratch(|| Workspace::new(model)),
+        |ws, first, block| {
+            for (i, h) in block.iter_mut().enumerate() {
+                forward_kinematics(model, ws, &q[first + i]);
+                *h = centre_of_mass(model, ws)[up] - floor;
+            }
+        },
+    );
+    out
 }

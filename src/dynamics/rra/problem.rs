@@ -20,7 +20,7 @@ use crate::error::Error;
 use crate::model::Model;
 use crate::motion::spline::UniformBSpline;
 use crate::spatial::SpatialInertia;
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 /// The trunk offset's coordinates.
 pub(super) const NT: usize = 2;
@@ -49,6 +49,18 @@ pub(super) struct Problem<'a> {
     /// (`None` inside: a model they do not fit; trials then run the whole estimate); shared
     /// with the refinement's problem ([`super::refine`]).
     pub relative: std::sync::Arc<std::sync::OnceLock<Option<RootRelative>>>,
+    /// What the evaluations reuse ([`Reuse`]).
+    pub reuse: Reuse,
+}
+
+/// What every evaluation of one problem reuses: the root's world rotation at every frame of
+/// the motion (the trials' adjustments are made about it; made at the first evaluation), and
+/// the states of rejected or superseded trials, whose rows the next trial overwrites
+/// ([`Problem::recycle`]) instead of allocating its own.
+#[derive(Default)]
+pub(super) struct Reuse {
+    root_rotations: std::sync::OnceLock<Vec<Matrix3<f64>>>,
+    spare: std::sync::Mutex<Vec<[Vec<Vec<f64>>; 3]>>,
 }
 
 /// One evaluation: the adjusted model, motion and their ground reactions.
@@ -243,7 +255,8 @@ impl Problem<'_> {
         Ok(())
     }
 
-    /// The model and motion adjusted by `x` (no ground reactions).
+    /// The model and motion adjusted by `x` (no ground reactions); frames in parallel, each
+    /// computing what it would alone (`crate::par`).
     pub fn adjusted(&self, x: &DVector<f64>) -> Result<Adjusted, Error> {
         let trunk = with_trunk_offset(self.model, self.trunk.bodies, &self.trunk_offset(x));
         let s = self.mass_scale(x);
@@ -252,39 +265,107 @@ impl Problem<'_> {
         } else {
             with_mass_scale(&trunk, s)
         };
-        let (mut q, mut v, mut a) = (
-            self.motion.q.to_vec(),
-            self.motion.v.to_vec(),
-            self.motion.a.to_vec(),
-        );
-        let mut ws = Workspace::new(&model);
-        for k in 0..q.len() {
-            let t = self.motion.time[k];
-            let [p, dp, ddp] = self.pelvis_at(x, t);
-            forward_kinematics_through(&model, &mut ws, &q[k], self.root);
-            let rot = ws.o_x_i[self.root].rot;
-            shift_root(
-                &self.translation,
-                &rot,
-                &p,
-                &dp,
-                &ddp,
-                &mut q[k],
-                &mut v[k],
-                &mut a[k],
-            );
-            if let (Some(r), Some([th, dth, ddth])) = (&self.rotation, self.rotation_at(x, t)) {
-                let d = BodyRotation::exp(&th, &dth, &ddth);
-                if !rotate_root(r, &rot, &d, &mut q[k], &mut v[k], &mut a[k]) {
-                    return Err(Error::Invalid(format!(
-                        "residual reduction: the root's Euler angles reach gimbal lock at \
-                         {t:.3} s under the pelvis rotation; use --joints ball or \
-                         --consistent off"
-                    )));
+        let rotations = self.root_rotations();
+        let ([mut q, mut v, mut a], recycled) = self.states();
+        // a recycled row differs from the motion's in the root's coordinates alone (all a
+        // trial moves), which come first: those are copied back (else the whole row)
+        let (nq, nv) = match (recycled, self.root_coordinates()) {
+            (false, _) => (0, 0),
+            (true, Some(n)) => n,
+            (true, None) => (self.model.nq, self.model.nv),
+        };
+        // per frame: its rows, and whether the root could follow the rotation there
+        let mut frames: Vec<_> = q
+            .iter_mut()
+            .zip(v.iter_mut())
+            .zip(a.iter_mut())
+            .map(|((q, v), a)| (q, v, a, true))
+            .collect();
+        let m = self.motion;
+        crate::par::for_each_block(
+            &mut frames,
+            crate::par::even_block(m.q.len()),
+            &mut crate::par::scratch(|| ()),
+            |_, first, block| {
+                for (i, (q, v, a, ok)) in block.iter_mut().enumerate() {
+                    let k = first + i;
+                    q[..nq].copy_from_slice(&m.q[k][..nq]);
+                    v[..nv].copy_from_slice(&m.v[k][..nv]);
+                    a[..nv].copy_from_slice(&m.a[k][..nv]);
+                    let t = m.time[k];
+                    let [p, dp, ddp] = self.pelvis_at(x, t);
+                    let rot = &rotations[k];
+                    shift_root(&self.translation, rot, &p, &dp, &ddp, q, v, a);
+                    if let (Some(r), Some([th, dth, ddth])) =
+                        (&self.rotation, self.rotation_at(x, t))
+                    {
+                        let d = BodyRotation::exp(&th, &dth, &ddth);
+                        *ok = rotate_root(r, rot, &d, q, v, a);
+                    }
                 }
+            },
+        );
+        if let Some(k) = frames.iter().position(|f| !f.3) {
+            let t = m.time[k];
+            return Err(Error::Invalid(format!(
+                "residual reduction: the root's Euler angles reach gimbal lock at \
+                 {t:.3} s under the pelvis rotation; use --joints ball or \
+                 --consistent off"
+            )));
+        }
+        drop(frames);
+        Ok(Adjusted { model, q, v, a })
+    }
+
+    /// Per frame of the motion: the root body's world rotation (made once).
+    fn root_rotations(&self) -> &[Matrix3<f64>] {
+        self.reuse.root_rotations.get_or_init(|| {
+            let mut ws = Workspace::new(self.model);
+            self.motion
+                .q
+                .iter()
+                .map(|q| {
+                    forward_kinematics_through(self.model, &mut ws, q, self.root);
+                    ws.o_x_i[self.root].rot
+                })
+                .collect()
+        })
+    }
+
+    /// Rows for an evaluation's states: a recycled trial's (`true`), else a copy of the
+    /// motion.
+    fn states(&self) -> ([Vec<Vec<f64>>; 3], bool) {
+        let spare = self.reuse.spare.lock().ok().and_then(|mut s| s.pop());
+        match spare {
+            Some(rows) => (rows, true),
+            None => {
+                let m = self.motion;
+                ([m.q.to_vec(), m.v.to_vec(), m.a.to_vec()], false)
             }
         }
-        Ok(Adjusted { model, q, v, a })
+    }
+
+    /// How many of q's and v's first coordinates are the root's joints' (bodies `1..=root`),
+    /// when no other body's come before them.
+    fn root_coordinates(&self) -> Option<(usize, usize)> {
+        let m = self.model;
+        let end = |b: usize| (m.idx_q[b] + m.joints[b].nq(), m.idx_v[b] + m.joints[b].nv());
+        let (nq, nv) = (1..=self.root)
+            .map(end)
+            .fold((0, 0), |(q, v), (bq, bv)| (q.max(bq), v.max(bv)));
+        let after = |b: usize| {
+            (m.joints[b].nq() == 0 || m.idx_q[b] >= nq)
+                && (m.joints[b].nv() == 0 || m.idx_v[b] >= nv)
+        };
+        (self.root + 1..m.nbodies()).all(after).then_some((nq, nv))
+    }
+
+    /// Keeps the states of an evaluation no longer needed for the next one's rows (they
+    /// differ from the motion in the root's coordinates alone).
+    pub fn recycle(&self, e: Evaluated) {
+        if let Ok(mut s) = self.reuse.spare.lock() {
+            s.push([e.q, e.v, e.a]);
+        }
     }
 
     /// `Σ |n|² + h² |f|²` over the counted frames.
@@ -377,23 +458,24 @@ impl Problem<'_> {
             n[blocks[i]] += 1;
         }
         let s: [f64; 4] = std::array::from_fn(|b| (s[b] / n[b].max(1) as f64).max(1e-12));
+        // held: a held parameter's step is zero (its row and column of the system the unit's)
+        let held = |i: usize| self.free.as_ref().is_some_and(|f| !f[i]);
+        let mut system = KnotSystem::new(&jtj, &order, &held);
         for _ in 0..20 {
-            let mut a = jtj.clone();
             let mut rhs = -&jtr;
             for i in 0..np {
                 let block = blocks[i];
                 let l = mu[block] * s[block];
-                a[(i, i)] += l;
-                rhs[i] -= l * x[i];
+                rhs[i] = if held(i) { 0.0 } else { rhs[i] - l * x[i] };
             }
-            // a held parameter's step is zero
-            for (i, _) in self.free.iter().flatten().enumerate().filter(|(_, f)| !**f) {
-                a.row_mut(i).fill(0.0);
-                a.column_mut(i).fill(0.0);
-                a[(i, i)] = 1.0;
-                rhs[i] = 0.0;
-            }
-            let next = x + solve_by_knots(&a, &rhs, &order)?;
+            let diagonal = |i: usize| {
+                if held(i) {
+                    1.0
+                } else {
+                    jtj[(i, i)] + mu[blocks[i]] * s[blocks[i]]
+                }
+            };
+            let next = x + system.solve(&jtj, &diagonal, &rhs)?;
             let ok = self.within(&next, bounds);
             if ok.iter().all(|b| *b) {
                 return Some(next);
@@ -408,37 +490,160 @@ impl Problem<'_> {
     }
 }
 
-/// Three entries of a wrench `[fx, fy, fz, tx, ty, tz]` from `at`.
-/// The solution of `a x = b` (`a` symmetric positive definite, `None` otherwise) by a sparse
-/// Cholesky factor (`nalgebra-sparse`, CSparse's up-looking algorithm) of `a` with its rows
-/// and columns taken in `order` ([`Problem::knot_order`]): the band of the spline
-/// coefficients and the dense last rows fill nothing outside them, so the factor costs
-/// O(n·w²) instead of the dense O(n³) (n ≈ 700, w ≈ 20 on a 23 s take). The same solution
-/// to rounding (a test compares it with the dense one).
-fn solve_by_knots(a: &DMatrix<f64>, b: &DVector<f64>, order: &[usize]) -> Option<DVector<f64>> {
-    use nalgebra_sparse::{CooMatrix, CscMatrix, factorization::CscCholesky};
-    let n = order.len();
-    let mut coo = CooMatrix::new(n, n);
-    for (jj, &j) in order.iter().enumerate() {
-        for (ii, &i) in order.iter().enumerate() {
-            let v = a[(i, j)];
-            if v != 0.0 {
-                coo.push(ii, jj, v);
+/// The system `A x = b` of one Gauss–Newton step, solved by a sparse Cholesky factor
+/// (`nalgebra-sparse`, CSparse's up-looking algorithm) of `A` with its rows and columns taken
+/// in `order` ([`Problem::knot_order`]): the band of the spline coefficients and the dense
+/// last rows fill nothing outside them, so the factor costs O(n·w²) instead of the dense
+/// O(n³) (n ≈ 700, w ≈ 20 on a 23 s take); the same solution to rounding (a test compares it
+/// with the dense one). `A` is `JᵀJ` with another diagonal (the Tikhonov weights) and the held
+/// parameters' rows and columns the unit's: its pattern, and the symbolic factor, are made
+/// once per step, and each trial of the weights only refactors the values.
+struct KnotSystem<'a> {
+    order: &'a [usize],
+    /// `A`'s stored entries in knot order (CSC: the diagonal, and the non-zero entries of
+    /// `JᵀJ` between free parameters).
+    pattern: nalgebra_sparse::pattern::SparsityPattern,
+    /// Per stored entry: its row and column in `x`'s order.
+    at: Vec<(usize, usize)>,
+    factor: Option<nalgebra_sparse::factorization::CscCholesky<f64>>,
+}
+
+impl<'a> KnotSystem<'a> {
+    fn new(jtj: &DMatrix<f64>, order: &'a [usize], held: &dyn Fn(usize) -> bool) -> Self {
+        let n = order.len();
+        let (mut offsets, mut rows, mut at) = (Vec::with_capacity(n + 1), vec![], vec![]);
+        offsets.push(0);
+        for &j in order {
+            for (ii, &i) in order.iter().enumerate() {
+                if i == j || (!held(i) && !held(j) && jtj[(i, j)] != 0.0) {
+                    rows.push(ii);
+                    at.push((i, j));
+                }
             }
+            offsets.push(rows.len());
+        }
+        let pattern = nalgebra_sparse::pattern::SparsityPattern::try_from_offsets_and_indices(
+            n, n, offsets, rows,
+        )
+        .expect("rows ascend within each column");
+        Self {
+            order,
+            pattern,
+            at,
+            factor: None,
         }
     }
-    let factor = CscCholesky::factor(&CscMatrix::from(&coo)).ok()?;
-    let y = factor.solve(&DMatrix::from_iterator(n, 1, order.iter().map(|&i| b[i])));
-    let mut x = DVector::zeros(n);
-    for (ii, &i) in order.iter().enumerate() {
-        x[i] = y[(ii, 0)];
+
+    /// The solution for `A`'s off-diagonal entries `jtj`'s, its diagonal `diagonal`, and the
+    /// right-hand side `b`; `None` when `A` is not positive definite.
+    fn solve(
+        &mut self,
+        jtj: &DMatrix<f64>,
+        diagonal: &dyn Fn(usize) -> f64,
+        b: &DVector<f64>,
+    ) -> Option<DVector<f64>> {
+        use nalgebra_sparse::factorization::{CscCholesky, CscSymbolicCholesky};
+        let values: Vec<f64> = self
+            .at
+            .iter()
+            .map(|&(i, j)| if i == j { diagonal(i) } else { jtj[(i, j)] })
+            .collect();
+        match &mut self.factor {
+            Some(f) => f.refactor(&values).ok()?,
+            None => {
+                let symbolic = CscSymbolicCholesky::factor(self.pattern.clone());
+                self.factor = Some(CscCholesky::factor_numerical(symbolic, &values).ok()?);
+            }
+        }
+        let f = self.factor.as_ref()?;
+        let n = self.order.len();
+        let y = f.solve(&DMatrix::from_iterator(
+            n,
+            1,
+            self.order.iter().map(|&i| b[i]),
+        ));
+        let mut x = DVector::zeros(n);
+        for (ii, &i) in self.order.iter().enumerate() {
+            x[i] = y[(ii, 0)];
+        }
+        Some(x)
     }
-    Some(x)
+}
+
+/// The solution of `a x = b` (`a` symmetric positive definite, `None` otherwise) by
+/// [`KnotSystem`] in `order`, every parameter free.
+#[cfg(test)]
+fn solve_by_knots(a: &DMatrix<f64>, b: &DVector<f64>, order: &[usize]) -> Option<DVector<f64>> {
+    KnotSystem::new(a, order, &|_| false).solve(a, &|i| a[(i, i)], b)
 }
 
 #[cfg(test)]
 mod tests {
-    use super::solve_by_knots;
+    use super::{KnotSystem, solve_by_knots};
+    use nalgebra::{DMatrix, DVector};
+
+    /// A band of half-width 4 along the permutation `order`, with three dense last rows, made
+    /// symmetric positive definite: the normal equations' shape.
+    fn banded(n: usize, order: &[usize], next: &mut dyn FnMut() -> f64) -> DMatrix<f64> {
+        let mut m = DMatrix::zeros(n, n);
+        for (ii, &i) in order.iter().enumerate() {
+            for (jj, &j) in order.iter().enumerate() {
+                if ii.abs_diff(jj) <= 4 || ii >= n - 3 || jj >= n - 3 {
+                    m[(i, j)] = next();
+                }
+            }
+        }
+        let a = m.transpose() * &m;
+        (&a + a.transpose()) * 0.5
+    }
+
+    fn xorshift(mut rng: u64) -> impl FnMut() -> f64 {
+        move || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            (rng >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        }
+    }
+
+    /// A step tries several Tikhonov weights on one system, factoring its pattern once and
+    /// refactoring the values for each: every trial's solution must be the bits a system made
+    /// afresh for it gives (what each trial computed before), held parameters included, whose
+    /// step is zero and whose rows and columns leave the others' solution that of the system
+    /// without them.
+    #[test]
+    fn refactoring_a_knot_system_gives_a_fresh_ones_bits() {
+        let n = 41;
+        let order: Vec<usize> = (0..n).map(|k| (k * 7) % n).collect();
+        let mut next = xorshift(0x9e37_79b9_7f4a_7c15);
+        let jtj = banded(n, &order, &mut next);
+        let b = DVector::from_fn(n, |_, _| next());
+        let held = |i: usize| i % 5 == 2;
+        let mut kept = KnotSystem::new(&jtj, &order, &held);
+        for mu in [1e-4, 4e-4, 1.6e-3, 1e-1] {
+            let diagonal = |i: usize| if held(i) { 1.0 } else { jtj[(i, i)] + mu };
+            let rhs = DVector::from_fn(n, |i, _| if held(i) { 0.0 } else { b[i] });
+            let again = kept.solve(&jtj, &diagonal, &rhs).unwrap();
+            let fresh = KnotSystem::new(&jtj, &order, &held)
+                .solve(&jtj, &diagonal, &rhs)
+                .unwrap();
+            let bits = |x: &DVector<f64>| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&again), bits(&fresh), "mu {mu}");
+            // the dense solve of the same system, held rows and columns the unit's
+            let mut a = jtj.clone();
+            for i in 0..n {
+                for j in 0..n {
+                    if i != j && (held(i) || held(j)) {
+                        a[(i, j)] = 0.0;
+                    }
+                }
+                a[(i, i)] = diagonal(i);
+            }
+            let dense = a.cholesky().unwrap().solve(&rhs);
+            assert!((&again - &dense).amax() < 1e-12 * dense.amax(), "mu {mu}");
+            assert!((0..n).filter(|&i| held(i)).all(|i| again[i] == 0.0));
+        }
+    }
 
     /// The sparse solve in a permuted order gives the dense Cholesky's solution, on a band with
     /// dense last rows (the normal equations' shape) and on a full matrix.
