@@ -122,11 +122,16 @@ impl Engine for Builtin {
             keep_first_frame: false,
             ..o.clone()
         };
+        // (the stature is the skeleton's, set when the model is built)
+        let body = |o: &pipeline::TakeOptions| crate::model::anthropometry::BodyParams {
+            height_m: None,
+            ..o.body.clone()
+        };
         let fits = p.reduction.is_some()
             && params.consistent.unwrap_or(true)
             && matches!(take.data, TakeData::Bvh(_))
             && masses_alone(&source.options) == masses_alone(&params.take)
-            && source.options.body != params.take.body;
+            && body(&source.options) != body(&params.take);
         // no preview is no error: the results proper follow and say what went wrong
         fits.then(|| inverse_dynamics_as(take, params, previous, true, ctl).ok())
             .flatten()
