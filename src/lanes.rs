@@ -66,7 +66,8 @@ fn atan2_avx2(y: &[f64], x: &[f64], out: &mut [f64]) {
 }
 
 /// [`sin_cos_many`] in the caller's instruction set: the branch-free kernel over every value
-/// (a loop the compiler vectorises), then the scalar function where the kernel does not hold.
+/// (a loop the compiler vectorises), then the standard library's `sin_cos` where the kernel
+/// does not hold, as [`crate::spatial::sin_cos`] does.
 #[inline(always)]
 fn sin_cos_body(x: &[f64], s: &mut [f64], c: &mut [f64]) {
     let n = x.len();
@@ -79,7 +80,8 @@ fn sin_cos_body(x: &[f64], s: &mut [f64], c: &mut [f64]) {
     if outside {
         for i in 0..n {
             if beyond_sin_cos(x[i]) {
-                (s[i], c[i]) = crate::spatial::sin_cos(x[i]);
+                // what `spatial::sin_cos` gives there (it is this kernel within the range)
+                (s[i], c[i]) = x[i].sin_cos();
             }
         }
     }
