@@ -151,9 +151,9 @@ pub fn bench_stages(
         contact,
         repeat,
         min_ms: (0..STAGES.len()).map(|s| min(&column(s))).collect(),
-        median_ms: (0..STAGES.len()).map(|s| median(column(s))).collect(),
+        median_ms: (0..STAGES.len()).map(|s| median(&column(s))).collect(),
         total_min_ms: min(&totals),
-        total_median_ms: median(totals),
+        total_median_ms: median(&totals),
     })
 }
 
@@ -206,13 +206,20 @@ fn run_once(path: &Path, text: &[u8], opts: &TakeOptions) -> Result<StageRun, Er
     })
 }
 
-fn min(x: &[f64]) -> f64 {
+/// The smallest of `x` (ms; +∞ for none): the benches' min (`bench --stages`, `--edit`).
+pub fn min(x: &[f64]) -> f64 {
     x.iter().copied().fold(f64::INFINITY, f64::min)
 }
 
-fn median(mut x: Vec<f64>) -> f64 {
+/// The median of `x` (the mean of the middle two for an even count; NaN for none): the
+/// benches' median (`bench --stages`, `--edit`).
+pub fn median(x: &[f64]) -> f64 {
+    let mut x = x.to_vec();
     x.sort_by(f64::total_cmp);
     let n = x.len();
+    if n == 0 {
+        return f64::NAN;
+    }
     if n % 2 == 1 {
         x[n / 2]
     } else {

@@ -12,7 +12,7 @@
 use super::{Builtin, Command, Control, RunKind, Workbench};
 use crate::error::Error;
 use crate::pipeline::TakeOptions;
-use crate::pipeline::stages::STAGES;
+use crate::pipeline::stages::{STAGES, median, min};
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
@@ -171,24 +171,6 @@ pub fn bench_edit(
         preview_ms,
         reran,
     })
-}
-
-fn min(x: &[f64]) -> f64 {
-    x.iter().copied().fold(f64::INFINITY, f64::min)
-}
-
-fn median(x: &[f64]) -> f64 {
-    let mut x = x.to_vec();
-    x.sort_by(f64::total_cmp);
-    let n = x.len();
-    if n == 0 {
-        return f64::NAN;
-    }
-    if n % 2 == 1 {
-        x[n / 2]
-    } else {
-        0.5 * (x[n / 2 - 1] + x[n / 2])
-    }
 }
 
 impl EditBench {
