@@ -149,17 +149,8 @@ fn lost_runs(
     let n = foot_height.len().min(loaded.len()).min(up_force.len());
     let off = |k: usize| loaded[k].iter().all(|l| !l);
     let mut out = vec![];
-    let mut k = 0;
-    while k < n {
-        if !off(k) {
-            k += 1;
-            continue;
-        }
-        let first = k;
-        while k < n && off(k) {
-            k += 1;
-        }
-        let run = first..k;
+    for run in crate::motion::runs(n, off) {
+        let (first, k) = (run.start, run.end);
         if run.len() < min_frames {
             continue;
         }

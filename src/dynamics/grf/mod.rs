@@ -899,16 +899,8 @@ pub fn carry_across_spread(
     let n = contact.len();
     let mut loaded = contact.to_vec();
     let flight = |k: usize| contact[k].iter().all(|c| !c);
-    let mut k = 0;
-    while k < n {
-        if !flight(k) {
-            k += 1;
-            continue;
-        }
-        let s = k;
-        while k < n && flight(k) {
-            k += 1;
-        }
+    for run in crate::motion::runs(n, flight) {
+        let (s, k) = (run.start, run.end);
         // frames s..k are flight; distance (in frames) from the contact before and after
         let reach = |range: &mut dyn Iterator<Item = usize>| -> Vec<usize> {
             range

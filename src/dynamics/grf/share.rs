@@ -65,16 +65,8 @@ pub(super) fn transitions(contact: &[Vec<bool>], time: &[f64]) -> Vec<Option<Tra
     let double = |k: usize| contact[k].iter().filter(|c| **c).count() == 2;
     // the double supports: (first frame, end frame, foot alone before, foot alone after)
     let mut spans = vec![];
-    let mut k = 0;
-    while k < n {
-        if !double(k) {
-            k += 1;
-            continue;
-        }
-        let s = k;
-        while k < n && double(k) {
-            k += 1;
-        }
+    for run in crate::motion::runs(n, double) {
+        let (s, k) = (run.start, run.end);
         let before = if s > 0 { only(s - 1) } else { None };
         let after = if k < n { only(k) } else { None };
         spans.push((s, k, before, after));

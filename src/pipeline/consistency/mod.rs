@@ -376,15 +376,10 @@ fn pelvis_travel(pelvis: &[Vector3<f64>], up: usize) -> f64 {
 
 /// Runs of `true` in `flags` as `(first, last)` frames.
 fn runs(flags: &[bool]) -> Vec<(usize, usize)> {
-    let mut out: Vec<(usize, usize)> = vec![];
-    for (k, &f) in flags.iter().enumerate() {
-        match out.last_mut() {
-            Some(r) if f && r.1 + 1 == k => r.1 = k,
-            _ if f => out.push((k, k)),
-            _ => {}
-        }
-    }
-    out
+    crate::motion::runs(flags.len(), |k| flags[k])
+        .into_iter()
+        .map(|r| (r.start, r.end - 1))
+        .collect()
 }
 
 /// A ratio to a threshold it exceeds as the reasons print it: `13.5×`, and below 1.1 with two
