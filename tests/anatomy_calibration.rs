@@ -1,9 +1,10 @@
 //! The anatomical series read the net moments of an RNEA that already runs, and keep what a
 //! mass does not change, with the same bits:
 //! - the moments inverse dynamics keeps without contact, and those the ground-reaction
-//!   estimate keeps from its own pass with the ground reactions, are bit for bit those of a
-//!   separate RNEA with the same loads after its own forward kinematics (what the series ran
-//!   before);
+//!   estimate keeps, are bit for bit those of a separate RNEA after its own forward kinematics
+//!   with the same loads taken from it (`GroundReactions::take_from`, the one way loads are
+//!   applied); and within rounding those of RNEA with the loads as external forces (inverse
+//!   dynamics is linear in them);
 //! - a calibration (segment frames, kept poses: `pipeline::anatomy::Calibration`) made at one
 //!   body mass fits the take at another and gives, with that take's moments, the series a
 //!   fresh `anatomy_with` gives; it does not fit a take whose motion differs.
@@ -30,9 +31,27 @@ fn demo(contact: Contact, mass_kg: f64) -> Take {
     pipeline::load_take(&common::repo("data/demo_walk.bvh"), &o).unwrap()
 }
 
-/// The oracle: per frame, the full forward kinematics, the ground's loads on the feet, RNEA,
-/// and `f.ang` of `bodies`.
+/// The oracle: per frame, the full forward kinematics, RNEA, `f.ang` of `bodies`, and the
+/// ground's loads taken from them.
 fn separate_rnea(t: &Take, g: Option<&GroundReactions>, bodies: &[usize]) -> Vec<Vector3<f64>> {
+    let m = &t.model;
+    let s = &t.states;
+    let mut ws = Workspace::new(m);
+    let mut out = vec![];
+    for k in 0..s.len() {
+        forward_kinematics(m, &mut ws, &s.q[k]);
+        rnea(m, &mut ws, &s.q[k], &s.v[k], &s.a[k], None);
+        let mut row: Vec<Vector3<f64>> = bodies.iter().map(|&b| ws.f[b].ang).collect();
+        if let Some(g) = g {
+            g.take_from(m, k, &ws, None, (bodies, &mut row));
+        }
+        out.extend(row);
+    }
+    out
+}
+
+/// The physics: RNEA with the ground's loads as external forces on the feet's bodies.
+fn rnea_with_loads(t: &Take, g: &GroundReactions, bodies: &[usize]) -> Vec<Vector3<f64>> {
     let m = &t.model;
     let s = &t.states;
     let mut ws = Workspace::new(m);
@@ -40,11 +59,8 @@ fn separate_rnea(t: &Take, g: Option<&GroundReactions>, bodies: &[usize]) -> Vec
     let mut out = vec![];
     for k in 0..s.len() {
         forward_kinematics(m, &mut ws, &s.q[k]);
-        let fx = g.map(|g| {
-            g.external_forces(k, &ws.o_x_i, &mut f_ext);
-            &f_ext[..]
-        });
-        rnea(m, &mut ws, &s.q[k], &s.v[k], &s.a[k], fx);
+        g.external_forces(k, &ws.o_x_i, &mut f_ext);
+        rnea(m, &mut ws, &s.q[k], &s.v[k], &s.a[k], Some(&f_ext));
         out.extend(bodies.iter().map(|&b| ws.f[b].ang));
     }
     out
@@ -84,6 +100,15 @@ fn the_moments_the_estimate_keeps_are_a_separate_rnea_with_its_loads_bit_for_bit
         bits(&g.moments),
         bits(&separate_rnea(&t, Some(&g), &bodies))
     );
+    let physics = rnea_with_loads(&t, &g, &bodies);
+    let peak = physics.iter().map(|x| x.norm()).fold(0.0, f64::max);
+    let off = g
+        .moments
+        .iter()
+        .zip(&physics)
+        .map(|(a, b)| (a - b).norm())
+        .fold(0.0, f64::max);
+    assert!(peak > 10.0 && off < 1e-12 * peak, "{off} N·m of {peak}");
     // without bodies asked, the estimate is the one it was
     let (_, plain, _) = consistency::consistent_take(&t, false, None).unwrap();
     assert!(plain.moments.is_empty() && plain.moment_bodies.is_empty());

@@ -49,6 +49,30 @@ pub fn forward_kinematics_through(model: &Model, ws: &mut Workspace, q: &[f64], 
     }
 }
 
+/// [`forward_kinematics`] of the bodies `bodies` only (ascending, each body's parent among them
+/// or the world): each pose bit for bit what the whole pass writes (the same sine and cosine,
+/// [`crate::spatial::sin_cos`], and the same products). What a caller reading the poses along
+/// a few chains needs, e.g. the feet's paths to the root ([`crate::dynamics::grf`]'s ground
+/// reactions on the joints), without the arms and the head.
+pub fn forward_kinematics_of(model: &Model, ws: &mut Workspace, q: &[f64], bodies: &[usize]) {
+    let (parent, idx_q, placement) = (&model.parent, &model.idx_q, &model.placement);
+    let (steps, o_x_i) = (&ws.joint_steps, &mut ws.o_x_i);
+    let sc = |iq: usize| crate::spatial::sin_cos(q[iq]);
+    for &i in bodies {
+        debug_assert!(parent[i] == 0 || bodies.contains(&parent[i]), "a chain");
+        let op = &o_x_i[parent[i]];
+        o_x_i[i] = match steps[i] {
+            JointStep::Axis { k, shifted }
+            | JointStep::Triple {
+                k: [k, _, _],
+                shifted,
+            } => axis_pose(k, op, shifted.then_some(&placement[i].trans), sc(idx_q[i])),
+            JointStep::InTriple { k } => axis_pose(k, op, None, sc(idx_q[i])),
+            JointStep::General => then(op, &model.parent_transform(i, q)),
+        };
+    }
+}
+
 /// `0X_i = 0X_λ λX_i` across a revolute joint about coordinate axis `k` (its angle's sine
 /// and cosine `sc`) after the translation `t` (none: zero).
 #[inline(always)]

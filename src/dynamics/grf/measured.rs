@@ -3,10 +3,12 @@
 //!
 //! Each foot's load is a force `f` at a point `p` on the floor plus a free moment `m` about the
 //! vertical, as the estimate's ([`super::FootLoad`]); frame by frame the loads are applied to
-//! the feet's bodies and RNEA gives the joint torques, and what the root still needs (the
+//! the feet's bodies and taken from RNEA's joint torques without them along the feet's paths
+//! (the estimate's own pass 3, [`super::passes`]), and what the root still needs (the
 //! residual, OpenSim's "residual forces") is what the loads do not explain: a measured force
 //! off in time or size shows there.
 
+use super::passes::take_load;
 use super::share::{FootLoad, centre_of_pressure};
 use super::{GroundReactions, about, check_inputs, floating_root, root_wrench};
 use crate::dynamics::{Workspace, forward_kinematics, rnea};
@@ -94,7 +96,6 @@ pub fn apply_ground_reactions(
         moments: vec![],
     };
     let mut ws = Workspace::new(model);
-    let mut f_ext = vec![ForceVec::ZERO; model.nbodies()];
     let e_up = Vector3::ith(up, 1.0);
     for k in 0..n {
         // the wrench the motion needs, about the pelvis (world axes)
@@ -123,11 +124,28 @@ pub fn apply_ground_reactions(
             out.cop_gap[k] = (p - p_feet).norm();
         }
 
-        // inverse dynamics with them; what the root still supplies
-        out.external_forces(k, &ws.o_x_i, &mut f_ext);
-        let tau = rnea(model, &mut ws, &q[k], &v[k], &a[k], Some(&f_ext));
-        out.tau[k].copy_from_slice(tau.as_slice());
-        out.residual[k] = about(&root_wrench(model, &ws), &pelvis);
+        // inverse dynamics with them (the loads taken from the torques without them, as the
+        // estimate's pass 3 does); what the root still supplies
+        out.tau[k].copy_from_slice(ws.tau.as_slice());
+        let mut left = w;
+        for j in 0..nf {
+            let wj = FootLoad {
+                force: out.grf[k][j],
+                cop: out.cop[k][j],
+                free_moment: out.free_moment[k][j],
+            }
+            .wrench(&e_up);
+            take_load(
+                model,
+                &ws,
+                &wj,
+                out.bodies[j],
+                Some(&mut out.tau[k]),
+                (&[], &mut []),
+            );
+            left -= wj;
+        }
+        out.residual[k] = about(&left, &pelvis);
     }
     Ok(out)
 }

@@ -186,6 +186,40 @@ impl GroundReactions {
         }
     }
 
+    /// The ground's loads at frame `k` taken from what RNEA without them left: from the
+    /// generalized forces `tau` (when given) and from the net moments `moments` (each body's
+    /// frame, as `ws.f[b].ang`) of `moment_bodies` (sorted). Inverse dynamics is linear in the
+    /// external forces, so this is RNEA with the loads to rounding; it is how every caller
+    /// applies them (the estimate's pass 3, the measured loads, the anatomical series), so all
+    /// give the same bits. `ws.o_x_i` holds frame `k`'s world poses of the bodies on the feet's
+    /// paths to the world (`forward_kinematics`).
+    pub fn take_from(
+        &self,
+        model: &Model,
+        k: usize,
+        ws: &Workspace,
+        mut tau: Option<&mut [f64]>,
+        (moment_bodies, moments): (&[usize], &mut [Vector3<f64>]),
+    ) {
+        let e_up = Vector3::ith(self.up, 1.0);
+        for (j, &b) in self.bodies.iter().enumerate() {
+            let load = FootLoad {
+                force: self.grf[k][j],
+                cop: self.cop[k][j],
+                free_moment: self.free_moment[k][j],
+            };
+            let w = load.wrench(&e_up);
+            passes::take_load(
+                model,
+                ws,
+                &w,
+                b,
+                tau.as_deref_mut(),
+                (moment_bodies, moments),
+            );
+        }
+    }
+
     /// How far the feet can give the ground force the motion needs, over the frames of single
     /// support (one foot loaded), where the needed force and centre of pressure are the
     /// motion's alone (in double support they also depend on how the load is shared): the
@@ -506,17 +540,45 @@ fn estimate(
     }
     // pass 1: the whole-body wrench each frame needs (world axes, about the world origin),
     // and the poses of the bodies every later step reads (frames in parallel: `passes`)
+    // (with the torques: pass 1 also keeps RNEA's torques and moments without the ground,
+    // which pass 3 takes the feet's loads from)
     let bodies = passes::Poses::bodies(model, feet, root);
-    let pass1 = passes::needed_wrenches(model, bodies, q, v, a, &mut |k| {
+    let (mut tau, mut moments) = match third {
+        Third::Torques(b) => (
+            vec![vec![0.0; model.nv]; n],
+            vec![Vector3::zeros(); n * b.len()],
+        ),
+        Third::Residual => (vec![], vec![]),
+    };
+    let unloaded = match third {
+        Third::Torques(b) => Some(passes::Unloaded {
+            tau: &mut tau,
+            bodies: b,
+            moments: &mut moments,
+        }),
+        Third::Residual => None,
+    };
+    let pass1 = passes::needed_wrenches(model, bodies, [q, v, a], unloaded, &mut |k| {
         keep_going(0.5 * k as f64 / n as f64)
     })
     .ok_or(Error::Cancelled)?;
-    let rest = Some(([q, v, a], keep_going));
+    let rest = Some(PassThree {
+        q,
+        tau,
+        moments,
+        keep_going,
+    });
     estimate_from(model, feet, time, root, pass1, up, contact, third, rest)
 }
 
-/// What pass 3 needs beyond the loads: the motion, and the progress to report to.
-type PassThree<'a, 'b> = ([&'a [Vec<f64>]; 3], &'b mut dyn FnMut(f64) -> bool);
+/// What pass 3 needs beyond the loads: the motion, pass 1's torques and moments without the
+/// ground ([`passes::Unloaded`]), and the progress to report to.
+struct PassThree<'a, 'b> {
+    q: &'a [Vec<f64>],
+    tau: Vec<Vec<f64>>,
+    moments: Vec<Vector3<f64>>,
+    keep_going: &'b mut dyn FnMut(f64) -> bool,
+}
 
 /// The estimate after its first pass (`pass1`: the needed wrenches, centre of mass and kept
 /// poses): the contact phases, the loads (pass 2) and, for [`Third::Torques`], RNEA with them
@@ -591,49 +653,46 @@ fn estimate_from(
         pelvis: vec![Vector3::zeros(); n],
         com,
         cop_gap: vec![0.0; n],
-        tau: match third {
-            Third::Torques(_) => vec![vec![0.0; model.nv]; n],
-            Third::Residual => vec![],
-        },
+        // pass 1's torques and moments, with the loads taken from them by pass 3
+        tau: vec![],
         moment_bodies: moment_bodies.to_vec(),
-        moments: vec![Vector3::zeros(); n * moment_bodies.len()],
+        moments: vec![],
     };
     // pass 2 (serial: a foot's load carries from frame to frame): the feet's loads
     let wrenches = assign_loads(
         model, &feet, root, &poses, &needed, &shares, params, &mut out,
     );
 
-    if let Third::Residual = third {
-        for (k, r) in out.residual.iter_mut().enumerate() {
-            let mut w = needed[k];
-            for f in &wrenches[k * nf..(k + 1) * nf] {
-                w -= *f;
-            }
-            *r = about(&w, &out.pelvis[k]);
+    // the residual: the needed wrench less the feet's, about the pelvis
+    for (k, r) in out.residual.iter_mut().enumerate() {
+        let mut w = needed[k];
+        for f in &wrenches[k * nf..(k + 1) * nf] {
+            w -= *f;
         }
+        *r = about(&w, &out.pelvis[k]);
+    }
+    if let Third::Residual = third {
         return Ok(out);
     }
-    // pass 3: inverse dynamics with the ground reactions (frames in parallel)
-    let Some(([q, v, a], keep_going)) = rest else {
+    // pass 3: the feet's loads taken from pass 1's torques and moments (frames in parallel)
+    let Some(PassThree {
+        q,
+        tau,
+        moments,
+        keep_going,
+    }) = rest
+    else {
         return Err(Error::Invalid(
             "the joint torques need the motion, not a supplied first pass".into(),
         ));
     };
-    let GroundReactions {
-        bodies,
-        tau,
-        residual,
-        moments,
-        ..
-    } = &mut out;
+    (out.tau, out.moments) = (tau, moments);
     let finished = passes::with_ground_reactions(
         model,
-        root,
-        &poses,
-        bodies,
+        &out.bodies,
         &wrenches,
-        [q, v, a],
-        (tau, residual, (moment_bodies, moments)),
+        q,
+        (&mut out.tau, (moment_bodies, &mut out.moments)),
         &mut |k| keep_going(0.5 + 0.5 * k as f64 / n as f64),
     );
     if !finished {

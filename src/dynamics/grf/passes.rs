@@ -1,21 +1,25 @@
 //! The frame passes of the ground-reaction estimate, each computing what it reads once.
 //!
 //! 1. [`needed_wrenches`] (frames in parallel): forward kinematics and RNEA without external
-//!    forces at every frame — the whole-body wrench the motion needs — and the world poses of
-//!    the few bodies the later steps read ([`Poses`]: the feet's ankle and toe bodies, the root
-//!    and the root-level bodies). The contact phases, the floor, the supports, the ground
-//!    loads and the residual all read those poses, so no later step runs the kinematics again.
+//!    forces at every frame — the whole-body wrench the motion needs, and the joint torques
+//!    without the ground when they are asked for — and the world poses of the few bodies the
+//!    later steps read ([`Poses`]: the feet's ankle and toe bodies, the root and the
+//!    root-level bodies). The contact phases, the floor, the supports, the ground loads and
+//!    the residual all read those poses, so no later step runs the whole kinematics again.
 //! 2. the loads' assignment (serial in the caller: a foot's load is carried from frame to
-//!    frame), from the kept poses.
-//! 3. [`with_ground_reactions`] (frames in parallel): RNEA with the feet's wrenches, the
-//!    root's residual about the pelvis.
+//!    frame), from the kept poses; the residual is the needed wrench less the feet's.
+//! 3. [`with_ground_reactions`] (frames in parallel): the feet's loads taken from pass 1's
+//!    torques along the feet's paths to the world (inverse dynamics is linear in the external
+//!    forces), instead of a second RNEA.
 //!
 //! Every frame computes the same operations in the same order as a kinematics pass of its own
 //! would, so the kept poses are bit-identical to recomputed ones, and the results do not
 //! depend on the number of threads (`crate::par`).
 
-use super::{PROGRESS_EVERY, about, root_wrench};
+use super::{PROGRESS_EVERY, root_wrench};
+use crate::dynamics::kinematics::forward_kinematics_of;
 use crate::dynamics::residual::centre_of_mass;
+use crate::dynamics::rnea::JointStep;
 use crate::dynamics::{Workspace, forward_kinematics, forward_kinematics_through, rnea};
 use crate::model::Model;
 use crate::motion::contact::{Foot, FootPoints};
@@ -110,16 +114,26 @@ impl Poses {
     }
 }
 
+/// What pass 1 keeps for pass 3 besides the needed wrenches: RNEA's generalized forces without
+/// the ground (`tau`, one row of `nv` per frame) and the net moment `f.ang` (the body's frame)
+/// of each of `bodies` (`moments[frame * bodies.len() + j]`).
+pub(super) struct Unloaded<'a> {
+    pub tau: &'a mut [Vec<f64>],
+    pub bodies: &'a [usize],
+    pub moments: &'a mut [Vector3<f64>],
+}
+
 /// Pass 1: the whole-body wrench each frame needs (world axes, about the world origin:
 /// RNEA without external forces, the force the world gives the root-level bodies), the
-/// whole-body centre of mass (m, world), and the poses of `bodies` at every frame. Frames in parallel, in blocks of [`PROGRESS_EVERY`];
-/// `report(first)` between blocks as [`crate::par::rounds`] says. `None` when stopped.
+/// whole-body centre of mass (m, world), and the poses of `bodies` at every frame; with
+/// `unloaded`, also RNEA's torques and the moments pass 3 starts from. Frames in parallel, in
+/// blocks of [`PROGRESS_EVERY`]; `report(first)` between blocks as [`crate::par::rounds`] says.
+/// `None` when stopped.
 pub(super) fn needed_wrenches(
     model: &Model,
     bodies: Vec<usize>,
-    q: &[Vec<f64>],
-    v: &[Vec<f64>],
-    a: &[Vec<f64>],
+    [q, v, a]: [&[Vec<f64>]; 3],
+    unloaded: Option<Unloaded>,
     report: &mut dyn FnMut(usize) -> bool,
 ) -> Option<(Vec<ForceVec>, Vec<Vector3<f64>>, Poses)> {
     let (n, m) = (q.len(), bodies.len().max(1));
@@ -130,20 +144,32 @@ pub(super) fn needed_wrenches(
         &'a mut ForceVec,
         &'a mut Vector3<f64>,
         &'a mut [SpatialTransform],
+        Option<(&'a mut Vec<f64>, &'a mut [Vector3<f64>])>,
     );
+    let (moment_bodies, nm) = unloaded
+        .as_ref()
+        .map_or((&[][..], 0), |u| (u.bodies, u.bodies.len()));
     let mut frames: Vec<Frame> = needed
         .iter_mut()
         .zip(com.iter_mut())
         .zip(at.chunks_mut(m))
-        .map(|((w, c), x)| (w, c, x))
+        .map(|((w, c), x)| (w, c, x, None))
         .collect();
+    if let Some(u) = unloaded {
+        // each frame's row of torques and of moments (none without bodies)
+        let mut moments = u.moments.chunks_mut(nm.max(1));
+        for (f, t) in frames.iter_mut().zip(u.tau.iter_mut()) {
+            let mine = if nm > 0 { moments.next() } else { None };
+            f.3 = Some((t, mine.unwrap_or_default()));
+        }
+    }
     let mut workspaces = crate::par::scratch(|| Workspace::new(model));
     let reached = crate::par::rounds(
         &mut frames,
         PROGRESS_EVERY,
         &mut workspaces,
         |ws, first, block| {
-            for (i, (w, c, x)) in block.iter_mut().enumerate() {
+            for (i, (w, c, x, keep)) in block.iter_mut().enumerate() {
                 let k = first + i;
                 forward_kinematics(model, ws, &q[k]);
                 for (x, &b) in x.iter_mut().zip(&bodies) {
@@ -152,6 +178,12 @@ pub(super) fn needed_wrenches(
                 **c = centre_of_mass(model, ws);
                 rnea(model, ws, &q[k], &v[k], &a[k], None);
                 **w = root_wrench(model, ws);
+                if let Some((t, m)) = keep {
+                    t.copy_from_slice(ws.tau.as_slice());
+                    for (m, &b) in m.iter_mut().zip(moment_bodies) {
+                        *m = ws.f[b].ang;
+                    }
+                }
             }
         },
         report,
@@ -160,73 +192,111 @@ pub(super) fn needed_wrenches(
     (reached == n).then_some((needed, com, Poses { bodies, at }))
 }
 
-/// Pass 3's outputs: `tau`, `residual` and the kept moments with their bodies.
-type MomentsOut<'a> = (
-    &'a mut [Vec<f64>],
-    &'a mut [[f64; 6]],
-    (&'a [usize], &'a mut [Vector3<f64>]),
-);
+/// The bodies on the paths from `bodies` to the world: each of them and every ancestor,
+/// ascending (a list [`forward_kinematics_of`] takes).
+pub(super) fn paths_to_world(model: &Model, bodies: &[usize]) -> Vec<usize> {
+    let mut on = vec![false; model.nbodies()];
+    for &b in bodies {
+        let mut i = b;
+        while i != 0 && !on[i] {
+            on[i] = true;
+            i = model.parent[i];
+        }
+    }
+    (1..model.nbodies()).filter(|&i| on[i]).collect()
+}
+
+/// Pass 3's outputs, holding pass 1's [`Unloaded`] values on entry: `tau` and the kept
+/// moments with their bodies (sorted).
+type MomentsOut<'a> = (&'a mut [Vec<f64>], (&'a [usize], &'a mut [Vector3<f64>]));
 
 /// One frame of pass 3's outputs.
-type Frame3<'a> = (&'a mut Vec<f64>, &'a mut [f64; 6], &'a mut [Vector3<f64>]);
+type Frame3<'a> = (&'a mut Vec<f64>, &'a mut [Vector3<f64>]);
 
-/// Pass 3: at every frame, RNEA with the feet's wrenches `wrenches` (`[frame * feet + j]`,
-/// world axes about the world origin, acting on `bodies[j]`): the generalized forces into
-/// `tau`, what the root still supplies, about the root's origin, into `residual`, and the
-/// net moment `f.ang` (the body's frame) of each of `moment_bodies` into `moments`
-/// (`[frame * moment_bodies.len() + j]`). Frames in parallel as in [`needed_wrenches`].
-/// False when stopped.
-#[allow(clippy::too_many_arguments)]
+/// Pass 3: the ground reactions' share of the generalized forces and of the kept moments, added
+/// to pass 1's (inverse dynamics is linear in the external forces: RNEA with the feet's loads
+/// is RNEA without them less `Jᵀ w` of each load). The feet's wrenches `wrenches`
+/// (`[frame * feet + j]`, world axes about the world origin) act on `bodies[j]`; a wrench `w`
+/// on a body takes `S · w` from each coordinate on the body's path to the world (`S` the
+/// coordinate's motion subspace in world axes about the world origin, [`crba`]'s `s_world`: an
+/// axis `u` through the body's origin `p` takes `u · (n − p × f)`), and `X* w` (the body's
+/// frame) from the net force of each body on that path. Only the poses of the bodies on the
+/// feet's paths are needed ([`forward_kinematics_of`]), so the frame costs a few dozen poses
+/// instead of RNEA. Frames in parallel as in [`needed_wrenches`]. False when stopped.
+///
+/// [`crba`]: crate::dynamics::crba
 pub(super) fn with_ground_reactions(
     model: &Model,
-    root: usize,
-    poses: &Poses,
     bodies: &[usize],
     wrenches: &[ForceVec],
-    [q, v, a]: [&[Vec<f64>]; 3],
-    (tau, residual, (moment_bodies, moments)): MomentsOut,
+    q: &[Vec<f64>],
+    (tau, (moment_bodies, moments)): MomentsOut,
     report: &mut dyn FnMut(usize) -> bool,
 ) -> bool {
     let n = tau.len();
     let nf = bodies.len();
     let nm = moment_bodies.len();
+    let path = paths_to_world(model, bodies);
     let mut frames: Vec<Frame3> = if nm == 0 {
-        tau.iter_mut()
-            .zip(residual.iter_mut())
-            .map(|(t, r)| (t, r, &mut [][..]))
-            .collect()
+        tau.iter_mut().map(|t| (t, &mut [][..])).collect()
     } else {
-        tau.iter_mut()
-            .zip(residual.iter_mut())
-            .zip(moments.chunks_mut(nm))
-            .map(|((t, r), m)| (t, r, m))
-            .collect()
+        tau.iter_mut().zip(moments.chunks_mut(nm)).collect()
     };
-    let mut scratch =
-        crate::par::scratch(|| (Workspace::new(model), vec![ForceVec::ZERO; model.nbodies()]));
+    let mut scratch = crate::par::scratch(|| Workspace::new(model));
     let reached = crate::par::rounds(
         &mut frames,
         PROGRESS_EVERY,
         &mut scratch,
-        |(ws, f_ext), first, block| {
-            for (i, (tau, residual, m)) in block.iter_mut().enumerate() {
+        |ws, first, block| {
+            for (i, (tau, m)) in block.iter_mut().enumerate() {
                 let k = first + i;
-                poses.restore(k, &mut ws.o_x_i);
-                // the ground's loads, each in the frame of the body it acts on
-                f_ext.fill(ForceVec::ZERO);
+                forward_kinematics_of(model, ws, &q[k], &path);
                 for (w, &b) in wrenches[k * nf..(k + 1) * nf].iter().zip(bodies) {
-                    f_ext[b] += ws.o_x_i[b].act_inv_force(w);
-                }
-                // inverse dynamics with the ground reactions; what the root still supplies
-                let t = rnea(model, ws, &q[k], &v[k], &a[k], Some(f_ext));
-                tau.copy_from_slice(t.as_slice());
-                **residual = about(&root_wrench(model, ws), &ws.o_x_i[root].trans);
-                for (m, &b) in m.iter_mut().zip(moment_bodies) {
-                    *m = ws.f[b].ang;
+                    take_load(model, ws, w, b, Some(tau), (moment_bodies, m));
                 }
             }
         },
         report,
     );
     reached == n
+}
+
+/// One foot's wrench `w` (world axes, about the world origin) on `body`: taken from the
+/// generalized force of every coordinate on the body's path to the world (when `tau` is
+/// given) and from the net moment of each kept body on it (see [`with_ground_reactions`]); `ws.o_x_i` holds the path's
+/// poses.
+pub(super) fn take_load(
+    model: &Model,
+    ws: &Workspace,
+    w: &ForceVec,
+    body: usize,
+    mut tau: Option<&mut [f64]>,
+    (moment_bodies, moments): (&[usize], &mut [Vector3<f64>]),
+) {
+    let mut i = body;
+    while i != 0 {
+        let o = &ws.o_x_i[i];
+        if let Some(tau) = tau.as_deref_mut() {
+            let iv = model.idx_v[i];
+            match ws.joint_steps[i] {
+                JointStep::Axis { k, .. }
+                | JointStep::Triple { k: [k, _, _], .. }
+                | JointStep::InTriple { k } => {
+                    // the axis u = R e_k through the body's origin p: u · (n − p × f)
+                    let u = o.rot.column(k);
+                    tau[iv] -= u.dot(&(w.ang - o.trans.cross(&w.lin)));
+                }
+                JointStep::General => {
+                    let joint = &model.joints[i];
+                    for c in 0..joint.nv() {
+                        tau[iv + c] -= o.act_motion(&joint.subspace_col(c)).dot(w);
+                    }
+                }
+            }
+        }
+        if let Ok(j) = moment_bodies.binary_search(&i) {
+            moments[j] -= o.act_inv_force(w).ang;
+        }
+        i = model.parent[i];
+    }
 }

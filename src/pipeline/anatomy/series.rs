@@ -27,7 +27,7 @@ use crate::dynamics::grf::GroundReactions;
 use crate::dynamics::{self, Workspace};
 use crate::error::Error;
 use crate::pipeline::States;
-use crate::spatial::{ForceVec, SpatialTransform};
+use crate::spatial::SpatialTransform;
 use nalgebra::Vector3;
 
 /// What the anatomical series read that masses do not change (see the module doc).
@@ -175,12 +175,6 @@ impl Calibration {
         &self.kept
     }
 
-    /// The kept world pose of `body` at frame `k` (a mapped joint's body), if kept.
-    fn pose(&self, k: usize, body: usize) -> Option<&SpatialTransform> {
-        let j = self.kept.binary_search(&body).ok()?;
-        Some(&self.poses[k * self.kept.len() + j])
-    }
-
     /// The series of every frame from the net moments of inverse dynamics: `moments[k *
     /// bodies().len() + j]` is `f.ang` (N·m, the body's frame, as RNEA writes `ws.f`) of
     /// body `bodies()[j]` at frame `k`; `grf` gives the contact columns. Frames in
@@ -248,8 +242,10 @@ impl Calibration {
     }
 
     /// The net moments [`series`](Self::series) reads, by RNEA at every frame with the
-    /// ground reactions `grf` (none: without contact); those the estimate kept
-    /// ([`GroundReactions::moments`]) when it kept these bodies'. Frames in parallel.
+    /// ground reactions `grf` (none: without contact), the loads taken from RNEA's moments
+    /// without them as the estimate takes them ([`GroundReactions::take_from`]); those the
+    /// estimate kept ([`GroundReactions::moments`]) when it kept these bodies'. Frames in
+    /// parallel.
     pub fn net_moments(&self, take: &Take, grf: Option<&GroundReactions>) -> Vec<Vector3<f64>> {
         if let Some(g) = grf
             && g.moment_bodies == self.kept
@@ -263,28 +259,19 @@ impl Calibration {
         if nb == 0 {
             return out;
         }
-        // the feet's bodies among the kept poses; else their frame's kinematics
-        let feet_kept = grf.is_none_or(|g| g.bodies.iter().all(|&b| self.pose(0, b).is_some()));
         let mut rows: Vec<&mut [Vector3<f64>]> = out.chunks_mut(nb).collect();
-        let mut scratch =
-            crate::par::scratch(|| (Workspace::new(model), vec![ForceVec::ZERO; model.nbodies()]));
-        crate::par::for_each_block(&mut rows, 64, &mut scratch, |(ws, f_ext), first, block| {
+        let mut scratch = crate::par::scratch(|| Workspace::new(model));
+        crate::par::for_each_block(&mut rows, 64, &mut scratch, |ws, first, block| {
             for (i, row) in block.iter_mut().enumerate() {
                 let k = first + i;
-                let fx = grf.map(|g| {
-                    if feet_kept {
-                        for &b in &g.bodies {
-                            ws.o_x_i[b] = *self.pose(k, b).expect("kept");
-                        }
-                    } else {
-                        dynamics::forward_kinematics(model, ws, &s.q[k]);
-                    }
-                    g.external_forces(k, &ws.o_x_i, f_ext);
-                    &f_ext[..]
-                });
-                dynamics::rnea(model, ws, &s.q[k], &s.v[k], &s.a[k], fx);
+                dynamics::rnea(model, ws, &s.q[k], &s.v[k], &s.a[k], None);
                 for (m, &b) in row.iter_mut().zip(&self.kept) {
                     *m = ws.f[b].ang;
+                }
+                if let Some(g) = grf {
+                    // the poses along the feet's paths
+                    dynamics::forward_kinematics(model, ws, &s.q[k]);
+                    g.take_from(model, k, ws, None, (&self.kept, row));
                 }
             }
         });
