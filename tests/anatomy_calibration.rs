@@ -93,7 +93,7 @@ fn the_moments_the_estimate_keeps_are_a_separate_rnea_with_its_loads_bit_for_bit
     let t = demo(Contact::Feet, 75.0);
     let bodies = moment_bodies(&t);
     let (adjusted, g, _, _) =
-        consistency::consistent_take_keeping(&t, false, None, &bodies, Warm::Cold).unwrap();
+        consistency::consistent_take_keeping(&t, false, None, &bodies, Warm::Cold, None).unwrap();
     assert!(adjusted.is_none());
     assert_eq!(g.moment_bodies, bodies);
     assert_eq!(
@@ -116,7 +116,7 @@ fn the_moments_the_estimate_keeps_are_a_separate_rnea_with_its_loads_bit_for_bit
     assert_eq!(plain.residual, g.residual);
     // residual reduction changes the motion: nothing is kept of the take as loaded
     let (adjusted, reduced, _, _) =
-        consistency::consistent_take_keeping(&t, true, None, &bodies, Warm::Cold).unwrap();
+        consistency::consistent_take_keeping(&t, true, None, &bodies, Warm::Cold, None).unwrap();
     assert!(adjusted.is_some() && reduced.moments.is_empty());
     // the series from the kept moments equal the series' own RNEA
     let cal = Calibration::new(&t).unwrap();

@@ -78,7 +78,8 @@ fn check(path: &Path) {
             let t = load(path, joints, damping);
             let bodies = moment_bodies(&t);
             let (_, g, _, _) =
-                consistency::consistent_take_keeping(&t, false, None, &bodies, Warm::Cold).unwrap();
+                consistency::consistent_take_keeping(&t, false, None, &bodies, Warm::Cold, None)
+                    .unwrap();
             assert_eq!(g.moment_bodies, bodies);
             let (rel, peak) = off(&t, &g, &bodies);
             assert!(

@@ -1,8 +1,9 @@
 //! An edit recomputes only what it changes (issue 17 item 4), and what it recomputes equals a
 //! full recompute bit for bit:
 //! - a mass edit (body mass, a link's mass) builds the model again and reruns contact and
-//!   inverse dynamics, but not the coordinates, unwrapping, smoothing or derivatives: the
-//!   smoothed states read no mass;
+//!   inverse dynamics, but not the coordinates, unwrapping, smoothing or derivatives, nor the
+//!   fit of the contact thresholds to the feet: the smoothed states and the feet's paths read
+//!   no mass;
 //! - a smoothing edit reruns the smoothing and all that follows;
 //! - a gain, integrator or step edit is the simulation's: inverse dynamics stays fresh.
 //!
@@ -99,6 +100,12 @@ fn a_mass_edit_reruns_inverse_dynamics_but_not_the_smoothing_and_equals_a_full_r
             contact.ends_with("auto"),
             "{contact}"
         );
+        // the contact thresholds fitted to the feet read no mass: the edit reuses them
+        match (&first.contact_fit, &edited.contact_fit) {
+            (None, None) => assert!(contact.ends_with("none")),
+            (Some(a), Some(b)) => assert!(Arc::ptr_eq(a, b), "{contact}: fitted again"),
+            _ => panic!("{contact}: a fit on one side only"),
+        }
     }
 }
 
@@ -121,11 +128,15 @@ fn a_smoothing_edit_reruns_the_smoothing_and_a_gain_edit_reruns_nothing() {
         assert!(wb.fresh_results().is_some(), "{s} made the results stale");
     }
 
+    let first = results(&wb);
     ok(&mut wb, "set smooth gaussian:0.02");
     assert!(wb.fresh_results().is_none());
     ok(&mut wb, "run id");
     assert_eq!(wb.stage_runs(Stage::Smooth), 2);
     let edited = results(&wb);
+    // another motion: its contact thresholds are fitted again
+    let (a, b) = (first.contact_fit.as_ref(), edited.contact_fit.as_ref());
+    assert!(!Arc::ptr_eq(a.unwrap(), b.unwrap()));
     let full = full_recompute(dir.path(), &["set smooth gaussian:0.02"]);
     assert!(bits(&edited) == bits(&full));
 

@@ -31,7 +31,8 @@ fn load(path: &Path, mass_kg: f64, segments: &str) -> Take {
 
 /// The reduced take's torques (with the ground reactions), its consistency and seed.
 fn reduce(take: &Take, seed: Option<&Seed>) -> (Vec<Vec<f64>>, Consistency, Seed) {
-    let (_, g, c, found) = consistent_take_keeping(take, true, None, &[], seed.into()).unwrap();
+    let (_, g, c, found) =
+        consistent_take_keeping(take, true, None, &[], seed.into(), None).unwrap();
     (g.tau, c, found.expect("a seed against estimated forces"))
 }
 
@@ -202,7 +203,7 @@ fn a_preview_is_the_seeds_adjustments_at_the_new_masses() {
     let (tau75, c75, seed) = reduce(&before, None);
     let (cold, c_cold, _) = reduce(&after, None);
     let (_, g, c, found) =
-        consistent_take_keeping(&after, true, None, &[], Warm::Preview(&seed)).unwrap();
+        consistent_take_keeping(&after, true, None, &[], Warm::Preview(&seed), None).unwrap();
     assert!(found.is_none(), "a preview is no seed");
     let (a, a75) = (c.adjustments.unwrap(), c75.adjustments.unwrap());
     assert_eq!(a.started, Started::Preview);
@@ -229,8 +230,10 @@ fn a_preview_is_the_seeds_adjustments_at_the_new_masses() {
         load(&path, 100.0, "fractions"),
     );
     let (_, _, seed60) = reduce(&light, None);
-    assert!(consistent_take_keeping(&heavy, true, None, &[], Warm::Preview(&seed60)).is_err());
+    assert!(
+        consistent_take_keeping(&heavy, true, None, &[], Warm::Preview(&seed60), None).is_err()
+    );
     let mut later = load(&path, 85.0, "regression");
     later.states.time.iter_mut().for_each(|t| *t += 1e-3);
-    assert!(consistent_take_keeping(&later, true, None, &[], Warm::Preview(&seed)).is_err());
+    assert!(consistent_take_keeping(&later, true, None, &[], Warm::Preview(&seed), None).is_err());
 }

@@ -60,11 +60,16 @@ impl std::fmt::Display for Contact {
 /// a floor some of the time ([`stance`](crate::dynamics::grf::stance)); otherwise none, and
 /// the reason (too few frames, no floating root, no feet, no foot ever planted).
 pub fn contact_choice(take: &Take) -> (Contact, String) {
-    contact_choice_for(take, &contact_feet(take))
+    contact_choice_for(take, &contact_feet(take), None)
 }
 
-/// [`contact_choice`] with the take's feet already found ([`contact_feet`]).
-fn contact_choice_for(take: &Take, feet: &[crate::motion::contact::Foot]) -> (Contact, String) {
+/// [`contact_choice`] with the take's feet already found ([`contact_feet`]) and, when given,
+/// the thresholds already fitted to them.
+fn contact_choice_for(
+    take: &Take,
+    feet: &[crate::motion::contact::Foot],
+    fit: Option<&ContactFit>,
+) -> (Contact, String) {
     use crate::motion::contact::{ContactParams, heights_note};
     let s = &take.states;
     if s.len() < 3 {
@@ -82,12 +87,16 @@ fn contact_choice_for(take: &Take, feet: &[crate::motion::contact::Foot]) -> (Co
     if feet.is_empty() {
         return (Contact::None, "no feet found on the skeleton".into());
     }
-    let (params, wobble, points) = match fitted_params(take, feet) {
-        Ok(p) => p,
+    let fitted = match fit {
+        Some(f) => Ok(std::borrow::Cow::Borrowed(f)),
+        None => ContactFit::of(take, feet).map(std::borrow::Cow::Owned),
+    };
+    let (params, wobble, points) = match &fitted {
+        Ok(f) => (f.params, f.wobble, &f.points),
         Err(e) => return (Contact::None, e.to_string()),
     };
     let up = take.up.index();
-    match crate::dynamics::grf::stance(&points, &s.time, up, &params) {
+    match crate::dynamics::grf::stance(points, &s.time, up, &params) {
         Ok(by_foot) => {
             let share = |c: &Vec<bool>| {
                 100.0 * c.iter().filter(|x| **x).count() as f64 / c.len().max(1) as f64
@@ -132,6 +141,33 @@ pub fn contact_params(
     Ok((params, wobble))
 }
 
+/// A take's contact thresholds fitted to its feet ([`contact_params`]) and the heel and toe
+/// paths they were fitted to: what no mass changes, made once per motion. The workbench keeps
+/// it with its results and a mass edit reuses it ([`same_motion`]); the auto choice, the
+/// notes, the estimate and residual reduction all read it.
+#[derive(Debug, Clone)]
+pub struct ContactFit {
+    pub params: crate::motion::contact::ContactParams,
+    pub wobble: Option<crate::motion::contact::Wobble>,
+    pub points: Vec<crate::motion::contact::FootPoints>,
+}
+
+impl ContactFit {
+    /// The fit of `take`'s contact feet ([`contact_feet`]).
+    pub fn new(take: &Take) -> Result<Self, Error> {
+        Self::of(take, &contact_feet(take))
+    }
+
+    fn of(take: &Take, feet: &[crate::motion::contact::Foot]) -> Result<Self, Error> {
+        let (params, wobble, points) = fitted_params(take, feet)?;
+        Ok(Self {
+            params,
+            wobble,
+            points,
+        })
+    }
+}
+
 /// [`contact_params`] of `take` for its `feet`, and the heel and toe paths they were fitted
 /// to (none when the take has no feet or fewer than two frames).
 fn fitted_params(
@@ -163,9 +199,19 @@ fn fitted_params(
 
 /// The note of the contact heights of `take` with its `feet` when they were fitted below the
 /// defaults (`--contact auto` says so in its choice, [`contact_choice`]).
-fn fitted_heights_note(take: &Take, feet: &[crate::motion::contact::Foot]) -> Option<String> {
+fn fitted_heights_note(
+    take: &Take,
+    feet: &[crate::motion::contact::Foot],
+    fit: Option<&ContactFit>,
+) -> Option<String> {
     use crate::motion::contact::{ContactParams, heights_note};
-    let (params, wobble, _) = fitted_params(take, feet).ok()?;
+    let (params, wobble) = match fit {
+        Some(f) => (f.params, f.wobble),
+        None => {
+            let (p, w, _) = fitted_params(take, feet).ok()?;
+            (p, w)
+        }
+    };
     heights_note(&params, &ContactParams::default(), wobble)
 }
 
@@ -227,24 +273,26 @@ pub fn auto_chose_none(take: &Take) -> Option<String> {
 /// status line); any other setting is left as it is (`feet` notes contact heights fitted
 /// below the defaults). With feet, notes each foot's contact model.
 pub fn resolve_contact(take: &mut Take) {
-    resolve_contact_after(take, None);
+    resolve_contact_after(take, None, None);
 }
 
 /// [`resolve_contact`] after `previous`, a take whose `auto` was settled as `choice`: when
 /// [`same_motion`] says the two differ at most in their masses (a workbench mass edit), its
 /// choice is taken as it is (the stance it found reads no mass), else the stance is found
 /// again. Returns the choice `auto` settled on (`None`: the take's contact was not `auto`).
-/// The take's feet are found once for the choice and the notes.
+/// The take's feet are found once for the choice and the notes; `fit`, when given, is the
+/// take's [`ContactFit`] (else it is made where needed).
 pub fn resolve_contact_after(
     take: &mut Take,
     previous: Option<(&Take, &(Contact, String))>,
+    fit: Option<&ContactFit>,
 ) -> Option<(Contact, String)> {
     let auto = take.options.contact == Contact::Auto;
     let feet = (take.options.contact != Contact::None).then(|| contact_feet(take));
     let feet = feet.as_deref().unwrap_or(&[]);
     let choice = auto.then(|| match previous.filter(|(p, _)| same_motion(p, take)) {
         Some((_, choice)) => choice.clone(),
-        None => contact_choice_for(take, feet),
+        None => contact_choice_for(take, feet, fit),
     });
     if let Some((contact, why)) = &choice {
         take.options.contact = *contact;
@@ -256,7 +304,7 @@ pub fn resolve_contact_after(
         let heights = if auto {
             None
         } else {
-            fitted_heights_note(take, feet)
+            fitted_heights_note(take, feet, fit)
         };
         let model = contact_model_note(take, feet);
         take.notes.extend(heights.into_iter().chain(model));

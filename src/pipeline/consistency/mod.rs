@@ -90,28 +90,34 @@ pub fn consistent_take(
     reduce: bool,
     measured: Option<&FootLoads>,
 ) -> Result<(Option<Take>, GroundReactions, Consistency), Error> {
-    consistent_take_keeping(take, reduce, measured, &[], Warm::Cold).map(|(t, g, c, _)| (t, g, c))
+    consistent_take_keeping(take, reduce, measured, &[], Warm::Cold, None)
+        .map(|(t, g, c, _)| (t, g, c))
 }
 
 /// [`consistent_take`] whose estimate keeps the net moments on `moment_bodies`
 /// ([`GroundReactions::moments`], for the anatomical series) when the take is not reduced,
 /// and whose residual reduction starts as `warm` says (`dynamics::rra::Warm`: from what an
 /// earlier reduction of the same take found, kept by a session between edits of the masses,
-/// when it fits; or a workbench's preview). Returns besides what the reduction found to start
-/// the next one from.
+/// when it fits; or a workbench's preview), with the take's contact thresholds `fit` when
+/// given (a session's, kept across edits that change no motion; else they are fitted here).
+/// Returns besides what the reduction found to start the next one from.
 pub fn consistent_take_keeping(
     take: &Take,
     reduce: bool,
     measured: Option<&FootLoads>,
     moment_bodies: &[usize],
     warm: Warm,
+    fit: Option<&super::ContactFit>,
 ) -> Result<(Option<Take>, GroundReactions, Consistency, Option<Seed>), Error> {
     let s = &take.states;
     let up = take.up.index();
     // the moments of the take as it is are read only when it stays as it is
     let keep = if reduce { &[][..] } else { moment_bodies };
     // the contact thresholds, made once: the estimate and the reduction's trials read them
-    let (params, _) = super::contact::contact_params(take)?;
+    let params = match fit {
+        Some(f) => f.params,
+        None => super::contact::contact_params(take)?.0,
+    };
     let before = match measured {
         Some(loads) => apply_ground_reactions(&take.model, loads, &s.time, &s.q, &s.v, &s.a, up)?,
         None => super::contact::estimate_with_params(take, &params, keep, &mut |_| true)?,

@@ -142,6 +142,10 @@ pub struct Analysis {
     /// (`pipeline::resolve_contact_after`), reused by an edit of masses alone; `None` when the
     /// contact was not `auto`.
     pub contact_auto: Option<(pipeline::Contact, String)>,
+    /// The contact thresholds fitted to [`source`](Self::source)'s feet
+    /// (`pipeline::ContactFit`: no mass changes them), reused by an edit whose take has the
+    /// same motion; `None` without contact.
+    pub contact_fit: Option<Arc<pipeline::ContactFit>>,
     /// What residual reduction found for these results (`dynamics::rra::Seed`), where the
     /// next edit's reduction starts: an edit that scales every mass alike reuses its
     /// adjustments, one that changes masses otherwise starts cold (and the workbench's

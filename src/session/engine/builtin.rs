@@ -211,6 +211,7 @@ impl Engine for Builtin {
             source: None,
             calibration: None,
             contact_auto: None,
+            contact_fit: None,
             reduction: None,
             consistency: None,
             reference,
@@ -333,6 +334,7 @@ fn inverse_dynamics_as(
         source: extras.source,
         calibration: extras.calibration,
         contact_auto: extras.contact_auto,
+        contact_fit: extras.contact_fit,
         reduction: extras.reduction,
         consistency: extras.consistency,
         reference: Table::default(),
@@ -354,6 +356,7 @@ struct Extras {
     source: Option<Arc<pipeline::Take>>,
     calibration: Option<Arc<pipeline::anatomy::Calibration>>,
     contact_auto: Option<(pipeline::Contact, String)>,
+    contact_fit: Option<Arc<pipeline::ContactFit>>,
     reduction: Option<Arc<crate::dynamics::rra::Seed>>,
     consistency: Option<Arc<pipeline::consistency::Consistency>>,
 }
@@ -388,7 +391,8 @@ fn bvh_inverse_dynamics(
     };
     // `contact auto` as the last results settled it when only masses changed
     let settled = previous.and_then(|p| Some((p.source.as_deref()?, p.contact_auto.as_ref()?)));
-    x.contact_auto = pipeline::resolve_contact_after(&mut t, settled);
+    x.contact_fit = contact_fit(&t, previous);
+    x.contact_auto = pipeline::resolve_contact_after(&mut t, settled, x.contact_fit.as_deref());
     x.left_out = edge_marks(&t, params);
     x.note = summarize_notes(&t.notes);
     let (t, g) = contact(t, params, previous, preview, &mut x, ctl)?;
@@ -450,8 +454,15 @@ fn contact(
         (true, None) => return Err(Error::Invalid("no residual reduction to preview".into())),
         (false, s) => s.map(|s| &**s).into(),
     };
-    let (adjusted, g, c, found) =
-        pipeline::consistency::consistent_take_keeping(&t, reduce, None, &bodies, warm)?;
+    let fit = x.contact_fit.clone();
+    let (adjusted, g, c, found) = pipeline::consistency::consistent_take_keeping(
+        &t,
+        reduce,
+        None,
+        &bodies,
+        warm,
+        fit.as_deref(),
+    )?;
     // a preview's adjustments are the seed's, not this model's: the next edit starts from it
     x.reduction = if preview {
         seed.cloned()
@@ -478,6 +489,24 @@ fn contact(
     x.consistency = Some(Arc::new(c));
     ctl.set_progress(0.9);
     Ok((adjusted.unwrap_or(t), Some(g)))
+}
+
+/// The contact thresholds fitted to `t`'s feet (`pipeline::ContactFit`): `previous`'s when
+/// its take has the same motion (`pipeline::same_motion`: a mass edit; the fit reads no mass),
+/// else fitted now; `None` without contact, or when the fit fails (the contact's own steps then
+/// say why).
+fn contact_fit(
+    t: &pipeline::Take,
+    previous: Option<&Analysis>,
+) -> Option<Arc<pipeline::ContactFit>> {
+    if t.options.contact == pipeline::Contact::None || t.held_contact.is_some() {
+        return None;
+    }
+    previous
+        .and_then(|p| Some((p.source.as_deref()?, p.contact_fit.as_ref()?)))
+        .filter(|(source, _)| pipeline::same_motion(source, t))
+        .map(|(_, fit)| fit.clone())
+        .or_else(|| pipeline::ContactFit::new(t).ok().map(Arc::new))
 }
 
 /// The anatomical series of a human take: the calibration of `previous` when this take's
