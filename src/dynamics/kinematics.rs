@@ -28,24 +28,15 @@ pub fn forward_kinematics_through(model: &Model, ws: &mut Workspace, q: &[f64], 
     if n < 2 {
         return;
     }
-    let (parent, idx_q, placement) = (&model.parent[..n], &model.idx_q[..n], &model.placement[..n]);
+    let parent = &model.parent[..n];
     let (steps, o_x_i) = (&ws.joint_steps[..n], &mut ws.o_x_i[..n]);
     // the sines and cosines of the angles of bodies 1..n at once (coordinates in body order)
-    let nq = idx_q[n - 1] + model.joints[n - 1].nq();
+    let nq = model.idx_q[n - 1] + model.joints[n - 1].nq();
     let (sin_q, cos_q) = (&mut ws.sin_q[..nq], &mut ws.cos_q[..nq]);
     crate::lanes::sin_cos_many(&q[..nq], sin_q, cos_q);
     let sc = |iq: usize| (sin_q[iq], cos_q[iq]);
     for i in 1..n {
-        let op = &o_x_i[parent[i]];
-        o_x_i[i] = match steps[i] {
-            JointStep::Axis { k, shifted }
-            | JointStep::Triple {
-                k: [k, _, _],
-                shifted,
-            } => axis_pose(k, op, shifted.then_some(&placement[i].trans), sc(idx_q[i])),
-            JointStep::InTriple { k } => axis_pose(k, op, None, sc(idx_q[i])),
-            JointStep::General => then(op, &model.parent_transform(i, q)),
-        };
+        o_x_i[i] = body_pose(model, steps[i], &o_x_i[parent[i]], i, q, sc);
     }
 }
 
@@ -55,21 +46,35 @@ pub fn forward_kinematics_through(model: &Model, ws: &mut Workspace, q: &[f64], 
 /// a few chains needs, e.g. the feet's paths to the root ([`crate::dynamics::grf`]'s ground
 /// reactions on the joints), without the arms and the head.
 pub fn forward_kinematics_of(model: &Model, ws: &mut Workspace, q: &[f64], bodies: &[usize]) {
-    let (parent, idx_q, placement) = (&model.parent, &model.idx_q, &model.placement);
+    let parent = &model.parent;
     let (steps, o_x_i) = (&ws.joint_steps, &mut ws.o_x_i);
     let sc = |iq: usize| crate::spatial::sin_cos(q[iq]);
     for &i in bodies {
         debug_assert!(parent[i] == 0 || bodies.contains(&parent[i]), "a chain");
-        let op = &o_x_i[parent[i]];
-        o_x_i[i] = match steps[i] {
-            JointStep::Axis { k, shifted }
-            | JointStep::Triple {
-                k: [k, _, _],
-                shifted,
-            } => axis_pose(k, op, shifted.then_some(&placement[i].trans), sc(idx_q[i])),
-            JointStep::InTriple { k } => axis_pose(k, op, None, sc(idx_q[i])),
-            JointStep::General => then(op, &model.parent_transform(i, q)),
-        };
+        o_x_i[i] = body_pose(model, steps[i], &o_x_i[parent[i]], i, q, sc);
+    }
+}
+
+/// Body `i`'s world pose `0X_i` from its parent's `op`, by its joint's `step`; `sc(iq)` gives
+/// the sine and cosine of coordinate `iq` (an axis joint's angle).
+#[inline(always)]
+fn body_pose(
+    model: &Model,
+    step: JointStep,
+    op: &SpatialTransform,
+    i: usize,
+    q: &[f64],
+    sc: impl Fn(usize) -> (f64, f64),
+) -> SpatialTransform {
+    let iq = model.idx_q[i];
+    match step {
+        JointStep::Axis { k, shifted }
+        | JointStep::Triple {
+            k: [k, _, _],
+            shifted,
+        } => axis_pose(k, op, shifted.then_some(&model.placement[i].trans), sc(iq)),
+        JointStep::InTriple { k } => axis_pose(k, op, None, sc(iq)),
+        JointStep::General => then(op, &model.parent_transform(i, q)),
     }
 }
 

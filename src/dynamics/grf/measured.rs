@@ -9,7 +9,7 @@
 //! off in time or size shows there.
 
 use super::passes::take_load;
-use super::share::{FootLoad, centre_of_pressure};
+use super::share::centre_of_pressure;
 use super::{GroundReactions, about, check_inputs, floating_root, root_wrench};
 use crate::dynamics::{Workspace, forward_kinematics, rnea};
 use crate::error::Error;
@@ -96,7 +96,6 @@ pub fn apply_ground_reactions(
         moments: vec![],
     };
     let mut ws = Workspace::new(model);
-    let e_up = Vector3::ith(up, 1.0);
     for k in 0..n {
         // the wrench the motion needs, about the pelvis (world axes)
         forward_kinematics(model, &mut ws, &q[k]);
@@ -110,12 +109,7 @@ pub fn apply_ground_reactions(
         // the loads given, and how far their centre of pressure is from the needed one
         let mut given = ForceVec::ZERO;
         for j in 0..nf {
-            let load = FootLoad {
-                force: out.grf[k][j],
-                cop: out.cop[k][j],
-                free_moment: out.free_moment[k][j],
-            };
-            given += load.wrench(&e_up);
+            given += out.foot_wrench(k, j);
         }
         if let (Some((p, _)), Some((p_feet, _))) = (
             centre_of_pressure(&w, up, out.floor),
@@ -129,12 +123,7 @@ pub fn apply_ground_reactions(
         out.tau[k].copy_from_slice(ws.tau.as_slice());
         let mut left = w;
         for j in 0..nf {
-            let wj = FootLoad {
-                force: out.grf[k][j],
-                cop: out.cop[k][j],
-                free_moment: out.free_moment[k][j],
-            }
-            .wrench(&e_up);
+            let wj = out.foot_wrench(k, j);
             take_load(
                 model,
                 &ws,

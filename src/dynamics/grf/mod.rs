@@ -175,15 +175,20 @@ impl GroundReactions {
     /// the world poses `o_x_i` of that frame (`forward_kinematics`).
     pub fn external_forces(&self, k: usize, o_x_i: &[SpatialTransform], out: &mut [ForceVec]) {
         out.fill(ForceVec::ZERO);
-        let e_up = Vector3::ith(self.up, 1.0);
         for (j, &b) in self.bodies.iter().enumerate() {
-            let load = FootLoad {
-                force: self.grf[k][j],
-                cop: self.cop[k][j],
-                free_moment: self.free_moment[k][j],
-            };
-            out[b] += o_x_i[b].act_inv_force(&load.wrench(&e_up));
+            out[b] += o_x_i[b].act_inv_force(&self.foot_wrench(k, j));
         }
+    }
+
+    /// Foot `j`'s load at frame `k` as a wrench about the world origin (world axes): its force
+    /// at its centre of pressure with its free moment about the vertical.
+    pub fn foot_wrench(&self, k: usize, j: usize) -> ForceVec {
+        let load = FootLoad {
+            force: self.grf[k][j],
+            cop: self.cop[k][j],
+            free_moment: self.free_moment[k][j],
+        };
+        load.wrench(&Vector3::ith(self.up, 1.0))
     }
 
     /// The ground's loads at frame `k` taken from what RNEA without them left: from the
@@ -201,14 +206,8 @@ impl GroundReactions {
         mut tau: Option<&mut [f64]>,
         (moment_bodies, moments): (&[usize], &mut [Vector3<f64>]),
     ) {
-        let e_up = Vector3::ith(self.up, 1.0);
         for (j, &b) in self.bodies.iter().enumerate() {
-            let load = FootLoad {
-                force: self.grf[k][j],
-                cop: self.cop[k][j],
-                free_moment: self.free_moment[k][j],
-            };
-            let w = load.wrench(&e_up);
+            let w = self.foot_wrench(k, j);
             passes::take_load(
                 model,
                 ws,
