@@ -2,24 +2,35 @@
 //! of one algorithm at 16 random states (as `articula bench`), or RNEA over every frame of a
 //! take's own states. Prints nothing but a checksum; time it with the profiler, not with this.
 //!
-//! Run: `cargo run --release --example profile_dynamics -- MODEL ALGORITHM [N]`, MODEL a BVH
-//! take (euler model, default options) or a URDF (`.urdf`, fixed base), ALGORITHM one of
-//! `rnea`, `crba`, `aba`, `take` (a take only: RNEA over all its frames, N times).
+//! Run: `cargo run --release --example profile_dynamics -- MODEL ALGORITHM [N] [--floating]`,
+//! MODEL a BVH take (euler model, default options) or a URDF (`.urdf`, fixed base, or a free
+//! joint at the root with `--floating`), ALGORITHM one of `rnea`, `crba`, `aba`, `rk4` (one
+//! RK4 step of 1 ms under ABA with τ = 0, as `articula bench` times it), `take` (a take only:
+//! RNEA over all its frames, N times). Instructions per call: the difference of two runs with
+//! different N under `valgrind --tool=callgrind`, over the difference of N.
 
+use articula::dynamics::integrate::{Integrator, Stepper};
 use articula::dynamics::samples::{SplitMix64, random_configuration, random_vector};
 use articula::dynamics::{Workspace, aba, crba, rnea};
+use articula::model::urdf::UrdfOptions;
 use articula::pipeline::{self, ModelSource, TakeOptions};
 use std::path::PathBuf;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let floating = args.iter().any(|a| a == "--floating");
+    args.retain(|a| a != "--floating");
     let [path, what, rest @ ..] = &args[..] else {
-        return Err("usage: profile_dynamics MODEL rnea|crba|aba|take [N]".into());
+        return Err("usage: profile_dynamics MODEL rnea|crba|aba|rk4|take [N] [--floating]".into());
     };
     let n: usize = rest.first().map_or(Ok(10_000), |s| s.parse())?;
     let path = PathBuf::from(path);
     let src = if path.extension().is_some_and(|e| e == "urdf") {
-        ModelSource::Urdf(path, Default::default())
+        let options = UrdfOptions {
+            floating,
+            ..Default::default()
+        };
+        ModelSource::Urdf(path, options)
     } else {
         ModelSource::Take(path)
     };
@@ -46,6 +57,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     let zero = vec![0.0; nv];
     let mut ws = Workspace::new(&model);
+    let mut stepper = Stepper::new(&model, Integrator::Rk4);
+    let (mut qs, mut vs) = (vec![0.0; nq], vec![0.0; nv]);
     let mut sum = 0.0;
     for k in 0..n {
         let (q, v, a) = &states[k % states.len()];
@@ -53,6 +66,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "rnea" => rnea(&model, &mut ws, q, v, a, None)[0],
             "crba" => crba(&model, &mut ws, q)[(0, 0)],
             "aba" => aba(&model, &mut ws, q, v, &zero, None)?[0],
+            "rk4" => {
+                qs.copy_from_slice(q);
+                vs.copy_from_slice(v);
+                let mut f = |_t: f64, q: &[f64], v: &[f64], acc: &mut [f64]| {
+                    acc.copy_from_slice(aba(&model, &mut ws, q, v, &zero, None)?.as_slice());
+                    Ok(())
+                };
+                stepper.step(&model, 0.0, 1e-3, &mut qs, &mut vs, &mut f)?;
+                vs[0]
+            }
             "take" => {
                 let s = &job.as_ref().ok_or("`take` needs a BVH take")?.states;
                 let mut t = 0.0;
