@@ -74,7 +74,7 @@ fn body_pose(
             shifted,
         } => axis_pose(k, op, shifted.then_some(&model.placement[i].trans), sc(iq)),
         JointStep::InTriple { k } => axis_pose(k, op, None, sc(iq)),
-        JointStep::General => then(op, &model.parent_transform(i, q)),
+        JointStep::General => then(op, &model.parent_transform_sc(i, q, sc)),
     }
 }
 

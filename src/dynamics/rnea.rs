@@ -141,7 +141,7 @@ fn forward_pass(
             JointStep::General => {
                 let iv = idx_v[i];
                 let joint = &model.joints[i];
-                let x = model.parent_transform(i, q);
+                let x = model.parent_transform_sc(i, q, |iq| (sin_q[iq], cos_q[iq]));
                 let (mut vi, mut ai) = (x.act_inv_motion(&wv[p]), x.act_inv_motion(&wa[p]));
                 let vj = v.map_or(MotionVec::ZERO, |v| joint.motion(&v[iv..iv + joint.nv()]));
                 let aj = a.map_or(MotionVec::ZERO, |a| joint.motion(&a[iv..iv + joint.nv()]));

@@ -156,10 +156,24 @@ impl Model {
     /// still costs only the two columns the joint rotation mixes).
     #[inline]
     pub fn parent_transform(&self, i: usize, q: &[f64]) -> FastTransform {
+        self.parent_transform_sc(i, q, |iq| crate::spatial::sin_cos(q[iq]))
+    }
+
+    /// [`Model::parent_transform`] with a revolute coordinate's sine and cosine read from
+    /// `sc(iq)`: for a caller that took every angle's at once (`crate::lanes::sin_cos_many`,
+    /// the same bits as [`crate::spatial::sin_cos`]), so the joint does not take them again.
+    #[inline]
+    pub fn parent_transform_sc(
+        &self,
+        i: usize,
+        q: &[f64],
+        sc: impl FnOnce(usize) -> (f64, f64),
+    ) -> FastTransform {
         let (joint, placement, iq) = (&self.joints[i], &self.placement[i], self.idx_q[i]);
         match joint.revolute_coordinate_axis() {
             Some(k) => {
-                let rot = AxisRotation::new(k, q[iq]);
+                let (sin, cos) = sc(iq);
+                let rot = AxisRotation::from_sin_cos(k, sin, cos);
                 if placement.rot == nalgebra::Matrix3::identity() {
                     FastTransform::Axis {
                         trans: placement.trans,
