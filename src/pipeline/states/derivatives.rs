@@ -7,7 +7,6 @@ use crate::model::{EulerTriple, JointKind, Model};
 use crate::motion::euler::{TripleScratch, at_gimbal_lock, triple_rates};
 use crate::par::{self, for_each_block};
 use crate::rotation::EulerOrder;
-use nalgebra::UnitQuaternion;
 
 /// The linear velocity and acceleration of every free joint from its position's path in the
 /// parent's axes, in body coordinates, replacing the translation part of the SE(3)
@@ -72,7 +71,7 @@ struct JointRates<'a> {
 }
 
 /// The v and a columns of a take whose euler joints' rates were made with their smoothing
-/// ([`euler_rates`], `smooth_columns`): every euler joint's three v and a columns filled, and
+/// (`smooth_columns`): every euler joint's three v and a columns filled, and
 /// for each euler joint with frames at gimbal lock, its first hinge body and their number.
 pub(super) struct EulerRates {
     pub v: Columns,
@@ -97,7 +96,7 @@ impl EulerRates {
 
 /// [`derivatives`] on columns: joints in parallel for v (scalar joints column by column,
 /// ball and free joints through [`Model::difference`]'s joint formula frame by frame, euler
-/// joints from their rotation with their a, [`euler_rates`] of their angles' rotations, unless
+/// joints from their rotation with their a, [`triple_rates`] of their angles' rotations, unless
 /// `euler` holds them already, made from the smoothed rotations), then every other v column in
 /// parallel for a. Each value is computed by the same expression as frame by frame, so the
 /// result does not depend on the layout or the number of threads. Also returns, for each
@@ -214,21 +213,19 @@ fn joint_rates(model: &Model, q: &Columns, dt: f64, s: &mut TripleScratch, j: &m
     if let Some(order) = j.euler {
         let iq = model.idx_q[j.body];
         let cols = [q.col(iq), q.col(iq + 1), q.col(iq + 2)];
-        j.locked_frames = euler_rates(s, order, cols, None, dt, j.v, j.a);
+        j.locked_frames = euler_rates(s, order, cols, dt, j.v, j.a);
         return;
     }
     joint_velocity(model, q, dt, j.body, j.v);
 }
 
 /// One euler joint's v and a (`v`, `a`: its three columns of `n ≥ 2` frames side by side) from
-/// its angle columns `cols` and their `rotations` (the angles' own when `None`) by
-/// [`triple_rates`]; at the frames at gimbal lock, the angles' differences (v first, then a
-/// from the whole v). Returns the number of those frames.
-pub(super) fn euler_rates(
+/// its angle columns `cols` and their rotations by [`triple_rates`], then
+/// [`lock_differences`]. Returns the number of frames at gimbal lock.
+fn euler_rates(
     s: &mut TripleScratch,
     order: EulerOrder,
     cols: [&[f64]; 3],
-    rotations: Option<&[UnitQuaternion<f64>]>,
     dt: f64,
     v: &mut [f64],
     a: &mut [f64],
@@ -238,23 +235,31 @@ pub(super) fn euler_rates(
     let (v1, v2) = rest.split_at_mut(n);
     let (a0, rest) = a.split_at_mut(n);
     let (a1, a2) = rest.split_at_mut(n);
-    let locked_frames = triple_rates(s, order, cols, rotations, dt, [v0, v1, v2], [a0, a1, a2]);
+    let locked_frames = triple_rates(s, order, cols, None, dt, [v0, v1, v2], [a0, a1, a2]);
     if locked_frames > 0 {
-        let locked = |k: usize| at_gimbal_lock(cols[1][k]);
-        for (m, v) in v.chunks_mut(n).enumerate() {
-            (0..n)
-                .filter(|&k| locked(k))
-                .for_each(|k| v[k] = difference_at(cols[m], k, dt));
-        }
-        if n > 2 {
-            for (v, a) in v.chunks(n).zip(a.chunks_mut(n)) {
-                (0..n)
-                    .filter(|&k| locked(k))
-                    .for_each(|k| a[k] = difference_at(v, k, dt));
-            }
-        }
+        lock_differences(cols, dt, v, a);
     }
     locked_frames
+}
+
+/// An euler joint's rates at its frames at gimbal lock, which [`triple_rates`] leaves: its
+/// angles' differences (`cols`, `n` frames each), v first, then a from the whole v (`v`,
+/// `a`: three columns side by side).
+pub(super) fn lock_differences(cols: [&[f64]; 3], dt: f64, v: &mut [f64], a: &mut [f64]) {
+    let n = cols[0].len();
+    let locked = |k: usize| at_gimbal_lock(cols[1][k]);
+    for (m, v) in v.chunks_mut(n).enumerate() {
+        (0..n)
+            .filter(|&k| locked(k))
+            .for_each(|k| v[k] = difference_at(cols[m], k, dt));
+    }
+    if n > 2 {
+        for (v, a) in v.chunks(n).zip(a.chunks_mut(n)) {
+            (0..n)
+                .filter(|&k| locked(k))
+                .for_each(|k| a[k] = difference_at(v, k, dt));
+        }
+    }
 }
 
 /// The rate of the samples `x` (every `dt` s) at `k` by the differences [`joint_velocity`]

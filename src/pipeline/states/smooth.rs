@@ -3,10 +3,10 @@
 //! manifold, an euler joint's three hinges as its rotation — groups in parallel.
 
 use super::Columns;
-use super::derivatives::{EulerRates, euler_rates};
+use super::derivatives::{EulerRates, lock_differences};
 use crate::error::Error;
 use crate::model::{EulerTriple, JointKind, Model};
-use crate::motion::euler::{TripleScratch, smooth_triple};
+use crate::motion::euler::{TripleScratch, smooth_triple, smooth_triple_and_rates};
 use crate::motion::smooth::{SmoothSpec, Smoother};
 use crate::motion::unwrap::{AngleUnit, unwrap_angles};
 use crate::par::{self, for_each_block, rounds};
@@ -83,7 +83,8 @@ struct JointColumns<'a> {
     /// rotations right after its smoothing; `None` for the others, or when the caller does not
     /// ask for rates.
     rates: Option<(&'a mut [f64], &'a mut [f64])>,
-    /// The frames of those rates at gimbal lock ([`euler_rates`]).
+    /// The frames of those rates at gimbal lock, given their angles' differences
+    /// ([`lock_differences`]).
     locked_frames: usize,
 }
 
@@ -114,7 +115,7 @@ struct SmoothScratch {
 /// coordinate order) and stops the work with [`Error::Cancelled`]. With `rates` (zero v and a
 /// columns of `nv × frames`), each euler joint's (`triples`, [`Model::euler_triples`]) v and
 /// a are made from its smoothed rotations in the same task, right after its smoothing, while
-/// its frames are in the cache ([`euler_rates`]; `rates.locked` then lists its frames at
+/// its frames are in the cache ([`smooth_triple_and_rates`]; `rates.locked` then lists its frames at
 /// gimbal lock, in body order).
 pub(super) fn smooth_columns(
     model: &Model,
@@ -236,11 +237,22 @@ fn smooth_joint(s: &mut SmoothScratch, j: &mut JointColumns, n: usize, dt: f64) 
         Group::Euler(order) => {
             let (c0, rest) = j.cols.split_at_mut(n);
             let (c1, c2) = rest.split_at_mut(n);
-            s.quats.resize(n, UnitQuaternion::identity());
-            smooth_triple(&mut s.smoother, order, [c0, c1, c2], &mut s.quats);
-            if let Some((v, a)) = &mut j.rates {
-                let cols = [&c0[..], &c1[..], &c2[..]];
-                j.locked_frames = euler_rates(&mut s.rates, order, cols, Some(&s.quats), dt, v, a);
+            let Some((v, a)) = &mut j.rates else {
+                s.quats.resize(n, UnitQuaternion::identity());
+                smooth_triple(&mut s.smoother, order, [c0, c1, c2], &mut s.quats);
+                return;
+            };
+            let (v0, rest) = v.split_at_mut(n);
+            let (v1, v2) = rest.split_at_mut(n);
+            let (a0, rest) = a.split_at_mut(n);
+            let (a1, a2) = rest.split_at_mut(n);
+            let (cols, dt) = ([&mut c0[..], &mut c1[..], &mut c2[..]], dt);
+            let (vs, as_) = ([v0, v1, v2], [a0, a1, a2]);
+            let rates = &mut s.rates;
+            j.locked_frames =
+                smooth_triple_and_rates(rates, &mut s.smoother, order, cols, dt, vs, as_);
+            if j.locked_frames > 0 {
+                lock_differences([&c0[..], &c1[..], &c2[..]], dt, v, a);
             }
             return;
         }
