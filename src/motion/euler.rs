@@ -116,29 +116,47 @@ fn write_back<const I: usize, const J: usize, const K: usize>(
 ) {
     let [c0, c1, c2] = cols;
     let mut previous = [c0[0], c1[0], c2[0]];
-    // matrix_to_euler_fast_axes a block of frames at a time, its atan2 together
-    let (mut y, mut x, mut angles) = ([0.0; 3 * BLOCK], [0.0; 3 * BLOCK], [0.0; 3 * BLOCK]);
-    let mut first = [false; BLOCK];
-    let n = quats.len();
-    for k0 in (0..n).step_by(BLOCK) {
-        let m = BLOCK.min(n - k0);
-        for (d, r) in quats[k0..k0 + m].iter().enumerate() {
-            let r: Matrix3<f64> = r.to_rotation_matrix().into_inner();
-            let (args, a1) = matrix_to_euler_fast_args([I, J, K], &r);
-            for (a, (ya, xa)) in args.into_iter().enumerate() {
-                (y[3 * d + a], x[3 * d + a]) = (ya, xa);
-            }
-            first[d] = a1;
-        }
-        atan2_many(&y[..3 * m], &x[..3 * m], &mut angles);
-        for d in 0..m {
-            let a = &angles[3 * d..3 * d + 3];
-            let triple = [if first[d] { a[0] } else { 0.0 }, a[1], a[2]];
-            let q = repick_fast(order, triple, previous);
+    let mut matrices = [Matrix3::zeros(); BLOCK];
+    for k0 in (0..quats.len()).step_by(BLOCK) {
+        let block = &quats[k0..quats.len().min(k0 + BLOCK)];
+        write_back_block::<I, J, K>(order, block, &mut previous, &mut matrices, |d, q, _| {
             let k = k0 + d;
             (c0[k], c1[k], c2[k]) = (q[0], q[1], q[2]);
-            previous = q;
+        });
+    }
+}
+
+/// The write-back of one block of frames (`quats`, at most [`BLOCK`]): each frame's matrix
+/// (into `matrices`) and [`matrix_to_euler_fast_args`], the block's `atan2` together, then
+/// frame by frame the triple [`repick_fast`] nearest `previous` (which it then becomes),
+/// given to `each` with the frame's index in the block and its matrix.
+#[inline(always)]
+fn write_back_block<const I: usize, const J: usize, const K: usize>(
+    order: EulerOrder,
+    quats: &[UnitQuaternion<f64>],
+    previous: &mut [f64; 3],
+    matrices: &mut [Matrix3<f64>; BLOCK],
+    mut each: impl FnMut(usize, [f64; 3], &Matrix3<f64>),
+) {
+    let (mut y, mut x, mut angles) = ([0.0; 3 * BLOCK], [0.0; 3 * BLOCK], [0.0; 3 * BLOCK]);
+    let mut first = [false; BLOCK];
+    let m = quats.len().min(BLOCK);
+    for (d, r) in quats[..m].iter().enumerate() {
+        let r: Matrix3<f64> = r.to_rotation_matrix().into_inner();
+        let (args, a1) = matrix_to_euler_fast_args([I, J, K], &r);
+        for (a, (ya, xa)) in args.into_iter().enumerate() {
+            (y[3 * d + a], x[3 * d + a]) = (ya, xa);
         }
+        first[d] = a1;
+        matrices[d] = r;
+    }
+    atan2_many(&y[..3 * m], &x[..3 * m], &mut angles);
+    for d in 0..m {
+        let a = &angles[3 * d..3 * d + 3];
+        let triple = [if first[d] { a[0] } else { 0.0 }, a[1], a[2]];
+        let q = repick_fast(order, triple, *previous);
+        *previous = q;
+        each(d, q, &matrices[d]);
     }
 }
 
@@ -204,43 +222,160 @@ fn coordinate_rates<const I: usize, const J: usize, const K: usize>(
         let m = BLOCK.min(n - k0);
         for (d, lock) in locked[..m].iter_mut().enumerate() {
             let k = k0 + d;
-            *lock = at_gimbal_lock(q[1][k]);
-            if *lock {
-                left += 1;
-            }
-            // ω̇ by the scalar formulas of each component (pipeline::states' accelerations)
-            let dw = match n {
-                0..=2 => Vector3::zeros(),
-                _ if k == 0 => (-3.0 * w[0] + 4.0 * w[1] - w[2]) / h2,
-                _ if k == n - 1 => (3.0 * w[n - 1] - 4.0 * w[n - 2] + w[n - 3]) / h2,
-                _ => (w[k + 1] - w[k - 1]) / h2,
-            };
             let r = quats[k].to_rotation_matrix().into_inner();
-            let axes = hinge_axes_at::<I, J, K>(&r, [q[0][k], q[1][k], q[2][k]]);
-            let (wp, dwp) = (r * w[k], r * dw);
-            for (e, x) in axes.iter().enumerate() {
-                b.axes[e][d] = *x;
-            }
-            for c in 0..3 {
-                (b.w[c][d], b.dw[c][d]) = (wp[c], dwp[c]);
-            }
+            *lock = hinge_inputs::<I, J, K>(&mut b, d, &r, w, k, [q[0][k], q[1][k], q[2][k]], h2);
+            left += usize::from(*lock);
         }
         vectorised(
             #[inline(always)]
             || b.solve(m),
         );
-        for (d, &lock) in locked[..m].iter().enumerate() {
-            // at the lock: the caller's; a singular H at |cos a2| ≥ LOCK_DET is rounding's,
-            // not the take's: hold
-            if lock || !b.ok[d] {
-                continue;
-            }
-            let k = k0 + d;
-            (v0[k], v1[k], v2[k]) = (b.dq[0][d], b.dq[1][d], b.dq[2][d]);
-            if n > 2 {
-                (a0[k], a1[k], a2[k]) = (b.ddq[0][d], b.ddq[1][d], b.ddq[2][d]);
-            }
+        let (v, a) = (
+            [&mut *v0, &mut *v1, &mut *v2],
+            [&mut *a0, &mut *a1, &mut *a2],
+        );
+        store_rates(&b, &locked[..m], k0, n, v, a);
+    }
+    left
+}
+
+/// Frame `k`'s inputs of [`HingeBlock`] at its slot `d`: `H` from the rotation `r` and the
+/// triple `x` ([`hinge_axes_at`]), `ω` (`w[k]`) and `ω̇` (by the scalar formulas of each
+/// component, `pipeline::states`' accelerations) in the parent's axes. Returns whether the
+/// frame is at gimbal lock ([`at_gimbal_lock`]).
+#[inline(always)]
+fn hinge_inputs<const I: usize, const J: usize, const K: usize>(
+    b: &mut HingeBlock,
+    d: usize,
+    r: &Matrix3<f64>,
+    w: &[Vector3<f64>],
+    k: usize,
+    x: [f64; 3],
+    h2: f64,
+) -> bool {
+    let n = w.len();
+    let lock = at_gimbal_lock(x[1]);
+    let dw = match n {
+        0..=2 => Vector3::zeros(),
+        _ if k == 0 => (-3.0 * w[0] + 4.0 * w[1] - w[2]) / h2,
+        _ if k == n - 1 => (3.0 * w[n - 1] - 4.0 * w[n - 2] + w[n - 3]) / h2,
+        _ => (w[k + 1] - w[k - 1]) / h2,
+    };
+    let axes = hinge_axes_at::<I, J, K>(r, x);
+    let (wp, dwp) = (r * w[k], r * dw);
+    for (e, x) in axes.iter().enumerate() {
+        b.axes[e][d] = *x;
+    }
+    for c in 0..3 {
+        (b.w[c][d], b.dw[c][d]) = (wp[c], dwp[c]);
+    }
+    lock
+}
+
+/// The rates [`HingeBlock::solve`] made for the frames `k0 ..` of a block (`locked` one per
+/// frame) into the columns `v` and `a` (`n` frames; `a` only for `n > 2`), except at the
+/// frames at gimbal lock (the caller's) and where `H` came out singular at `|cos a2| ≥
+/// LOCK_DET` (rounding's, not the take's: held).
+#[inline(always)]
+fn store_rates(
+    b: &HingeBlock,
+    locked: &[bool],
+    k0: usize,
+    n: usize,
+    v: [&mut [f64]; 3],
+    a: [&mut [f64]; 3],
+) {
+    let [v0, v1, v2] = v;
+    let [a0, a1, a2] = a;
+    for (d, &lock) in locked.iter().enumerate() {
+        if lock || !b.ok[d] {
+            continue;
         }
+        let k = k0 + d;
+        (v0[k], v1[k], v2[k]) = (b.dq[0][d], b.dq[1][d], b.dq[2][d]);
+        if n > 2 {
+            (a0[k], a1[k], a2[k]) = (b.ddq[0][d], b.ddq[1][d], b.ddq[2][d]);
+        }
+    }
+}
+
+/// [`smooth_triple`] then [`triple_rates`] of the rotations and angles it leaves, without
+/// keeping the rotations for later: the angles written back and the rates made in one pass
+/// over the frames after the filter, each frame's rotation matrix made once for both
+/// (`write_back` and `coordinate_rates` in one loop; the same operations, so the same bits
+/// as the two calls). `s.quats` holds the rotations afterwards. Returns the number of frames
+/// at gimbal lock, left to the caller as [`triple_rates`] leaves them.
+pub fn smooth_triple_and_rates(
+    s: &mut TripleScratch,
+    smoother: &mut Smoother,
+    order: EulerOrder,
+    cols: [&mut [f64]; 3],
+    dt: f64,
+    v: [&mut [f64]; 3],
+    a: [&mut [f64]; 3],
+) -> usize {
+    let [c0, c1, c2] = cols;
+    let n = c0.len();
+    if n == 0 {
+        return 0;
+    }
+    s.quats.resize(n, UnitQuaternion::identity());
+    triple_rotations(order, [&c0[..], &c1[..], &c2[..]], &mut s.quats);
+    if smoother.spec() == SmoothSpec::None {
+        body_angular_velocity(&s.quats, dt, &mut s.omega);
+        let q = [&c0[..], &c1[..], &c2[..]];
+        return with_axes!(order, coordinate_rates(&s.quats, &s.omega, q, dt, v, a));
+    }
+    smoother.smooth_quaternions(&mut s.quats);
+    body_angular_velocity(&s.quats, dt, &mut s.omega);
+    let (quats, w) = (&s.quats[..], &s.omega[..]);
+    with_axes!(
+        order,
+        write_back_and_rates(order, quats, w, [c0, c1, c2], dt, v, a)
+    )
+}
+
+/// `write_back` and `coordinate_rates` in one loop (see [`smooth_triple_and_rates`]): per
+/// block of frames, each frame's matrix, the block's `atan2` together, then frame by frame
+/// the triple re-picked and written back and the hinges' inputs from the same matrix, then
+/// `H⁻¹` and the rates on the lanes.
+fn write_back_and_rates<const I: usize, const J: usize, const K: usize>(
+    order: EulerOrder,
+    quats: &[UnitQuaternion<f64>],
+    w: &[Vector3<f64>],
+    cols: [&mut [f64]; 3],
+    dt: f64,
+    v: [&mut [f64]; 3],
+    a: [&mut [f64]; 3],
+) -> usize {
+    let [c0, c1, c2] = cols;
+    let [v0, v1, v2] = v;
+    let [a0, a1, a2] = a;
+    let n = quats.len();
+    let h2 = 2.0 * dt;
+    let mut previous = [c0[0], c1[0], c2[0]];
+    let mut matrices = [Matrix3::zeros(); BLOCK];
+    let mut b = HingeBlock::default();
+    let mut locked = [false; BLOCK];
+    let mut left = 0;
+    for k0 in (0..n).step_by(BLOCK) {
+        let block = &quats[k0..n.min(k0 + BLOCK)];
+        write_back_block::<I, J, K>(order, block, &mut previous, &mut matrices, |d, q, r| {
+            let k = k0 + d;
+            (c0[k], c1[k], c2[k]) = (q[0], q[1], q[2]);
+            locked[d] = hinge_inputs::<I, J, K>(&mut b, d, r, w, k, q, h2);
+            left += usize::from(locked[d]);
+        });
+        let m = block.len();
+        vectorised(
+            #[inline(always)]
+            || b.solve(m),
+        );
+        let (v, a) = (
+            [&mut *v0, &mut *v1, &mut *v2],
+            [&mut *a0, &mut *a1, &mut *a2],
+        );
+        store_rates(&b, &locked[..m], k0, n, v, a);
     }
     left
 }
@@ -368,6 +503,97 @@ mod tests {
             }
         }
         assert!(worst < 1e-13, "{worst:e}");
+    }
+
+    /// The one pass after the filter (angles written back and rates from the same matrices)
+    /// gives what smoothing then differentiating give, bit for bit: the angles, v, a and the
+    /// frames left at gimbal lock, in every order, with and without smoothing, on a motion
+    /// that turns several times, flips branch and passes through the lock.
+    #[test]
+    fn smoothing_with_rates_is_smoothing_then_rates_bit_for_bit() {
+        let n = 300;
+        let dt = 1.0 / 120.0;
+        let specs = [
+            SmoothSpec::None,
+            SmoothSpec::Butterworth {
+                cutoff_hz: 6.0,
+                order: 2,
+            },
+            SmoothSpec::Gaussian { sigma_s: 0.02 },
+        ];
+        let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        let mut left_somewhere = false;
+        for order in EulerOrder::ALL {
+            for spec in specs {
+                let angles: Vec<[f64; 3]> = (0..n)
+                    .map(|k| {
+                        let t = k as f64 * dt;
+                        let a2 = if (140..150).contains(&k) {
+                            FRAC_PI_2 // at the lock for ten frames
+                        } else {
+                            1.2 * (3.0 * t).sin() + 0.3
+                        };
+                        [9.0 * t - 2.0, a2, -4.0 * (2.0 * t).cos()]
+                    })
+                    .collect();
+                let col = |a: usize| angles.iter().map(|x| x[a]).collect::<Vec<_>>();
+                let (mut c0, mut c1, mut c2) = (col(0), col(1), col(2));
+                let (mut d0, mut d1, mut d2) = (c0.clone(), c1.clone(), c2.clone());
+                // smoothing, then the rates from its rotations
+                let mut smoother = Smoother::new(spec, dt).unwrap();
+                let mut rotations = vec![UnitQuaternion::identity(); n];
+                smooth_triple(
+                    &mut smoother,
+                    order,
+                    [&mut c0, &mut c1, &mut c2],
+                    &mut rotations,
+                );
+                let mut s = TripleScratch::with_capacity(n);
+                let (mut v, mut a) = (vec![7.0; 3 * n], vec![7.0; 3 * n]);
+                let left = {
+                    let (v0, r) = v.split_at_mut(n);
+                    let (v1, v2) = r.split_at_mut(n);
+                    let (a0, r) = a.split_at_mut(n);
+                    let (a1, a2) = r.split_at_mut(n);
+                    let q = [&c0[..], &c1[..], &c2[..]];
+                    triple_rates(
+                        &mut s,
+                        order,
+                        q,
+                        Some(&rotations),
+                        dt,
+                        [v0, v1, v2],
+                        [a0, a1, a2],
+                    )
+                };
+                // the one pass
+                let mut smoother = Smoother::new(spec, dt).unwrap();
+                let mut s = TripleScratch::with_capacity(n);
+                let (mut w, mut b) = (vec![7.0; 3 * n], vec![7.0; 3 * n]);
+                let left_too = {
+                    let (v0, r) = w.split_at_mut(n);
+                    let (v1, v2) = r.split_at_mut(n);
+                    let (a0, r) = b.split_at_mut(n);
+                    let (a1, a2) = r.split_at_mut(n);
+                    let cols = [&mut d0[..], &mut d1[..], &mut d2[..]];
+                    smooth_triple_and_rates(
+                        &mut s,
+                        &mut smoother,
+                        order,
+                        cols,
+                        dt,
+                        [v0, v1, v2],
+                        [a0, a1, a2],
+                    )
+                };
+                assert_eq!(left, left_too, "{order:?} {spec:?}");
+                left_somewhere |= left > 0;
+                for (x, y) in [(&c0, &d0), (&c1, &d1), (&c2, &d2), (&v, &w), (&a, &b)] {
+                    assert_eq!(bits(x), bits(y), "{order:?} {spec:?}");
+                }
+            }
+        }
+        assert!(left_somewhere, "the motion reaches the lock");
     }
 
     #[test]

@@ -59,12 +59,14 @@ pub const STAGES: &[StageInfo] = &[
     StageInfo {
         stage: Stage::Smooth,
         key: "smooth",
-        what: "the low-pass on every coordinate (quaternions on the sphere)",
+        what: "the low-pass on every coordinate (quaternions on the sphere); an euler joint's v \
+               and a right after its own",
     },
     StageInfo {
         stage: Stage::Derivatives,
         key: "derivatives",
-        what: "v and a by second-order differences on the manifold",
+        what: "v and a of the other joints by second-order differences on the manifold; the q, \
+               v, a rows",
     },
     StageInfo {
         stage: Stage::Job,

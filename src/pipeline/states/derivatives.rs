@@ -2,12 +2,11 @@
 //! (one-sided at the ends), joints in parallel; an euler joint's rates from its rotation, a
 //! free joint's linear rates from its position's path in the world.
 
-use super::{Columns, TripleRotations};
+use super::Columns;
 use crate::model::{EulerTriple, JointKind, Model};
 use crate::motion::euler::{TripleScratch, at_gimbal_lock, triple_rates};
 use crate::par::{self, for_each_block};
 use crate::rotation::EulerOrder;
-use nalgebra::UnitQuaternion;
 
 /// The linear velocity and acceleration of every free joint from its position's path in the
 /// parent's axes, in body coordinates, replacing the translation part of the SE(3)
@@ -64,8 +63,6 @@ pub fn derivatives(model: &Model, q: &[Vec<f64>], dt: f64) -> (Vec<Vec<f64>>, Ve
 struct JointRates<'a> {
     body: usize,
     euler: Option<EulerOrder>,
-    /// An euler joint's rotations ([`TripleRotations`]; `None`: its angles').
-    rotations: Option<&'a [UnitQuaternion<f64>]>,
     v: &'a mut [f64],
     a: &'a mut [f64],
     /// An euler joint's frames at gimbal lock, whose rates are its angles' differences (its
@@ -73,10 +70,34 @@ struct JointRates<'a> {
     locked_frames: usize,
 }
 
+/// The v and a columns of a take whose euler joints' rates were made with their smoothing
+/// (`smooth_columns`): every euler joint's three v and a columns filled, and
+/// for each euler joint with frames at gimbal lock, its first hinge body and their number.
+pub(super) struct EulerRates {
+    pub v: Columns,
+    pub a: Columns,
+    pub locked: Vec<(usize, usize)>,
+}
+
+impl EulerRates {
+    /// Zero v and a columns (`nv × frames` each) to fill.
+    pub fn new(nv: usize, frames: usize) -> Self {
+        let zeros = || Columns {
+            frames,
+            data: vec![0.0; nv * frames],
+        };
+        Self {
+            v: zeros(),
+            a: zeros(),
+            locked: vec![],
+        }
+    }
+}
+
 /// [`derivatives`] on columns: joints in parallel for v (scalar joints column by column,
 /// ball and free joints through [`Model::difference`]'s joint formula frame by frame, euler
-/// joints from their rotation with their a, [`triple_rates`], the rotations `rotations` the
-/// smoothing left or else their angles'), then every other v column in
+/// joints from their rotation with their a, [`triple_rates`] of their angles' rotations, unless
+/// `euler` holds them already, made from the smoothed rotations), then every other v column in
 /// parallel for a. Each value is computed by the same expression as frame by frame, so the
 /// result does not depend on the layout or the number of threads. Also returns, for each
 /// euler joint that comes within [`LOCK_DET`](crate::motion::euler::LOCK_DET) of gimbal lock,
@@ -86,31 +107,28 @@ pub(super) fn derivative_columns(
     model: &Model,
     triples: &[EulerTriple],
     q: &Columns,
-    rotations: Option<&TripleRotations>,
+    euler: Option<EulerRates>,
     dt: f64,
 ) -> (Columns, Columns, Vec<(usize, usize)>) {
     let (n, nv) = (q.frames, model.nv);
-    let mut v = Columns {
-        frames: n,
-        data: vec![0.0; nv * n],
-    };
-    let mut a = Columns {
-        frames: n,
-        data: vec![0.0; nv * n],
-    };
+    let euler_done = euler.is_some();
+    let EulerRates {
+        mut v,
+        mut a,
+        locked: locked_before,
+    } = euler.unwrap_or_else(|| EulerRates::new(nv, n));
     if n < 2 {
         return (v, a, vec![]);
     }
     // each joint's v and a columns, split off in velocity order (idx_v grows with the body
     // index), an euler joint's three hinges together
-    let mut triples = triples.iter().enumerate().peekable();
+    let mut next_triple = triples.iter().peekable();
     let mut joints = Vec::with_capacity(model.nbodies());
     let (mut rest_v, mut rest_a): (&mut [f64], &mut [f64]) = (&mut v.data, &mut a.data);
     let mut at = 0;
     let mut i = 1;
     while i < model.nbodies() {
-        let triple = triples.next_if(|(_, t)| t.body == i);
-        let euler = triple.map(|(_, t)| t.order);
+        let euler = next_triple.next_if(|t| t.body == i).map(|t| t.order);
         let bodies = if euler.is_some() { 3 } else { 1 };
         let iv = model.idx_v[i];
         let nvj: usize = (i..i + bodies).map(|b| model.joints[b].nv()).sum();
@@ -118,14 +136,17 @@ pub(super) fn derivative_columns(
         let (_, tail_a) = std::mem::take(&mut rest_a).split_at_mut((iv - at) * n);
         let (mine_v, tail_v) = tail_v.split_at_mut(nvj * n);
         let (mine_a, tail_a) = tail_a.split_at_mut(nvj * n);
-        joints.push(JointRates {
-            body: i,
-            euler,
-            rotations: triple.and_then(|(t, _)| rotations.map(|r| r.of(t))),
-            v: mine_v,
-            a: mine_a,
-            locked_frames: 0,
-        });
+        if euler.is_some() && euler_done {
+            // made with the joint's smoothing
+        } else {
+            joints.push(JointRates {
+                body: i,
+                euler,
+                v: mine_v,
+                a: mine_a,
+                locked_frames: 0,
+            });
+        }
         (rest_v, rest_a) = (tail_v, tail_a);
         at = iv + nvj;
         i += bodies;
@@ -139,13 +160,16 @@ pub(super) fn derivative_columns(
     });
     // the columns whose a is done (every euler joint's), and the euler joints at lock
     let mut done = vec![false; nv];
-    let mut locked = vec![];
-    for j in joints.iter().filter(|j| j.euler.is_some()) {
-        let iv = model.idx_v[j.body];
+    for t in triples {
+        let iv = model.idx_v[t.body];
         done[iv..iv + 3].fill(true);
-        if j.locked_frames > 0 {
-            locked.push((j.body, j.locked_frames));
-        }
+    }
+    let mut locked = locked_before;
+    for j in joints
+        .iter()
+        .filter(|j| j.euler.is_some() && j.locked_frames > 0)
+    {
+        locked.push((j.body, j.locked_frames));
     }
     drop(joints);
     if n == 2 {
@@ -183,38 +207,59 @@ fn accelerations(v: &Columns, a: &mut Columns, done: &[bool], dt: f64) {
     );
 }
 
-/// One joint of [`derivative_columns`]: an euler joint's v and a from its rotation
-/// ([`triple_rates`]), or else each of its bodies' v ([`joint_velocity`]).
+/// One joint of [`derivative_columns`]: an euler joint's v and a from its angles' rotation
+/// ([`euler_rates`]), or else each of its bodies' v ([`joint_velocity`]).
 fn joint_rates(model: &Model, q: &Columns, dt: f64, s: &mut TripleScratch, j: &mut JointRates) {
-    let n = q.frames;
     if let Some(order) = j.euler {
         let iq = model.idx_q[j.body];
-        let (v0, rest) = j.v.split_at_mut(n);
-        let (v1, v2) = rest.split_at_mut(n);
-        let (a0, rest) = j.a.split_at_mut(n);
-        let (a1, a2) = rest.split_at_mut(n);
         let cols = [q.col(iq), q.col(iq + 1), q.col(iq + 2)];
-        let (v, a) = ([v0, v1, v2], [a0, a1, a2]);
-        j.locked_frames = triple_rates(s, order, cols, j.rotations, dt, v, a);
-        if j.locked_frames > 0 {
-            // at gimbal lock: the angles' differences, v first, then a from the whole v
-            let locked = |k: usize| at_gimbal_lock(cols[1][k]);
-            for (m, v) in j.v.chunks_mut(n).enumerate() {
-                (0..n)
-                    .filter(|&k| locked(k))
-                    .for_each(|k| v[k] = difference_at(cols[m], k, dt));
-            }
-            if n > 2 {
-                for (v, a) in j.v.chunks(n).zip(j.a.chunks_mut(n)) {
-                    (0..n)
-                        .filter(|&k| locked(k))
-                        .for_each(|k| a[k] = difference_at(v, k, dt));
-                }
-            }
-        }
+        j.locked_frames = euler_rates(s, order, cols, dt, j.v, j.a);
         return;
     }
     joint_velocity(model, q, dt, j.body, j.v);
+}
+
+/// One euler joint's v and a (`v`, `a`: its three columns of `n ≥ 2` frames side by side) from
+/// its angle columns `cols` and their rotations by [`triple_rates`], then
+/// [`lock_differences`]. Returns the number of frames at gimbal lock.
+fn euler_rates(
+    s: &mut TripleScratch,
+    order: EulerOrder,
+    cols: [&[f64]; 3],
+    dt: f64,
+    v: &mut [f64],
+    a: &mut [f64],
+) -> usize {
+    let n = cols[0].len();
+    let (v0, rest) = v.split_at_mut(n);
+    let (v1, v2) = rest.split_at_mut(n);
+    let (a0, rest) = a.split_at_mut(n);
+    let (a1, a2) = rest.split_at_mut(n);
+    let locked_frames = triple_rates(s, order, cols, None, dt, [v0, v1, v2], [a0, a1, a2]);
+    if locked_frames > 0 {
+        lock_differences(cols, dt, v, a);
+    }
+    locked_frames
+}
+
+/// An euler joint's rates at its frames at gimbal lock, which [`triple_rates`] leaves: its
+/// angles' differences (`cols`, `n` frames each), v first, then a from the whole v (`v`,
+/// `a`: three columns side by side).
+pub(super) fn lock_differences(cols: [&[f64]; 3], dt: f64, v: &mut [f64], a: &mut [f64]) {
+    let n = cols[0].len();
+    let locked = |k: usize| at_gimbal_lock(cols[1][k]);
+    for (m, v) in v.chunks_mut(n).enumerate() {
+        (0..n)
+            .filter(|&k| locked(k))
+            .for_each(|k| v[k] = difference_at(cols[m], k, dt));
+    }
+    if n > 2 {
+        for (v, a) in v.chunks(n).zip(a.chunks_mut(n)) {
+            (0..n)
+                .filter(|&k| locked(k))
+                .for_each(|k| a[k] = difference_at(v, k, dt));
+        }
+    }
 }
 
 /// The rate of the samples `x` (every `dt` s) at `k` by the differences [`joint_velocity`]

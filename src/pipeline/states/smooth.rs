@@ -2,10 +2,11 @@
 //! scalar ones up to four side by side, ball and free joints' quaternions on the rotation
 //! manifold, an euler joint's three hinges as its rotation — groups in parallel.
 
-use super::{Columns, TripleRotations};
+use super::Columns;
+use super::derivatives::{EulerRates, lock_differences};
 use crate::error::Error;
 use crate::model::{EulerTriple, JointKind, Model};
-use crate::motion::euler::smooth_triple;
+use crate::motion::euler::{TripleScratch, smooth_triple, smooth_triple_and_rates};
 use crate::motion::smooth::{SmoothSpec, Smoother};
 use crate::motion::unwrap::{AngleUnit, unwrap_angles};
 use crate::par::{self, for_each_block, rounds};
@@ -63,6 +64,7 @@ pub fn unwrap_and_smooth_with(
         &mut cols,
         dt,
         smooth,
+        None,
         keep_going,
     )?;
     cols.to_rows(q);
@@ -74,9 +76,16 @@ pub fn unwrap_and_smooth_with(
 /// which the filter runs side by side.
 struct JointColumns<'a> {
     kind: Group,
+    /// The group's first body.
+    body: usize,
     cols: &'a mut [f64],
-    /// An euler joint's rotation at every frame ([`TripleRotations`]); empty for the others.
-    rotations: &'a mut [UnitQuaternion<f64>],
+    /// An euler joint's v and a columns (three each, side by side) to fill from its smoothed
+    /// rotations right after its smoothing; `None` for the others, or when the caller does not
+    /// ask for rates.
+    rates: Option<(&'a mut [f64], &'a mut [f64])>,
+    /// The frames of those rates at gimbal lock, given their angles' differences
+    /// ([`lock_differences`]).
+    locked_frames: usize,
 }
 
 /// What a group of coordinates is.
@@ -93,51 +102,69 @@ enum Group {
 /// Scalar coordinates smoothed side by side in one group.
 const SIDE_BY_SIDE: usize = 4;
 
-/// What one worker smooths with: its filter's buffers and a ball joint's rotations.
+/// What one worker smooths with: its filter's buffers, a ball or euler joint's rotations and
+/// an euler joint's rates' buffers.
 struct SmoothScratch {
     smoother: Smoother,
     quats: Vec<UnitQuaternion<f64>>,
+    rates: TripleScratch,
 }
 
 /// Smooths every joint's coordinates, groups in parallel (a ball or free joint alone, up to
 /// four consecutive scalar coordinates together); `keep_going` is told once per group (in
-/// coordinate order) and stops the work with [`Error::Cancelled`]. Returns the euler joints'
-/// smoothed rotations (`triples`, [`Model::euler_triples`]).
+/// coordinate order) and stops the work with [`Error::Cancelled`]. With `rates` (zero v and a
+/// columns of `nv × frames`), each euler joint's (`triples`, [`Model::euler_triples`]) v and
+/// a are made from its smoothed rotations in the same task, right after its smoothing, while
+/// its frames are in the cache ([`smooth_triple_and_rates`]; `rates.locked` then lists its frames at
+/// gimbal lock, in body order).
 pub(super) fn smooth_columns(
     model: &Model,
     triples: &[EulerTriple],
     cols: &mut Columns,
     dt: f64,
     smooth: &SmoothSpec,
+    rates: Option<&mut EulerRates>,
     keep_going: &mut dyn FnMut(f64) -> bool,
-) -> Result<TripleRotations, Error> {
+) -> Result<(), Error> {
     let n = cols.frames;
-    let mut rotations = TripleRotations::new(triples.len(), n);
     if n == 0 {
-        return Ok(rotations);
+        return Ok(());
     }
     let smoother = Smoother::new(*smooth, dt)?;
     let groups = smoothing_groups(model, triples);
     let mut joints = Vec::with_capacity(groups.len());
     let mut rest: &mut [f64] = &mut cols.data;
-    let mut rest_rotations: &mut [UnitQuaternion<f64>] = &mut rotations.data;
+    // the euler joints' v and a columns, split off in velocity order
+    let with_rates = rates.is_some() && n >= 2;
+    let (mut rest_v, mut rest_a, locked): (&mut [f64], &mut [f64], _) = match rates {
+        Some(EulerRates { v, a, locked }) => (&mut v.data, &mut a.data, Some(locked)),
+        None => (&mut [], &mut [], None),
+    };
+    let mut at_v = 0;
     let mut at = 0;
-    for (iq, m, kind) in groups {
+    for (iq, m, kind, body) in groups {
         debug_assert!(iq >= at, "coordinates in body order");
         let (_, tail) = std::mem::take(&mut rest).split_at_mut((iq - at) * n);
         let (mine, tail) = tail.split_at_mut(m * n);
-        let frames = if matches!(kind, Group::Euler(_)) {
-            n
+        let rates = if with_rates && matches!(kind, Group::Euler(_)) {
+            let iv = model.idx_v[body];
+            let (_, tail_v) = std::mem::take(&mut rest_v).split_at_mut((iv - at_v) * n);
+            let (_, tail_a) = std::mem::take(&mut rest_a).split_at_mut((iv - at_v) * n);
+            let (v, tail_v) = tail_v.split_at_mut(3 * n);
+            let (a, tail_a) = tail_a.split_at_mut(3 * n);
+            (rest_v, rest_a, at_v) = (tail_v, tail_a, iv + 3);
+            Some((v, a))
         } else {
-            0
+            None
         };
-        let (rotations, tail_rotations) = std::mem::take(&mut rest_rotations).split_at_mut(frames);
         joints.push(JointColumns {
             kind,
+            body,
             cols: mine,
-            rotations,
+            rates,
+            locked_frames: 0,
         });
-        (rest, rest_rotations) = (tail, tail_rotations);
+        rest = tail;
         at = iq + m;
     }
     let mut scratch = par::scratch(|| {
@@ -146,6 +173,7 @@ pub(super) fn smooth_columns(
         SmoothScratch {
             smoother,
             quats: Vec::with_capacity(n),
+            rates: TripleScratch::with_capacity(n),
         }
     });
     let total = joints.len();
@@ -155,7 +183,7 @@ pub(super) fn smooth_columns(
         &mut scratch,
         |s, _, block| {
             for j in block {
-                smooth_joint(s, j, n);
+                smooth_joint(s, j, n, dt);
             }
         },
         &mut |k| keep_going(k as f64 / total as f64),
@@ -163,39 +191,44 @@ pub(super) fn smooth_columns(
     if reached < total {
         return Err(Error::Cancelled);
     }
-    Ok(rotations)
+    if let Some(locked) = locked {
+        for j in joints.iter().filter(|j| j.locked_frames > 0) {
+            locked.push((j.body, j.locked_frames));
+        }
+    }
+    Ok(())
 }
 
 /// The groups of columns [`smooth_columns`] smooths, as (first coordinate, coordinates, what
-/// they are): consecutive scalar coordinates up to four together, each ball or free joint
+/// they are, first body): consecutive scalar coordinates up to four together, each ball or free joint
 /// alone and each euler joint's three hinges alone (coordinate order: idx_q grows with the body
 /// index).
-fn smoothing_groups(model: &Model, triples: &[EulerTriple]) -> Vec<(usize, usize, Group)> {
+fn smoothing_groups(model: &Model, triples: &[EulerTriple]) -> Vec<(usize, usize, Group, usize)> {
     let mut triples = triples.iter().peekable();
-    let mut groups: Vec<(usize, usize, Group)> = vec![];
+    let mut groups: Vec<(usize, usize, Group, usize)> = vec![];
     let mut i = 1;
     while i < model.nbodies() {
         let (iq, nq, kind) = (model.idx_q[i], model.joints[i].nq(), model.joints[i]);
         if let Some(t) = triples.next_if(|t| t.body == i) {
-            groups.push((iq, 3, Group::Euler(t.order)));
+            groups.push((iq, 3, Group::Euler(t.order), i));
             i += 3;
             continue;
         }
         match kind {
             JointKind::Fixed => {}
             JointKind::Revolute { .. } | JointKind::Prismatic { .. } => match groups.last_mut() {
-                Some((at, m, Group::Scalars)) if *at + *m == iq && *m < SIDE_BY_SIDE => *m += 1,
-                _ => groups.push((iq, nq, Group::Scalars)),
+                Some((at, m, Group::Scalars, _)) if *at + *m == iq && *m < SIDE_BY_SIDE => *m += 1,
+                _ => groups.push((iq, nq, Group::Scalars, i)),
             },
-            JointKind::Spherical | JointKind::Free => groups.push((iq, nq, Group::Joint(kind))),
+            JointKind::Spherical | JointKind::Free => groups.push((iq, nq, Group::Joint(kind), i)),
         }
         i += 1;
     }
     groups
 }
 
-/// One group of [`smooth_columns`].
-fn smooth_joint(s: &mut SmoothScratch, j: &mut JointColumns, n: usize) {
+/// One group of [`smooth_columns`] (and an euler joint's rates, when asked for).
+fn smooth_joint(s: &mut SmoothScratch, j: &mut JointColumns, n: usize, dt: f64) {
     let quat_at = match j.kind {
         Group::Scalars => {
             s.smoother.smooth_side_by_side(j.cols, n);
@@ -204,7 +237,23 @@ fn smooth_joint(s: &mut SmoothScratch, j: &mut JointColumns, n: usize) {
         Group::Euler(order) => {
             let (c0, rest) = j.cols.split_at_mut(n);
             let (c1, c2) = rest.split_at_mut(n);
-            smooth_triple(&mut s.smoother, order, [c0, c1, c2], j.rotations);
+            let Some((v, a)) = &mut j.rates else {
+                s.quats.resize(n, UnitQuaternion::identity());
+                smooth_triple(&mut s.smoother, order, [c0, c1, c2], &mut s.quats);
+                return;
+            };
+            let (v0, rest) = v.split_at_mut(n);
+            let (v1, v2) = rest.split_at_mut(n);
+            let (a0, rest) = a.split_at_mut(n);
+            let (a1, a2) = rest.split_at_mut(n);
+            let (cols, dt) = ([&mut c0[..], &mut c1[..], &mut c2[..]], dt);
+            let (vs, as_) = ([v0, v1, v2], [a0, a1, a2]);
+            let rates = &mut s.rates;
+            j.locked_frames =
+                smooth_triple_and_rates(rates, &mut s.smoother, order, cols, dt, vs, as_);
+            if j.locked_frames > 0 {
+                lock_differences([&c0[..], &c1[..], &c2[..]], dt, v, a);
+            }
             return;
         }
         Group::Joint(JointKind::Free) => {
