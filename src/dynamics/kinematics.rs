@@ -23,6 +23,7 @@ pub fn forward_kinematics(model: &Model, ws: &mut Workspace, q: &[f64]) {
 /// writes. What a caller reading a few poses near the root needs, e.g. the root's orientation,
 /// or the root-level bodies' poses that [`root_wrench`](super::grf) reads after RNEA (which
 /// works in body frames and writes no world pose).
+#[inline]
 pub fn forward_kinematics_through(model: &Model, ws: &mut Workspace, q: &[f64], last: usize) {
     let n = (last + 1).min(model.nbodies());
     if n < 2 {
@@ -109,7 +110,7 @@ fn axis_pose_k<const K: usize>(
 }
 
 /// `0X_i = 0X_λ · λX_i` with `λX_i` in fast form (a coordinate-axis rotation mixes two columns).
-#[inline]
+#[inline(always)]
 fn then(o_parent: &SpatialTransform, x: &FastTransform) -> SpatialTransform {
     match x {
         FastTransform::Axis { trans, rot } => SpatialTransform::new(
