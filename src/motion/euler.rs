@@ -226,15 +226,11 @@ fn coordinate_rates<const I: usize, const J: usize, const K: usize>(
             *lock = hinge_inputs::<I, J, K>(&mut b, d, &r, w, k, [q[0][k], q[1][k], q[2][k]], h2);
             left += usize::from(*lock);
         }
-        vectorised(
-            #[inline(always)]
-            || b.solve(m),
-        );
         let (v, a) = (
             [&mut *v0, &mut *v1, &mut *v2],
             [&mut *a0, &mut *a1, &mut *a2],
         );
-        store_rates(&b, &locked[..m], k0, n, v, a);
+        solve_and_store(&mut b, &locked[..m], k0, n, v, a);
     }
     left
 }
@@ -272,19 +268,24 @@ fn hinge_inputs<const I: usize, const J: usize, const K: usize>(
     lock
 }
 
-/// The rates [`HingeBlock::solve`] made for the frames `k0 ..` of a block (`locked` one per
-/// frame) into the columns `v` and `a` (`n` frames; `a` only for `n > 2`), except at the
-/// frames at gimbal lock (the caller's) and where `H` came out singular at `|cos a2| ≥
-/// LOCK_DET` (rounding's, not the take's: held).
+/// Solves a block's hinges ([`HingeBlock::solve`], on the vector lanes) and stores the rates
+/// of its frames `k0 ..` (`locked` one per frame) into the columns `v` and `a` (`n` frames; `a`
+/// only for `n > 2`), except at the frames at gimbal lock (the caller's) and where `H` came out
+/// singular at `|cos a2| ≥ LOCK_DET` (rounding's, not the take's: held).
 #[inline(always)]
-fn store_rates(
-    b: &HingeBlock,
+fn solve_and_store(
+    b: &mut HingeBlock,
     locked: &[bool],
     k0: usize,
     n: usize,
     v: [&mut [f64]; 3],
     a: [&mut [f64]; 3],
 ) {
+    let m = locked.len();
+    vectorised(
+        #[inline(always)]
+        || b.solve(m),
+    );
     let [v0, v1, v2] = v;
     let [a0, a1, a2] = a;
     for (d, &lock) in locked.iter().enumerate() {
@@ -367,15 +368,11 @@ fn write_back_and_rates<const I: usize, const J: usize, const K: usize>(
             left += usize::from(locked[d]);
         });
         let m = block.len();
-        vectorised(
-            #[inline(always)]
-            || b.solve(m),
-        );
         let (v, a) = (
             [&mut *v0, &mut *v1, &mut *v2],
             [&mut *a0, &mut *a1, &mut *a2],
         );
-        store_rates(&b, &locked[..m], k0, n, v, a);
+        solve_and_store(&mut b, &locked[..m], k0, n, v, a);
     }
     left
 }
