@@ -546,6 +546,23 @@ mod tests {
     use crate::dynamics::residual::{centre_of_mass, with_trunk_offset};
     use crate::dynamics::rnea;
 
+    /// The demo walk loaded with `opts`, its floating root, every body kept, and its trunk
+    /// (the `Spine` bodies, the last first).
+    fn demo(
+        opts: crate::pipeline::TakeOptions,
+    ) -> (crate::pipeline::Take, usize, Vec<usize>, Vec<usize>) {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/demo_walk.bvh");
+        let take = crate::pipeline::load_take(&path, &opts).unwrap();
+        let model = &take.model;
+        let root = crate::dynamics::grf::floating_root(model).unwrap();
+        let kept: Vec<usize> = (1..model.nbodies()).collect();
+        let trunk: Vec<usize> = (1..model.nbodies())
+            .rev()
+            .filter(|&i| model.body_names[i].starts_with("Spine"))
+            .collect();
+        (take, root, kept, trunk)
+    }
+
     /// A trial's terms made from another trial's composite of the same frame
     /// ([`RootRelative::with_trunk_of`]), its wrench from a root motion found once
     /// ([`RootRelative::wrench_at`]), and the trunk's rotated inertias and `Ic ω` kept per
@@ -553,16 +570,8 @@ mod tests {
     /// rotated anew (what the Jacobian's trunk differences computed before).
     #[test]
     fn the_terms_reused_across_trunk_offsets_are_the_same_bits() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/demo_walk.bvh");
-        let take = crate::pipeline::load_take(&path, &Default::default()).unwrap();
-        let model = &take.model;
-        let root = crate::dynamics::grf::floating_root(model).unwrap();
-        let s = &take.states;
-        let kept: Vec<usize> = (1..model.nbodies()).collect();
-        let trunk: Vec<usize> = (1..model.nbodies())
-            .rev()
-            .filter(|&i| model.body_names[i].starts_with("Spine"))
-            .collect();
+        let (take, root, kept, trunk) = demo(Default::default());
+        let (model, s) = (&take.model, &take.states);
         let rel = RootRelative::new(model, root, kept.clone(), &trunk, [&s.q, &s.v, &s.a])
             .expect("terms");
         // the same terms, made to rotate every trunk inertia anew (NaN equals no inertia)
@@ -592,20 +601,11 @@ mod tests {
     fn the_root_relative_terms_give_what_rnea_gives() {
         use crate::model::bvh::JointModel;
         for joints in [JointModel::Euler, JointModel::Ball] {
-            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/demo_walk.bvh");
-            let opts = crate::pipeline::TakeOptions {
+            let (take, root, kept, trunk) = demo(crate::pipeline::TakeOptions {
                 joints,
                 ..Default::default()
-            };
-            let take = crate::pipeline::load_take(&path, &opts).unwrap();
-            let model = &take.model;
-            let root = crate::dynamics::grf::floating_root(model).unwrap();
-            let s = &take.states;
-            let kept: Vec<usize> = (1..model.nbodies()).collect();
-            let trunk: Vec<usize> = (1..model.nbodies())
-                .rev()
-                .filter(|&i| model.body_names[i].starts_with("Spine"))
-                .collect();
+            });
+            let (model, s) = (&take.model, &take.states);
             assert!(!trunk.is_empty());
             let rel = RootRelative::new(model, root, kept.clone(), &trunk, [&s.q, &s.v, &s.a])
                 .expect("terms");
