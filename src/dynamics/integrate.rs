@@ -121,6 +121,16 @@ pub struct ButcherTableau {
     pub e: Option<&'static [f64]>,
 }
 
+impl ButcherTableau {
+    /// Every row of `a` has at most one nonzero term (forward Euler, RK4): each stage starts
+    /// from one earlier stage.
+    pub fn one_term_rows(&self) -> bool {
+        self.a
+            .iter()
+            .all(|row| row.iter().filter(|&&a| a != 0.0).count() <= 1)
+    }
+}
+
 /// Forward Euler.
 pub const EULER: ButcherTableau = ButcherTableau {
     name: "euler",
@@ -193,6 +203,9 @@ pub const DOPRI5: ButcherTableau = ButcherTableau {
     ]),
 };
 
+/// Most stages of the tableaux above (Dormand-Prince's seven).
+const MAX_STAGES: usize = 7;
+
 /// Most sub-steps the adaptive integrator takes inside one [`Stepper::step`].
 pub const MAX_SUBSTEPS: usize = 100_000;
 
@@ -222,6 +235,33 @@ pub struct Stepper {
     err_v: Vec<f64>,
     /// The model's coordinates split by how a stage moves them (set once in `new`).
     layout: Layout,
+}
+
+/// `q += 0 + Σ_s hb_s Ω̇_s` and `v += Σ_s hb_s a_s`, each sum in stage order, over the `S`
+/// stages of `kq` and `kv` (stage-major, `nv` each) from coordinate `iv` on, for `v.len()`
+/// coordinates: the stage loop unrolled.
+fn solution<const S: usize>(
+    hb: &[f64; MAX_STAGES],
+    kq: &[f64],
+    kv: &[f64],
+    nv: usize,
+    iv: usize,
+    q: &mut [f64],
+    v: &mut [f64],
+) {
+    let n = v.len();
+    let kq: [&[f64]; S] = std::array::from_fn(|s| &kq[s * nv + iv..][..n]);
+    let kv: [&[f64]; S] = std::array::from_fn(|s| &kv[s * nv + iv..][..n]);
+    let q = &mut q[..n];
+    for i in 0..n {
+        let (mut o, mut w) = (0.0, v[i]);
+        for s in 0..S {
+            o += hb[s] * kq[s][i];
+            w += hb[s] * kv[s][i];
+        }
+        q[i] += o;
+        v[i] = w;
+    }
 }
 
 /// Where a stage's `q ⊕ Ω` and `Ω̇ = dexp⁻¹_{−Ω}(v)` are plain vector operations: runs of
@@ -343,13 +383,17 @@ impl Stepper {
             }
             Integrator::Euler | Integrator::Rk4 => {
                 let tab = self.integrator.tableau().expect("explicit method");
-                self.rk_stages(model, tab, t, dt, q, v, f)?;
-                q.copy_from_slice(&self.q_new);
-                v.copy_from_slice(&self.v_new);
+                // both start each stage from one earlier stage (a test says so)
+                self.rk_one_term(model, tab, t, dt, q, v, f)?;
             }
             Integrator::Dopri5 { rtol, atol } => {
                 self.adaptive(model, t, dt, q, v, f, rtol, atol)?
             }
+        }
+        // every value looked at (no early exit: the loop vectorises), the culprit named after
+        let finite = |x: &[f64]| x.iter().fold(true, |ok, x| ok & x.is_finite());
+        if finite(q) & finite(v) {
+            return Ok(());
         }
         match q.iter().chain(v.iter()).position(|x| !x.is_finite()) {
             None => Ok(()),
@@ -455,6 +499,121 @@ impl Stepper {
         }
         self.layout
             .integrate(model, q, &self.omega, &mut self.q_new);
+        Ok(())
+    }
+
+    /// [`rk_stages`](Self::rk_stages) for a tableau whose rows have at most one term (Euler,
+    /// RK4; [`ButcherTableau::one_term_rows`]), with `(q, v)` advanced in place: the same sums
+    /// in the same order, so the same bits, in fewer passes. On the runs of 1-DoF coordinates
+    /// (`q ⊕ Ω = q + Ω`, `Ω̇ = v`) a stage's `q_s`, `v_s` and `Ω̇_s` take one pass, and the
+    /// solution's sums over the stages one pass; the spherical and free joints go through
+    /// their joint code.
+    #[allow(clippy::too_many_arguments)]
+    fn rk_one_term<F>(
+        &mut self,
+        model: &Model,
+        tab: &ButcherTableau,
+        t: f64,
+        h: f64,
+        q: &mut [f64],
+        v: &mut [f64],
+        f: &mut F,
+    ) -> Result<(), Error>
+    where
+        F: FnMut(f64, &[f64], &[f64], &mut [f64]) -> Result<(), Error>,
+    {
+        // on 1-DoF joints only, v_s is Ω̇_s: written once, into its slot
+        let (nv, flat) = (self.nv, self.layout.manifold.is_empty());
+        for (s, row) in tab.a.iter().enumerate() {
+            let (kq_done, kq_rest) = self.kq.split_at_mut(s * nv);
+            let (kv_done, kv_rest) = self.kv.split_at_mut(s * nv);
+            let (kq_s, kv_s) = (&mut kq_rest[..nv], &mut kv_rest[..nv]);
+            let t_s = t + tab.c[s] * h;
+            let Some(j) = row.iter().position(|&a| a != 0.0) else {
+                // the step's start: q_s = q, v_s = v and Ω̇_s = v
+                f(t_s, q, v, kv_s)?;
+                kq_s.copy_from_slice(v);
+                continue;
+            };
+            // Ω = 0 + h a Ω̇_j, q_s = q ⊕ Ω, v_s = v + h a a_j, and Ω̇_s = v_s on the runs
+            let ha = h * row[j];
+            let (kq_j, kv_j) = (&kq_done[j * nv..][..nv], &kv_done[j * nv..][..nv]);
+            for &(iq, iv, n) in &self.layout.runs {
+                let (x, dq) = (&mut self.q_stage[iq..][..n], &mut kq_s[iv..][..n]);
+                let (q, v) = (&q[iq..][..n], &v[iv..][..n]);
+                let (k, a) = (&kq_j[iv..][..n], &kv_j[iv..][..n]);
+                for i in 0..n {
+                    x[i] = q[i] + (0.0 + ha * k[i]);
+                    dq[i] = v[i] + ha * a[i];
+                }
+                if !flat {
+                    self.v_stage[iv..][..n].copy_from_slice(dq);
+                }
+            }
+            for &i in &self.layout.manifold {
+                let joint = &model.joints[i];
+                let (iq, iv) = (model.idx_q[i], model.idx_v[i]);
+                for r in iv..iv + joint.nv() {
+                    self.omega[r] = 0.0 + ha * kq_j[r];
+                    self.v_stage[r] = v[r] + ha * kv_j[r];
+                }
+                joint.integrate(
+                    &q[iq..iq + joint.nq()],
+                    &self.omega[iv..iv + joint.nv()],
+                    1.0,
+                    &mut self.q_stage[iq..iq + joint.nq()],
+                );
+            }
+            // stage derivatives: a_s = f(…), Ω̇_s = dexp⁻¹_{−Ω}(v_s) on the manifold
+            if flat {
+                f(t_s, &self.q_stage, kq_s, kv_s)?;
+            } else {
+                f(t_s, &self.q_stage, &self.v_stage, kv_s)?;
+                for &i in &self.layout.manifold {
+                    joint_tangent_rate(model, i, &self.omega, &self.v_stage, kq_s);
+                }
+            }
+        }
+        // Ω = 0 + h Σ b_s Ω̇_s, q₁ = q ⊕ Ω, v₁ = v + h Σ b_s a_s, stage by stage
+        let mut hb = [0.0; MAX_STAGES];
+        for (x, &b) in hb.iter_mut().zip(tab.b) {
+            *x = h * b;
+        }
+        let (kq, kv) = (&self.kq[..], &self.kv[..]);
+        for &(iq, iv, n) in &self.layout.runs {
+            let (q, v) = (&mut q[iq..][..n], &mut v[iv..][..n]);
+            match tab.b.len() {
+                1 => solution::<1>(&hb, kq, kv, nv, iv, q, v),
+                4 => solution::<4>(&hb, kq, kv, nv, iv, q, v),
+                stages => {
+                    for i in 0..n {
+                        let (mut o, mut w) = (0.0, v[i]);
+                        for (s, &hb) in hb[..stages].iter().enumerate() {
+                            o += hb * kq[s * nv + iv + i];
+                            w += hb * kv[s * nv + iv + i];
+                        }
+                        q[i] += o;
+                        v[i] = w;
+                    }
+                }
+            }
+        }
+        for &i in &self.layout.manifold {
+            let j = &model.joints[i];
+            let (iq, iv) = (model.idx_q[i], model.idx_v[i]);
+            for r in iv..iv + j.nv() {
+                let (mut o, mut w) = (0.0, v[r]);
+                for (s, &hb) in hb[..tab.b.len()].iter().enumerate() {
+                    o += hb * kq[s * nv + r];
+                    w += hb * kv[s * nv + r];
+                }
+                self.omega[r] = o;
+                v[r] = w;
+            }
+            let out = &mut self.q_new[iq..iq + j.nq()];
+            j.integrate(&q[iq..iq + j.nq()], &self.omega[iv..iv + j.nv()], 1.0, out);
+            q[iq..iq + j.nq()].copy_from_slice(out);
+        }
         Ok(())
     }
 
@@ -604,6 +763,61 @@ mod tests {
             tangent_rate(&model, &omega, &v, &mut a);
             layout.tangent_rate(&model, &omega, &v, &mut b);
             assert_eq!(a, b, "tangent rate, seed {seed}");
+        }
+    }
+
+    /// The one-term stages advanced in place give the general stages' bits, on models of 1-DoF
+    /// joints only and on trees with ball and free joints among them, for Euler and RK4, both
+    /// called alone and through `step`.
+    #[test]
+    fn one_term_stages_in_place_are_the_general_stages_bit_for_bit() {
+        use crate::dynamics::samples::{
+            SplitMix64, arm7, euler_avatar, random_configuration, random_tree, random_vector,
+        };
+        use crate::dynamics::{Workspace, aba};
+        assert!(EULER.one_term_rows() && RK4.one_term_rows() && !DOPRI5.one_term_rows());
+        let models = [
+            arm7(),
+            euler_avatar(),
+            random_tree(20, 3, false),
+            random_tree(20, 4, true),
+            random_tree(20, 5, true),
+        ];
+        for (k, model) in models.iter().enumerate() {
+            assert_eq!(
+                Layout::new(model).manifold.is_empty(),
+                k < 2,
+                "{}",
+                model.name
+            );
+            let mut ws = Workspace::new(model);
+            let mut rng = SplitMix64(11 + k as u64);
+            let tau: Vec<f64> = (0..model.nv).map(|k| (k as f64).sin()).collect();
+            let mut f = |_t: f64, q: &[f64], v: &[f64], acc: &mut [f64]| {
+                acc.copy_from_slice(aba(model, &mut ws, q, v, &tau, None)?.as_slice());
+                Ok(())
+            };
+            for integrator in [Integrator::Euler, Integrator::Rk4] {
+                let tab = integrator.tableau().unwrap();
+                let mut st = Stepper::new(model, integrator);
+                let mut q = vec![0.0; model.nq];
+                random_configuration(model, &mut rng, &mut q);
+                if k == 1 {
+                    // the euler avatar away from its gimbal locks
+                    random_vector(&mut rng, 0.4, &mut q);
+                }
+                let mut v = vec![0.0; model.nv];
+                random_vector(&mut rng, 2.0, &mut v);
+                let t = 0.25;
+                st.rk_stages(model, tab, t, 1e-3, &q, &v, &mut f).unwrap();
+                let (q_new, v_new) = (st.q_new.clone(), st.v_new.clone());
+                let (mut q1, mut v1) = (q.clone(), v.clone());
+                st.rk_one_term(model, tab, t, 1e-3, &mut q1, &mut v1, &mut f)
+                    .unwrap();
+                assert_eq!((&q1, &v1), (&q_new, &v_new), "{integrator}, {}", model.name);
+                st.step(model, t, 1e-3, &mut q, &mut v, &mut f).unwrap();
+                assert_eq!((q, v), (q_new, v_new), "{integrator} step, {}", model.name);
+            }
         }
     }
 
