@@ -39,7 +39,9 @@ pub fn inverse_dynamics_with(
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Torques {
     let n = states.len();
-    let mut tau = vec![vec![0.0; model.nv]; n];
+    // each row allocated where it is written, from the workspace's torques (no zeroed table
+    // filled again: one pass over the memory, on the worker's thread)
+    let mut tau = vec![Vec::new(); n];
     let mut workspaces = par::scratch(|| Workspace::new(model));
     let reached = par::rounds(
         &mut tau,
@@ -49,7 +51,7 @@ pub fn inverse_dynamics_with(
             for (i, row) in rows.iter_mut().enumerate() {
                 let k = first + i;
                 let t = dynamics::rnea(model, ws, &states.q[k], &states.v[k], &states.a[k], None);
-                row.copy_from_slice(t.as_slice());
+                *row = t.as_slice().to_vec();
             }
         },
         &mut |k| keep_going(k as f64 / n as f64),
