@@ -9,7 +9,6 @@ use super::{
 use crate::error::Error;
 use crate::model::Model;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 /// Where a job's model comes from.
 #[derive(Debug, Clone)]
@@ -24,7 +23,7 @@ pub enum ModelSource {
 #[derive(Debug, Clone)]
 pub struct Job {
     pub model: Model,
-    pub states: Arc<States>,
+    pub states: States,
     /// The take, when the source is one (for contact and reports).
     pub take: Option<Take>,
     /// Measured ground reactions (`id --grf`, [`measured::use_measured_grf`]), used instead
@@ -111,7 +110,7 @@ pub fn load_source_marked(
         ModelSource::Urdf(..) | ModelSource::Dh(_) => (robot_model(src, opts)?, None, None),
     };
     let states = match (states, own) {
-        (Some(s), _) => Arc::new(read_states_with(&model, s, columns)?),
+        (Some(s), _) => read_states_with(&model, s, columns)?,
         (None, Some(own)) => own,
         (None, None) => {
             return Err(Error::Invalid(format!(

@@ -15,7 +15,6 @@ use crate::model::anthropometry::{BodyParams, SegmentTable};
 use crate::model::bvh::{BvhMap, BvhModelOptions, build_bvh_model};
 use crate::motion::smooth::SmoothSpec;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 /// Frame times below this (10 kHz) are noted as likely wrong: motion capture runs at 1 kHz at
 /// most.
@@ -52,7 +51,7 @@ pub struct Take {
     /// as a twist helper (`motion::twist`): `bvh` holds the folded motion, as the model does.
     pub twists: Vec<crate::motion::twist::Twist>,
     /// q, v, a after unwrapping, smoothing and differentiation.
-    pub states: Arc<States>,
+    pub states: States,
     /// What stages 5–7 found (passages near gimbal lock, capture glitches), also in `notes`.
     pub passages: Vec<String>,
     /// What the loader changed on its own, for `info` (e.g. a folded helper root).
@@ -193,17 +192,14 @@ pub fn take_from_bvh_reusing(
     };
     let (states, passages) = match previous.filter(same_states) {
         Some(p) => (p.states.clone(), p.passages.clone()),
-        None => {
-            let (states, passages) = take_states_marked(
-                &bvh,
-                &built.model,
-                &built.map,
-                &smooth,
-                &mut |f| keep_going(0.1 + 0.9 * f),
-                done,
-            )?;
-            (Arc::new(states), passages)
-        }
+        None => take_states_marked(
+            &bvh,
+            &built.model,
+            &built.map,
+            &smooth,
+            &mut |f| keep_going(0.1 + 0.9 * f),
+            done,
+        )?,
     };
     notes.extend(passages.iter().cloned());
     let take = Take {

@@ -16,7 +16,6 @@ use crate::dynamics::rra::{
 use crate::error::Error;
 use crate::motion::contact::ContactParams;
 use nalgebra::Vector3;
-use std::sync::Arc;
 
 /// What residual reduction changed (`None` fields: not reduced).
 #[derive(Debug, Clone, PartialEq)]
@@ -210,12 +209,9 @@ pub fn consistent_take_keeping(
     );
     let mut adjusted = take.clone();
     adjusted.model = r.model;
-    adjusted.states = Arc::new(super::States {
-        time: take.states.time.clone(),
-        q: r.q,
-        v: r.v,
-        a: r.a,
-    });
+    adjusted.states.q = r.q;
+    adjusted.states.v = r.v;
+    adjusted.states.a = r.a;
     // the feet's contact as the take was loaded: the reduction held it through its trials
     adjusted.held_contact = measured.is_none().then(|| super::HeldContact {
         floor_velocity: params.floor_velocity,

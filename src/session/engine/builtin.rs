@@ -148,7 +148,7 @@ impl Engine for Builtin {
                     &params.take,
                     &mut ctl.stage(0.0, 0.05),
                 )?;
-                (Arc::new(t.model), t.states, t.scale_to_m)
+                (Arc::new(t.model), Arc::new(t.states), t.scale_to_m)
             }
             TakeData::Robot(r) => {
                 let m = r.motion.clone().ok_or_else(|| no_motion(take))?;
@@ -266,7 +266,7 @@ impl Engine for Builtin {
                     t.model.nq
                 )));
             }
-            for (k, row) in Arc::make_mut(&mut t.states).q.iter_mut().enumerate() {
+            for (k, row) in t.states.q.iter_mut().enumerate() {
                 row.copy_from_slice(m.q.row(k));
             }
         }
@@ -290,7 +290,13 @@ fn inverse_dynamics_as(
         TakeData::Bvh(bvh) => {
             let (t, mut extras) = bvh_inverse_dynamics(take, bvh, params, previous, preview, ctl)?;
             let tau = extras.torques.take();
-            (Arc::new(t.model), t.states, t.scale_to_m, tau, extras)
+            (
+                Arc::new(t.model),
+                Arc::new(t.states),
+                t.scale_to_m,
+                tau,
+                extras,
+            )
         }
         TakeData::Robot(r) => {
             let m = r.motion.clone().ok_or_else(|| no_motion(take))?;
