@@ -19,8 +19,8 @@
 use super::{PROGRESS_EVERY, root_wrench};
 use crate::dynamics::kinematics::forward_kinematics_of;
 use crate::dynamics::residual::centre_of_mass;
-use crate::dynamics::rnea::JointStep;
-use crate::dynamics::{Workspace, forward_kinematics, forward_kinematics_through, rnea};
+use crate::dynamics::rnea::{JointStep, rnea_after_kinematics};
+use crate::dynamics::{Workspace, forward_kinematics, forward_kinematics_through};
 use crate::model::Model;
 use crate::motion::contact::{Foot, FootPoints};
 use crate::spatial::{ForceVec, SpatialTransform};
@@ -176,7 +176,8 @@ pub(super) fn needed_wrenches(
                     *x = ws.o_x_i[b];
                 }
                 **c = centre_of_mass(model, ws);
-                rnea(model, ws, &q[k], &v[k], &a[k], None);
+                // (RNEA reads the sines and cosines the kinematics took)
+                rnea_after_kinematics(model, ws, &q[k], &v[k], &a[k]);
                 **w = root_wrench(model, ws);
                 if let Some((t, m)) = keep {
                     t.copy_from_slice(ws.tau.as_slice());
