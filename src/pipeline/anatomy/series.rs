@@ -66,7 +66,8 @@ struct Key {
     scale_to_m: f64,
     frame_time: f64,
     human: Result<crate::model::skeleton::Human, String>,
-    q: Vec<Vec<f64>>,
+    /// The take's states (shared, not copied), whose `q` the calibration read.
+    states: std::sync::Arc<crate::pipeline::States>,
 }
 
 impl Key {
@@ -80,7 +81,7 @@ impl Key {
             scale_to_m: take.scale_to_m,
             frame_time: take.bvh.frame_time,
             human: take.human.clone(),
-            q: take.states.q.clone(),
+            states: take.states.clone(),
         }
     }
 
@@ -94,7 +95,8 @@ impl Key {
             && self.frame_time == take.bvh.frame_time
             && self.map == take.map
             && self.human == take.human
-            && self.q == take.states.q
+            && (std::sync::Arc::ptr_eq(&self.states, &take.states)
+                || self.states.q == take.states.q)
     }
 }
 
