@@ -40,7 +40,7 @@ fn stages(c: &mut Criterion) {
     });
     g.bench_function("model", |b| {
         b.iter_batched(
-            || take.bvh.clone(),
+            || (*take.bvh).clone(),
             |bvh| pipeline::take_from_bvh_with(&path, bvh, &opts, &mut |_| false),
             BatchSize::LargeInput,
         )

@@ -38,7 +38,7 @@ fn the_ground_reaction_estimate_allocates_only_its_output_rows() {
     let take = pipeline::load_take(&path, &opts).unwrap();
     let n = take.states.len();
     let mut long = take.clone();
-    long.states = there_and_back(&take.states, take.bvh.frame_time);
+    long.states = std::sync::Arc::new(there_and_back(&take.states, take.bvh.frame_time));
     for threads in [1, 2] {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)

@@ -351,3 +351,34 @@ fn euler_triples_equal_single_axis_steps_bit_for_bit() {
         "the mass of body {t} is counted"
     );
 }
+
+/// The centre of mass passes over the bodies without mass (`residual::centre_of_mass`): their
+/// term is a signed zero and the sum, started at +0, is never −0, so every bit is the sum over
+/// every body's.
+#[test]
+fn the_centre_of_mass_without_the_massless_bodies_is_the_sum_over_all_bit_for_bit() {
+    use articula::dynamics::residual::centre_of_mass;
+    let mut massless = 0;
+    for seed in 0..20 {
+        let m = coordinate_axis_tree(seed, seed % 2 == 0);
+        massless += (1..m.nbodies())
+            .filter(|&i| m.inertia[i].mass == 0.0)
+            .count();
+        let mut rng = SplitMix64(seed);
+        let mut ws = Workspace::new(&m);
+        let mut q = vec![0.0; m.nq];
+        for _ in 0..20 {
+            random_configuration(&m, &mut rng, &mut q);
+            forward_kinematics(&m, &mut ws, &q);
+            let (mut sum, mut mass) = (Vector3::zeros(), 0.0);
+            for (i, inertia) in m.inertia.iter().enumerate().skip(1) {
+                sum += ws.o_x_i[i].transform_point(&inertia.com) * inertia.mass;
+                mass += inertia.mass;
+            }
+            let all = sum / f64::max(mass, 1e-12);
+            let com = centre_of_mass(&m, &ws);
+            assert_eq!(com.map(f64::to_bits), all.map(f64::to_bits), "seed {seed}");
+        }
+    }
+    assert!(massless > 20, "{massless} bodies without mass");
+}

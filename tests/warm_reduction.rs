@@ -141,7 +141,10 @@ fn another_smoothing_or_take_does_not_use_the_seed() {
     assert_eq!(c.adjustments.unwrap().started, Started::Cold);
     // the same body and motion a millisecond later: cold too
     let mut later = load(&path, 80.0, "fractions");
-    later.states.time.iter_mut().for_each(|t| *t += 1e-3);
+    std::sync::Arc::make_mut(&mut later.states)
+        .time
+        .iter_mut()
+        .for_each(|t| *t += 1e-3);
     let (_, c, _) = reduce(&later, Some(&seed));
     assert_eq!(c.adjustments.unwrap().started, Started::Cold);
 }
@@ -234,6 +237,9 @@ fn a_preview_is_the_seeds_adjustments_at_the_new_masses() {
         consistent_take_keeping(&heavy, true, None, &[], Warm::Preview(&seed60), None).is_err()
     );
     let mut later = load(&path, 85.0, "regression");
-    later.states.time.iter_mut().for_each(|t| *t += 1e-3);
+    std::sync::Arc::make_mut(&mut later.states)
+        .time
+        .iter_mut()
+        .for_each(|t| *t += 1e-3);
     assert!(consistent_take_keeping(&later, true, None, &[], Warm::Preview(&seed), None).is_err());
 }

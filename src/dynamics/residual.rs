@@ -132,10 +132,17 @@ pub fn external_forces(gr: &GroundReactions) -> Vec<Vector3<f64>> {
 
 /// The whole-body centre of mass (world, m) from the poses `ws.o_x_i` of
 /// [`forward_kinematics`](super::forward_kinematics): `Σ mᵢ cᵢ / Σ mᵢ`.
+///
+/// The bodies without mass (two in three of a BVH euler model's) are passed over: their term
+/// is a signed zero (of a finite pose), and a sum started at `+0` is never `−0` (a sum is `−0`
+/// only of two `−0`), so adding it changes no bit.
 pub fn centre_of_mass(model: &Model, ws: &Workspace) -> Vector3<f64> {
     let mut sum = Vector3::zeros();
     let mut mass = 0.0;
     for (i, inertia) in model.inertia.iter().enumerate().skip(1) {
+        if inertia.mass == 0.0 {
+            continue;
+        }
         sum += ws.o_x_i[i].transform_point(&inertia.com) * inertia.mass;
         mass += inertia.mass;
     }

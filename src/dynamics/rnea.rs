@@ -51,12 +51,41 @@ pub(crate) fn rnea_terms(
         model.nbodies(),
         "a workspace of another model"
     );
-    forward_pass(model, ws, q, v, a, f_ext, gravity);
+    forward_pass(model, ws, q, v, a, f_ext, gravity, false);
     backward_pass(model, ws, v);
 }
 
+/// [`rnea`] right after [`forward_kinematics`](super::forward_kinematics) of the same `q` in
+/// `ws`: the forward pass reads the sines and cosines the kinematics took (`ws.sin_q`,
+/// `ws.cos_q`, the same [`crate::lanes::sin_cos_many`] of the same angles) instead of taking
+/// them again. The same bits as [`rnea`]; writes what it writes.
+pub fn rnea_after_kinematics<'w>(
+    model: &Model,
+    ws: &'w mut Workspace,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+) -> &'w DVector<f64> {
+    assert_eq!(
+        ws.joint_steps.len(),
+        model.nbodies(),
+        "a workspace of another model"
+    );
+    debug_assert!(
+        (q[..model.nq].iter().zip(&ws.sin_q).zip(&ws.cos_q))
+            .all(|((x, s), c)| crate::spatial::sin_cos(*x) == (*s, *c)),
+        "the sines of another configuration: run forward_kinematics of q first"
+    );
+    forward_pass(model, ws, q, Some(v), Some(a), None, true, true);
+    backward_pass(model, ws, Some(v));
+    &ws.tau
+}
+
 /// RNEA's forward pass: writes `ws.joint_rot`, `ws.x_up`, `ws.v`, `ws.a` and each body's own
-/// net force in `ws.f`.
+/// net force in `ws.f`; with `sines_taken`, `ws.sin_q` and `ws.cos_q` already hold `q`'s
+/// (else it writes them).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
 fn forward_pass(
     model: &Model,
     ws: &mut Workspace,
@@ -65,6 +94,7 @@ fn forward_pass(
     a: Option<&[f64]>,
     f_ext: Option<&[ForceVec]>,
     gravity: bool,
+    sines_taken: bool,
 ) {
     let n = model.nbodies();
     // the per-body tables cut to the body count once, so that indexing by i needs no checks
@@ -84,7 +114,9 @@ fn forward_pass(
     let (steps, joint_rot, x_up) = (&joint_steps[..n], &mut joint_rot[..n], &mut x_up[..n]);
     // every angle's sine and cosine at once (the axis joints' rotations), vectorised
     let nq = model.nq;
-    crate::lanes::sin_cos_many(&q[..nq], &mut sin_q[..nq], &mut cos_q[..nq]);
+    if !sines_taken {
+        crate::lanes::sin_cos_many(&q[..nq], &mut sin_q[..nq], &mut cos_q[..nq]);
+    }
     let rotation = |k: usize, iq: usize| AxisRotation::from_sin_cos(k, sin_q[iq], cos_q[iq]);
     let (wv, wa, wf) = (&mut wv[..n], &mut wa[..n], &mut wf[..n]);
 

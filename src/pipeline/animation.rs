@@ -54,7 +54,7 @@ pub fn export_gltf(take: &Take, path: &Path) -> Result<(), Error> {
 
 /// The take as a [`Rig`] in glTF's conventions (see the module documentation).
 pub fn take_rig(take: &Take) -> Rig {
-    let b = super::as_in_file(take, take.bvh.clone());
+    let b = super::as_in_file(take, (*take.bvh).clone());
     let c = to_y_up(take.up);
     let s = take.scale_to_m;
     let modes = &take.positions;

@@ -7,6 +7,7 @@ use super::{Take, at_file};
 use crate::dynamics::{self, Workspace};
 use crate::error::Error;
 use std::str::FromStr;
+use std::sync::Arc;
 
 /// Ground contact model of a scene.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -326,9 +327,9 @@ pub fn same_motion(a: &Take, b: &Take) -> bool {
         && a.scale_to_m == b.scale_to_m
         && a.smooth == b.smooth
         && a.human == b.human
-        && a.states.time == b.states.time
-        && a.states.q == b.states.q
-        && a.bvh == b.bvh
+        && (Arc::ptr_eq(&a.states, &b.states)
+            || (a.states.time == b.states.time && a.states.q == b.states.q))
+        && (Arc::ptr_eq(&a.bvh, &b.bvh) || a.bvh == b.bvh)
 }
 
 /// Frames at each end of a take whose estimated accelerations are not trustworthy: those

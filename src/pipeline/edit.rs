@@ -14,7 +14,7 @@ pub fn export_smoothed_bvh(take: &Take, path: &Path) -> Result<(), Error> {
 /// [`export_smoothed_bvh`] in `style`: portable, or with the channel layout as read
 /// ([`bvh::BvhStyle::AsRead`]: every joint's channels and OFFSET as the file had them).
 pub fn export_smoothed_bvh_as(take: &Take, path: &Path, style: bvh::BvhStyle) -> Result<(), Error> {
-    let mut out = take.bvh.clone();
+    let mut out = (*take.bvh).clone();
     let cc = out.channel_count;
     for (k, q) in take.states.q.iter().enumerate() {
         crate::motion::take::q_to_frame(

@@ -59,7 +59,7 @@ pub struct JointCentres {
 /// Every BVH joint's world position per frame, straight from the BVH definition (independent
 /// of the model), a folded helper root given its motion back ([`as_in_file`]).
 pub fn joint_centres(take: &Take) -> JointCentres {
-    let b = &as_in_file(take, take.bvh.clone());
+    let b = &as_in_file(take, (*take.bvh).clone());
     let positions = (0..b.frames)
         .map(|k| {
             bvh::bvh_world_positions(b, &take.positions, k)

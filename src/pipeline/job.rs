@@ -9,6 +9,7 @@ use super::{
 use crate::error::Error;
 use crate::model::Model;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Where a job's model comes from.
 #[derive(Debug, Clone)]
@@ -23,7 +24,8 @@ pub enum ModelSource {
 #[derive(Debug, Clone)]
 pub struct Job {
     pub model: Model,
-    pub states: States,
+    /// Shared with the take's (`Take::states`), not copied.
+    pub states: Arc<States>,
     /// The take, when the source is one (for contact and reports).
     pub take: Option<Take>,
     /// Measured ground reactions (`id --grf`, [`measured::use_measured_grf`]), used instead
@@ -110,7 +112,7 @@ pub fn load_source_marked(
         ModelSource::Urdf(..) | ModelSource::Dh(_) => (robot_model(src, opts)?, None, None),
     };
     let states = match (states, own) {
-        (Some(s), _) => read_states_with(&model, s, columns)?,
+        (Some(s), _) => Arc::new(read_states_with(&model, s, columns)?),
         (None, Some(own)) => own,
         (None, None) => {
             return Err(Error::Invalid(format!(

@@ -15,6 +15,7 @@ use crate::model::anthropometry::{BodyParams, SegmentTable};
 use crate::model::bvh::{BvhMap, BvhModelOptions, build_bvh_model};
 use crate::motion::smooth::SmoothSpec;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Frame times below this (10 kHz) are noted as likely wrong: motion capture runs at 1 kHz at
 /// most.
@@ -24,7 +25,7 @@ const MIN_PLAUSIBLE_FRAME_TIME_S: f64 = 1e-4;
 #[derive(Debug, Clone)]
 pub struct Take {
     pub path: PathBuf,
-    pub bvh: Bvh,
+    pub bvh: Arc<Bvh>,
     pub options: TakeOptions,
     pub up: UpAxis,
     /// The unit used (detected or given); with `--stature`, the scale is in `scale_to_m`.
@@ -50,8 +51,9 @@ pub struct Take {
     /// The joints inside a human's long bones and whether each was folded into the next joint
     /// as a twist helper (`motion::twist`): `bvh` holds the folded motion, as the model does.
     pub twists: Vec<crate::motion::twist::Twist>,
-    /// q, v, a after unwrapping, smoothing and differentiation.
-    pub states: States,
+    /// q, v, a after unwrapping, smoothing and differentiation; shared (not copied) by a take
+    /// made again with the same motion ([`take_from_bvh_reusing`]) and by the take's clones.
+    pub states: Arc<States>,
     /// What stages 5–7 found (passages near gimbal lock, capture glitches), also in `notes`.
     pub passages: Vec<String>,
     /// What the loader changed on its own, for `info` (e.g. a folded helper root).
@@ -188,18 +190,22 @@ pub fn take_from_bvh_reusing(
             && p.model.parent == built.model.parent
             && p.model.idx_q == built.model.idx_q
             && p.map == built.map
-            && p.bvh == bvh
+            && *p.bvh == bvh
     };
-    let (states, passages) = match previous.filter(same_states) {
-        Some(p) => (p.states.clone(), p.passages.clone()),
-        None => take_states_marked(
-            &bvh,
-            &built.model,
-            &built.map,
-            &smooth,
-            &mut |f| keep_going(0.1 + 0.9 * f),
-            done,
-        )?,
+    // the previous take's motion and states shared, not copied, when they are the same
+    let (bvh, states, passages) = match previous.filter(same_states) {
+        Some(p) => (p.bvh.clone(), p.states.clone(), p.passages.clone()),
+        None => {
+            let (states, passages) = take_states_marked(
+                &bvh,
+                &built.model,
+                &built.map,
+                &smooth,
+                &mut |f| keep_going(0.1 + 0.9 * f),
+                done,
+            )?;
+            (Arc::new(bvh), Arc::new(states), passages)
+        }
     };
     notes.extend(passages.iter().cloned());
     let take = Take {

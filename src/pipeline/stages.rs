@@ -71,7 +71,7 @@ pub const STAGES: &[StageInfo] = &[
     StageInfo {
         stage: Stage::Job,
         key: "job",
-        what: "the take's model and states copied into the job",
+        what: "the take's model copied into the job, its states shared",
     },
     StageInfo {
         stage: Stage::Contact,

@@ -130,7 +130,7 @@ pub fn apply_ground_reactions(
                 &wj,
                 out.bodies[j],
                 Some(&mut out.tau[k]),
-                (&[], &mut []),
+                (|_| None, &mut []),
             );
             left -= wj;
         }

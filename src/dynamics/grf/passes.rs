@@ -19,8 +19,8 @@
 use super::{PROGRESS_EVERY, root_wrench};
 use crate::dynamics::kinematics::forward_kinematics_of;
 use crate::dynamics::residual::centre_of_mass;
-use crate::dynamics::rnea::JointStep;
-use crate::dynamics::{Workspace, forward_kinematics, forward_kinematics_through, rnea};
+use crate::dynamics::rnea::{JointStep, rnea_after_kinematics};
+use crate::dynamics::{Workspace, forward_kinematics, forward_kinematics_through};
 use crate::model::Model;
 use crate::motion::contact::{Foot, FootPoints};
 use crate::spatial::{ForceVec, SpatialTransform};
@@ -176,7 +176,8 @@ pub(super) fn needed_wrenches(
                     *x = ws.o_x_i[b];
                 }
                 **c = centre_of_mass(model, ws);
-                rnea(model, ws, &q[k], &v[k], &a[k], None);
+                // (RNEA reads the sines and cosines the kinematics took)
+                rnea_after_kinematics(model, ws, &q[k], &v[k], &a[k]);
                 **w = root_wrench(model, ws);
                 if let Some((t, m)) = keep {
                     t.copy_from_slice(ws.tau.as_slice());
@@ -224,6 +225,11 @@ type Frame3<'a> = (&'a mut Vec<f64>, &'a mut [Vector3<f64>]);
 /// feet's paths are needed ([`forward_kinematics_of`]), so the frame costs a few dozen poses
 /// instead of RNEA. Frames in parallel as in [`needed_wrenches`]. False when stopped.
 ///
+/// A foot off the floor carries a zero wrench, whose share is a signed zero taken from each
+/// value on its path: that changes no bit of a value other than `−0` (`x − (±0) = x`), so such
+/// a foot is skipped, and the kinematics run along the loaded feet's paths only
+/// ([`Unloaded::skips`] says when that is exact).
+///
 /// [`crba`]: crate::dynamics::crba
 pub(super) fn with_ground_reactions(
     model: &Model,
@@ -236,7 +242,7 @@ pub(super) fn with_ground_reactions(
     let n = tau.len();
     let nf = bodies.len();
     let nm = moment_bodies.len();
-    let path = paths_to_world(model, bodies);
+    let feet = FeetPaths::new(model, bodies, moment_bodies);
     let mut frames: Vec<Frame3> = if nm == 0 {
         tau.iter_mut().map(|t| (t, &mut [][..])).collect()
     } else {
@@ -250,9 +256,21 @@ pub(super) fn with_ground_reactions(
         |ws, first, block| {
             for (i, (tau, m)) in block.iter_mut().enumerate() {
                 let k = first + i;
-                forward_kinematics_of(model, ws, &q[k], &path);
-                for (w, &b) in wrenches[k * nf..(k + 1) * nf].iter().zip(bodies) {
-                    take_load(model, ws, w, b, Some(tau), (moment_bodies, m));
+                let w = &wrenches[k * nf..(k + 1) * nf];
+                // the kinematics along the paths of the feet that carry a load
+                let loaded = feet.loaded(w);
+                let mut posed = feet.path(loaded);
+                forward_kinematics_of(model, ws, &q[k], posed);
+                for (j, (w, &b)) in w.iter().zip(bodies).enumerate() {
+                    if loaded >> j & 1 == 0 && feet.skips(model, j, &q[k], tau, m) {
+                        continue;
+                    }
+                    // (a zero load that must be taken after all: the whole paths posed)
+                    if loaded >> j & 1 == 0 && posed.len() < feet.all.len() {
+                        posed = &feet.all;
+                        forward_kinematics_of(model, ws, &q[k], posed);
+                    }
+                    take_load(model, ws, w, b, Some(tau), (feet.slot(), m));
                 }
             }
         },
@@ -261,17 +279,113 @@ pub(super) fn with_ground_reactions(
     reached == n
 }
 
+/// The feet's paths to the world for pass 3 ([`with_ground_reactions`]), decided once per
+/// estimate: those of each set of loaded feet, and each body's place among the kept moments.
+struct FeetPaths {
+    /// The bodies on the paths of every foot ([`paths_to_world`]).
+    all: Vec<usize>,
+    /// `[set]`: the bodies on the paths of the feet in `set` (bit `j`: foot `j`), for up to
+    /// [`FeetPaths::SETS`] feet; empty beyond (every frame then poses `all`).
+    of_set: Vec<Vec<usize>>,
+    /// `[foot]`: the bodies on the foot's own path, from the foot up.
+    up: Vec<Vec<usize>>,
+    /// `[body]`: its index among the kept moments' bodies, if kept.
+    slots: Vec<Option<usize>>,
+}
+
+impl FeetPaths {
+    /// Feet beyond this many are all posed on every frame.
+    const SETS: usize = 4;
+
+    fn new(model: &Model, bodies: &[usize], moment_bodies: &[usize]) -> Self {
+        let nf = bodies.len();
+        let of_set = if nf <= Self::SETS {
+            (0..1usize << nf)
+                .map(|set| {
+                    let feet: Vec<usize> = (0..nf)
+                        .filter(|j| set >> j & 1 == 1)
+                        .map(|j| bodies[j])
+                        .collect();
+                    paths_to_world(model, &feet)
+                })
+                .collect()
+        } else {
+            vec![]
+        };
+        let up = bodies
+            .iter()
+            .map(|&b| {
+                std::iter::successors(Some(b), |&i| Some(model.parent[i]))
+                    .take_while(|&i| i != 0)
+                    .collect()
+            })
+            .collect();
+        let slots = (0..model.nbodies())
+            .map(|i| moment_bodies.binary_search(&i).ok())
+            .collect();
+        Self {
+            all: paths_to_world(model, bodies),
+            of_set,
+            up,
+            slots,
+        }
+    }
+
+    /// The set of feet (bit `j`: foot `j`) whose wrench in `w` is not zero; every foot when
+    /// there are more than [`FeetPaths::SETS`].
+    fn loaded(&self, w: &[ForceVec]) -> usize {
+        if self.of_set.is_empty() {
+            return usize::MAX;
+        }
+        w.iter()
+            .enumerate()
+            .filter(|(_, w)| w.lin.iter().chain(w.ang.iter()).any(|x| *x != 0.0))
+            .fold(0, |set, (j, _)| set | 1 << j)
+    }
+
+    /// The bodies on the paths of the feet in `set`.
+    fn path(&self, set: usize) -> &[usize] {
+        self.of_set.get(set).unwrap_or(&self.all)
+    }
+
+    /// Each body's index among the kept moments' bodies.
+    fn slot(&self) -> impl Fn(usize) -> Option<usize> + '_ {
+        |i| self.slots[i]
+    }
+
+    /// Whether foot `j`'s zero wrench may be skipped at a frame of configuration `q` with
+    /// the values `tau` and `moments` as they are: its share `x − (±0)` leaves every value
+    /// but `−0` as it is, when the poses it would be taken with are finite (`q` finite).
+    fn skips(
+        &self,
+        model: &Model,
+        j: usize,
+        q: &[f64],
+        tau: &[f64],
+        moments: &[Vector3<f64>],
+    ) -> bool {
+        let negative_zero = |x: &f64| *x == 0.0 && x.is_sign_negative();
+        q.iter().all(|x| x.is_finite())
+            && self.up[j].iter().all(|&i| {
+                let iv = model.idx_v[i];
+                !tau[iv..iv + model.joints[i].nv()].iter().any(negative_zero)
+                    && self.slots[i].is_none_or(|s| !moments[s].iter().any(negative_zero))
+            })
+    }
+}
+
 /// One foot's wrench `w` (world axes, about the world origin) on `body`: taken from the
 /// generalized force of every coordinate on the body's path to the world (when `tau` is
-/// given) and from the net moment of each kept body on it (see [`with_ground_reactions`]); `ws.o_x_i` holds the path's
-/// poses.
+/// given) and from the net moment `moments[slot(i)]` of each kept body `i` on it (`slot`: its
+/// index among the kept bodies, `None` if not kept; see [`with_ground_reactions`]);
+/// `ws.o_x_i` holds the path's poses.
 pub(super) fn take_load(
     model: &Model,
     ws: &Workspace,
     w: &ForceVec,
     body: usize,
     mut tau: Option<&mut [f64]>,
-    (moment_bodies, moments): (&[usize], &mut [Vector3<f64>]),
+    (slot, moments): (impl Fn(usize) -> Option<usize>, &mut [Vector3<f64>]),
 ) {
     let mut i = body;
     while i != 0 {
@@ -294,7 +408,7 @@ pub(super) fn take_load(
                 }
             }
         }
-        if let Ok(j) = moment_bodies.binary_search(&i) {
+        if let Some(j) = slot(i) {
             moments[j] -= o.act_inv_force(w).ang;
         }
         i = model.parent[i];

@@ -139,7 +139,7 @@ impl GroundReactions {
                 &w,
                 b,
                 tau.as_deref_mut(),
-                (moment_bodies, moments),
+                (|i| moment_bodies.binary_search(&i).ok(), &mut *moments),
             );
         }
     }

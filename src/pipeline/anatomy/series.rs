@@ -66,7 +66,8 @@ struct Key {
     scale_to_m: f64,
     frame_time: f64,
     human: Result<crate::model::skeleton::Human, String>,
-    q: Vec<Vec<f64>>,
+    /// The take's states (shared, not copied), whose `q` the calibration read.
+    states: std::sync::Arc<crate::pipeline::States>,
 }
 
 impl Key {
@@ -80,7 +81,7 @@ impl Key {
             scale_to_m: take.scale_to_m,
             frame_time: take.bvh.frame_time,
             human: take.human.clone(),
-            q: take.states.q.clone(),
+            states: take.states.clone(),
         }
     }
 
@@ -94,7 +95,8 @@ impl Key {
             && self.frame_time == take.bvh.frame_time
             && self.map == take.map
             && self.human == take.human
-            && self.q == take.states.q
+            && (std::sync::Arc::ptr_eq(&self.states, &take.states)
+                || self.states.q == take.states.q)
     }
 }
 
@@ -193,33 +195,43 @@ impl Calibration {
         let nb = self.kept.len();
         let nm = self.joints.iter().filter(|j| j.moment_at.is_some()).count();
         let mass = take.model.total_mass();
-        let mut columns = Vec::with_capacity(self.names.len());
-        let mut angles = self.angles.iter();
-        let mut i = 0;
-        for j in &self.joints {
-            columns.extend(angles.by_ref().take(3).cloned());
-            let Some(at) = j.moment_at else { continue };
-            // the world moment: the kept pose's rotation times the body-frame one
-            let b = self
-                .kept
-                .binary_search(&take.map.joints[at].body)
-                .expect("a mapped joint's body");
-            let mut moment = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
-            for k in 0..n {
-                let world = self.poses[k * nb + b].rot * moments[k * nb + b];
+        // the joints with a moment, each with its kept body
+        let with_moment: Vec<(&Joint, usize)> = (self.joints.iter())
+            .filter_map(|j| {
+                let at = j.moment_at?;
+                let b = self.kept.binary_search(&take.map.joints[at].body);
+                Some((j, b.expect("a mapped joint's body")))
+            })
+            .collect();
+        // the moments frame by frame (each frame's kept poses, moments and axes read in order):
+        // the world moment, the kept pose's rotation times the body-frame one, on the axes
+        let mut moment = vec![[vec![0.0; n], vec![0.0; n], vec![0.0; n]]; nm];
+        for k in 0..n {
+            let (poses, body) = (&self.poses[k * nb..], &moments[k * nb..]);
+            for (i, ((j, b), out)) in with_moment.iter().zip(&mut moment).enumerate() {
+                let world = poses[*b].rot * body[*b];
                 let m =
                     jcs::joint_moments(j.kind, j.suffix != "_l", &self.axes[k * nm + i], &world);
-                for (col, x) in moment.iter_mut().zip(m) {
+                for (col, x) in out.iter_mut().zip(m) {
                     col[k] = x;
                 }
             }
+        }
+        let mut columns = Vec::with_capacity(self.names.len());
+        let mut angles = self.angles.iter();
+        let mut moment = moment.into_iter();
+        for j in &self.joints {
+            columns.extend(angles.by_ref().take(3).cloned());
+            if j.moment_at.is_none() {
+                continue;
+            }
+            let moment = moment.next().expect("a moment per joint with one");
             let per_kg: Vec<Vec<f64>> = moment
                 .iter()
                 .map(|col| col.iter().map(|x| x / mass).collect())
                 .collect();
             columns.extend(moment);
             columns.extend(per_kg);
-            i += 1;
         }
         let contact = grf.map_or(vec![], |g| {
             g.feet

@@ -3,7 +3,7 @@
 //! the trunk's mass centre and a smooth pelvis offset, as OpenSim's RRA), the adjustments,
 //! and where and why a take misses the thresholds.
 
-use super::{Take, anatomy::find_take_human, contact_feet};
+use super::{States, Take, anatomy::find_take_human, contact_feet};
 use crate::dynamics::grf::measured::{FootLoads, apply_ground_reactions};
 use crate::dynamics::grf::{FloorLost, GroundReactions, floor_lost_text};
 use crate::dynamics::residual::{
@@ -16,6 +16,7 @@ use crate::dynamics::rra::{
 use crate::error::Error;
 use crate::motion::contact::ContactParams;
 use nalgebra::Vector3;
+use std::sync::Arc;
 
 /// What residual reduction changed (`None` fields: not reduced).
 #[derive(Debug, Clone, PartialEq)]
@@ -209,9 +210,12 @@ pub fn consistent_take_keeping(
     );
     let mut adjusted = take.clone();
     adjusted.model = r.model;
-    adjusted.states.q = r.q;
-    adjusted.states.v = r.v;
-    adjusted.states.a = r.a;
+    adjusted.states = Arc::new(States {
+        time: take.states.time.clone(),
+        q: r.q,
+        v: r.v,
+        a: r.a,
+    });
     // the feet's contact as the take was loaded: the reduction held it through its trials
     adjusted.held_contact = measured.is_none().then(|| super::HeldContact {
         floor_velocity: params.floor_velocity,

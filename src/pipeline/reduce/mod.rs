@@ -41,6 +41,7 @@ use crate::model::bvh::{BvhMap, follow_reduction};
 use crate::model::simplify::{self, Reduction};
 use serde::Serialize;
 use std::fmt::Write as _;
+use std::sync::Arc;
 
 /// The search uses at most about this many frames of the take (every `s`-th frame).
 pub const SEARCH_FRAMES: usize = 200;
@@ -391,7 +392,7 @@ impl<'a> Reducer<'a> {
         let (model, map, states) = self.reduced_take_parts(locks, idx);
         self.scratch.model = model;
         self.scratch.map = map;
-        self.scratch.states = states;
+        self.scratch.states = Arc::new(states);
         let t = &self.scratch;
         let tau = if self.contact {
             super::estimate_take_ground_reactions(t)?.tau
@@ -742,7 +743,7 @@ pub fn lock_auto(mut take: Take, tol: Tolerance) -> Result<Take, Error> {
     }
     take.model = model;
     take.map = map;
-    take.states = states;
+    take.states = Arc::new(states);
     take.notes.push(note);
     Ok(take)
 }

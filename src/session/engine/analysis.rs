@@ -99,12 +99,13 @@ pub struct Analysis {
     pub model: Arc<Model>,
     /// Time of each frame (s).
     pub time: Vec<f64>,
-    /// Configuration per frame (`nq` columns, rad / m).
-    pub q: Table,
-    /// Velocity (`nv` columns, rad/s, m/s).
-    pub v: Table,
-    /// Acceleration (`nv` columns, rad/s², m/s²).
-    pub a: Table,
+    /// Configuration per frame (`nq` columns, rad / m); shared with the last results when
+    /// they are of the same [`states`](Self::states).
+    pub q: Arc<Table>,
+    /// Velocity (`nv` columns, rad/s, m/s), shared as `q`.
+    pub v: Arc<Table>,
+    /// Acceleration (`nv` columns, rad/s², m/s²), shared as `q`.
+    pub a: Arc<Table>,
     /// Generalized forces (`nv` columns, N·m / N).
     pub tau: Table,
     /// Metres per file unit used for the take.
@@ -156,6 +157,11 @@ pub struct Analysis {
     /// figures before and after reduction against Hicks et al.'s thresholds), which the
     /// curves and the charts of these results carry; `None` without contact.
     pub consistency: Option<Arc<pipeline::consistency::Consistency>>,
+    /// The states `q`, `v` and `a` were made from (inverse dynamics: the take's, or the take
+    /// residual reduction adjusted), so that an edit whose take has the same states (the same
+    /// `Arc`: a mass edit, `pipeline::take_from_bvh_reusing`) shares the tables instead of
+    /// copying them; `None` for a simulation.
+    pub states: Option<Arc<pipeline::States>>,
 }
 
 /// Why a frame's accelerations and torques are left out of the figures quoted from them.

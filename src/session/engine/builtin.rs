@@ -148,7 +148,7 @@ impl Engine for Builtin {
                     &params.take,
                     &mut ctl.stage(0.0, 0.05),
                 )?;
-                (Arc::new(t.model), Arc::new(t.states), t.scale_to_m)
+                (Arc::new(t.model), t.states, t.scale_to_m)
             }
             TakeData::Robot(r) => {
                 let m = r.motion.clone().ok_or_else(|| no_motion(take))?;
@@ -185,9 +185,9 @@ impl Engine for Builtin {
             }
         }
         Ok(Analysis {
-            q: table(&model.q_names, &r.q),
-            v: table(&model.v_names, &r.v),
-            a,
+            q: Arc::new(table(&model.q_names, &r.q)),
+            v: Arc::new(table(&model.v_names, &r.v)),
+            a: Arc::new(a),
             tau: table(&model.v_names, &r.tau),
             time: r.time.clone(),
             scale,
@@ -214,6 +214,7 @@ impl Engine for Builtin {
             contact_fit: None,
             reduction: None,
             consistency: None,
+            states: None,
             reference,
         })
     }
@@ -266,7 +267,7 @@ impl Engine for Builtin {
                     t.model.nq
                 )));
             }
-            for (k, row) in t.states.q.iter_mut().enumerate() {
+            for (k, row) in Arc::make_mut(&mut t.states).q.iter_mut().enumerate() {
                 row.copy_from_slice(m.q.row(k));
             }
         }
@@ -290,13 +291,7 @@ fn inverse_dynamics_as(
         TakeData::Bvh(bvh) => {
             let (t, mut extras) = bvh_inverse_dynamics(take, bvh, params, previous, preview, ctl)?;
             let tau = extras.torques.take();
-            (
-                Arc::new(t.model),
-                Arc::new(t.states),
-                t.scale_to_m,
-                tau,
-                extras,
-            )
+            (Arc::new(t.model), t.states, t.scale_to_m, tau, extras)
         }
         TakeData::Robot(r) => {
             let m = r.motion.clone().ok_or_else(|| no_motion(take))?;
@@ -317,10 +312,24 @@ fn inverse_dynamics_as(
     };
     ctl.set_progress(1.0);
     check_finite(&model, &tau, params)?;
+    // the state tables of the last results when they are of the same states, else made
+    let same = previous.filter(|p| {
+        p.states.as_ref().is_some_and(|s| Arc::ptr_eq(s, &states))
+            && p.q.names == model.q_names
+            && p.v.names == model.v_names
+    });
+    let (q, v, a) = match same {
+        Some(p) => (p.q.clone(), p.v.clone(), p.a.clone()),
+        None => (
+            Arc::new(table(&model.q_names, &states.q)),
+            Arc::new(table(&model.v_names, &states.v)),
+            Arc::new(table(&model.v_names, &states.a)),
+        ),
+    };
     Ok(Analysis {
-        q: table(&model.q_names, &states.q),
-        v: table(&model.v_names, &states.v),
-        a: table(&model.v_names, &states.a),
+        q,
+        v,
+        a,
         tau: table(&model.v_names, &tau),
         time: states.time.clone(),
         scale,
@@ -338,6 +347,7 @@ fn inverse_dynamics_as(
         reduction: extras.reduction,
         consistency: extras.consistency,
         reference: Table::default(),
+        states: Some(states),
     })
 }
 

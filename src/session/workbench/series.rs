@@ -296,7 +296,7 @@ pub(super) fn channel_by_range(
 /// byte-identical.
 pub fn results_csv(r: &Analysis) -> String {
     let mut text = String::from("time");
-    for (prefix, t) in [("q", &r.q), ("v", &r.v), ("a", &r.a), ("tau", &r.tau)] {
+    for (prefix, t) in [("q", &*r.q), ("v", &*r.v), ("a", &*r.a), ("tau", &r.tau)] {
         for n in &t.names {
             let _ = write!(text, ",{prefix}:{n}");
         }
