@@ -279,6 +279,35 @@ fn non_utf8_bytes_become_replacement_characters() {
     assert_eq!(b.joints[1].name, "Sp\u{fffd}ine");
 }
 
+/// `parse_bytes` checks only a file's first 64 KiB as UTF-8 before the fast reader: a header
+/// that runs past them (a joint name of tens of thousands of characters), cut anywhere — in
+/// the name, inside a two-byte character, inside the frame time, in the frame lines — reads
+/// as `parse_str` reads the whole text; a non-ASCII byte in the frame lines is the same error.
+#[test]
+fn headers_past_the_checked_start_read_as_the_whole_text() {
+    let head_bytes = 1 << 16;
+    for len in (head_bytes - 300..head_bytes + 20).step_by(3) {
+        // about `len` bytes of name: one or two ASCII letters, then two-byte characters
+        let name = format!(
+            "{}{}",
+            "a".repeat(len % 2 + 1),
+            "\u{e9}".repeat((len - 1) / 2)
+        );
+        let text = SMALL.replace("JOINT Spine", &format!("JOINT {name}"));
+        let b = bvh::parse_bytes(text.as_bytes(), Path::new("long.bvh")).unwrap();
+        assert_eq!(b, parse(&text), "{len}");
+        assert_eq!(b.frame_time, 0.0333333, "{len}");
+        assert_eq!(b.joints[1].name, name, "{len}");
+        let bad = text.replace(" 18\n", " 1\u{e9}\n");
+        let from_bytes = bvh::parse_bytes(bad.as_bytes(), Path::new("long.bvh"));
+        let from_text = bvh::parse_str(&bad, Path::new("long.bvh"));
+        assert_eq!(
+            from_bytes.unwrap_err().to_string(),
+            from_text.unwrap_err().to_string()
+        );
+    }
+}
+
 #[test]
 fn read_reports_missing_files_as_io_errors() {
     let e = bvh::read(Path::new("/nonexistent/take.bvh")).unwrap_err();

@@ -22,6 +22,7 @@
 use super::SHORTEST;
 use crate::par;
 use rayon::prelude::*;
+use std::mem::MaybeUninit;
 
 /// Below this many bytes of frame lines the chunks are not worth a thread.
 const MIN_PARALLEL_BYTES: usize = 1 << 18;
@@ -40,19 +41,26 @@ pub(super) fn read(
     if channel_count == 0 || total > text.len() / 2 + 1 {
         return None;
     }
-    let mut motion = vec![0.0; total];
-    let mut decimals = vec![0; total];
+    // the table is not zeroed first: every slot is written once below (zeroing it cost a
+    // pass over fresh pages, or a `memset` of reused ones)
+    let mut motion = Vec::with_capacity(total);
+    let mut decimals = Vec::with_capacity(total);
+    let (m, d) = (
+        &mut motion.spare_capacity_mut()[..total],
+        &mut decimals.spare_capacity_mut()[..total],
+    );
     let in_chunks = par::slots() > 1
         && text.len() >= MIN_PARALLEL_BYTES
-        && chunks(
-            text,
-            channel_count,
-            &mut motion,
-            &mut decimals,
-            par::slots(),
-        );
-    if !in_chunks && rows(text, channel_count, &mut motion, &mut decimals)? != frames {
+        && chunks(text, channel_count, m, d, par::slots());
+    if !in_chunks && rows(text, channel_count, m, d)? != frames {
         return None;
+    }
+    // SAFETY: every slot of the first `total` is written: by the chunks, each of which filled
+    // exactly its rows, or by the serial reader, which filled `frames` rows of
+    // `channel_count` values
+    unsafe {
+        motion.set_len(total);
+        decimals.set_len(total);
     }
     Some((motion, decimals))
 }
@@ -65,8 +73,8 @@ pub(super) fn read(
 fn chunks(
     text: &[u8],
     channel_count: usize,
-    motion: &mut [f64],
-    decimals: &mut [u8],
+    motion: &mut [MaybeUninit<f64>],
+    decimals: &mut [MaybeUninit<u8>],
     parts: usize,
 ) -> bool {
     // the text starts with the end of the `Frame Time:` line: not a row
@@ -119,12 +127,13 @@ fn split_after_newlines(text: &[u8], parts: usize) -> Vec<&[u8]> {
 
 /// Reads every line of `text` into the rows of `motion` and `decimals` (`channel_count`
 /// values each, in order): each line holds `channel_count` values or none (a blank line).
-/// The number of value lines; `None` at anything else or at more lines than rows.
+/// The number of value lines, every slot of their rows written; `None` at anything else or
+/// at more lines than rows.
 fn rows(
     text: &[u8],
     channel_count: usize,
-    motion: &mut [f64],
-    decimals: &mut [u8],
+    motion: &mut [MaybeUninit<f64>],
+    decimals: &mut [MaybeUninit<u8>],
 ) -> Option<usize> {
     let mut i = 0;
     let mut frames = 0;
@@ -156,7 +165,12 @@ fn rows(
 /// The values of the line whose first value starts at `text[i]`, into `values` and `places`
 /// (one per slot, separated by spaces or tabs); the index just after the last one.
 #[inline]
-fn line(text: &[u8], mut i: usize, values: &mut [f64], places: &mut [u8]) -> Option<usize> {
+fn line(
+    text: &[u8],
+    mut i: usize,
+    values: &mut [MaybeUninit<f64>],
+    places: &mut [MaybeUninit<u8>],
+) -> Option<usize> {
     for (c, (v, d)) in values.iter_mut().zip(places.iter_mut()).enumerate() {
         if c > 0 {
             // one space before a value, or a run of spaces and tabs (a line end or the end of
@@ -173,7 +187,10 @@ fn line(text: &[u8], mut i: usize, values: &mut [f64], places: &mut [u8]) -> Opt
                 }
             }
         }
-        (*v, *d, i) = number(text, i)?;
+        let (value, decimals, end) = number(text, i)?;
+        v.write(value);
+        d.write(decimals);
+        i = end;
     }
     Some(i)
 }
@@ -376,12 +393,26 @@ mod tests {
         }
     }
 
+    /// `n` slots holding `fill`, for the readers to write into.
+    fn slots<T: Copy>(n: usize, fill: T) -> Vec<MaybeUninit<T>> {
+        vec![MaybeUninit::new(fill); n]
+    }
+
+    /// The values of slots made by [`slots`].
+    fn values<T: Copy>(slots: &[MaybeUninit<T>]) -> Vec<T> {
+        // SAFETY: every slot was initialised when made
+        slots.iter().map(|x| unsafe { x.assume_init() }).collect()
+    }
+
     #[test]
     fn lines_need_exactly_the_channel_count() {
-        let (mut motion, mut decimals) = ([0.0; 9], [0; 9]);
+        let (mut motion, mut decimals) = (slots(9, f64::NAN), slots(9, 0));
         let text = b"1 2 3\r\n\n 4\t5 6 \r7 8 9";
         assert_eq!(rows(text, 3, &mut motion, &mut decimals), Some(3));
-        assert_eq!(motion, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]);
+        assert_eq!(
+            values(&motion),
+            [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
+        );
         for bad in [
             &b"1 2\n3\n"[..],
             b"1 2 3 4\n",
@@ -389,8 +420,21 @@ mod tests {
             b"1 2,3\n",
             b"1 2 3\n4 5 6\n7 8 9\n1 2 3\n",
         ] {
-            assert_eq!(rows(bad, 3, &mut [0.0; 9], &mut [0; 9]), None);
+            assert_eq!(rows(bad, 3, &mut slots(9, 0.0), &mut slots(9, 0)), None);
         }
+    }
+
+    /// The table `read` hands out has every slot written, though it is not zeroed first: a
+    /// take's values come back as written, and a text that does not fill the declared rows is
+    /// refused rather than handed out with unwritten slots.
+    #[test]
+    fn read_writes_every_slot_of_the_table() {
+        let text = b"\n0 -1.5 2\n3 4 5e1\r\n6 7 -8\n";
+        let (motion, decimals) = read(text, 3, 3).unwrap();
+        assert_eq!(motion, [0.0, -1.5, 2.0, 3.0, 4.0, 50.0, 6.0, 7.0, -8.0]);
+        assert_eq!(decimals, [0, 1, 0, 0, 0, SHORTEST, 0, 0, 0]);
+        assert!(read(text, 4, 3).is_none());
+        assert!(read(text, 2, 3).is_none());
     }
 
     /// Frame lines after the `Frame Time:` line's end are read in chunks (not left to the
@@ -399,15 +443,16 @@ mod tests {
     fn chunks_fill_the_rows_the_serial_reader_fills() {
         let text: String = (0..40).map(|k| format!("\n{k} -{k}.5 {k}e1")).collect();
         let text = format!("{text}\n");
-        let (mut serial, mut places) = ([0.0; 120], [0; 120]);
+        let (mut serial, mut places) = (slots(120, f64::NAN), slots(120, 0));
         assert_eq!(rows(text.as_bytes(), 3, &mut serial, &mut places), Some(40));
+        let serial = (values(&serial), values(&places));
         for parts in 2..6 {
-            let (mut m, mut d) = ([0.0; 120], [0; 120]);
+            let (mut m, mut d) = (slots(120, f64::NAN), slots(120, 0));
             assert!(chunks(text.as_bytes(), 3, &mut m, &mut d, parts), "{parts}");
-            assert_eq!((m, d), (serial, places));
+            assert_eq!((values(&m), values(&d)), serial);
         }
         let blank = text.replace("\n20 ", "\n\n20 ");
-        let (mut m, mut d) = ([0.0; 120], [0; 120]);
+        let (mut m, mut d) = (slots(120, 0.0), slots(120, 0));
         assert!(!chunks(blank.as_bytes(), 3, &mut m, &mut d, 4));
     }
 

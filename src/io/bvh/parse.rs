@@ -30,10 +30,40 @@ pub fn read(path: &Path) -> Result<Bvh, Error> {
 
 /// Parses BVH bytes; invalid UTF-8 sequences (e.g. Latin-1 joint names) become U+FFFD, which
 /// can only affect names. `file` is used in error messages only.
+///
+/// Only the text before the frame lines is checked as UTF-8 on the way to the fast reader:
+/// the frame reader takes ASCII only (a byte from 0x80 on stops it), so the frame lines,
+/// most of a file, need no second pass. When the fast reader gives up, the whole text is
+/// checked and read as before.
 pub fn parse_bytes(bytes: &[u8], file: &Path) -> Result<Bvh, Error> {
-    match std::str::from_utf8(bytes) {
-        Ok(text) => parse_str(text, file),
-        Err(_) => parse_str(&String::from_utf8_lossy(bytes), file),
+    let body = bytes.strip_prefix("\u{feff}".as_bytes()).unwrap_or(bytes);
+    let retry = match head_text(body) {
+        Some(head) => match fast(head, body, file) {
+            Ok(bvh) => return Ok(bvh),
+            Err(retry) => retry,
+        },
+        None => Retry::Whole,
+    };
+    match (std::str::from_utf8(bytes), retry) {
+        (Ok(text), Retry::Careful) => careful(text.strip_prefix('\u{feff}').unwrap_or(text), file),
+        (Ok(text), Retry::Whole) => parse_str(text, file),
+        (Err(_), _) => parse_str(&String::from_utf8_lossy(bytes), file),
+    }
+}
+
+/// Bytes of a file checked as UTF-8 for the fast reader's hierarchy and MOTION header (far
+/// more than any header holds; a longer one sends the file to the whole-text path).
+const HEAD_BYTES: usize = 1 << 16;
+
+/// The first [`HEAD_BYTES`] of `bytes` (fewer, to end on a whole character) as text; `None`
+/// when they are not UTF-8.
+fn head_text(bytes: &[u8]) -> Option<&str> {
+    let head = &bytes[..bytes.len().min(HEAD_BYTES)];
+    match std::str::from_utf8(head) {
+        Ok(text) => Some(text),
+        // cut inside a character: the text up to it
+        Err(e) if e.error_len().is_none() => std::str::from_utf8(&head[..e.valid_up_to()]).ok(),
+        Err(_) => None,
     }
 }
 
@@ -44,24 +74,47 @@ pub fn parse_bytes(bytes: &[u8], file: &Path) -> Result<Bvh, Error> {
 /// says exactly what is wrong. Both give the same `Bvh` for any text both accept.
 pub fn parse_str(text: &str, file: &Path) -> Result<Bvh, Error> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    match fast(text, file) {
-        Some(bvh) => Ok(bvh),
-        None => careful(text, file),
+    match fast(text, text.as_bytes(), file) {
+        Ok(bvh) => Ok(bvh),
+        Err(_) => careful(text, file),
     }
 }
 
-/// The hierarchy and the MOTION header by the careful reader, the frame lines by
-/// `super::frames`; `None` at any error or anything the frame reader does not expect.
-fn fast(text: &str, file: &Path) -> Option<Bvh> {
-    let mut lx = Lexer::new(text, file);
-    let joints = hierarchy(&mut lx).ok()?;
+/// Why the fast reader gave up, and what to do next.
+enum Retry {
+    /// Its text ended before the frame lines began: read the whole text.
+    Whole,
+    /// Anything else: the careful reader on the whole text.
+    Careful,
+}
+
+/// The hierarchy and the MOTION header by the careful reader on `head` (the start of `text`,
+/// as text), the frame lines of `text` by `super::frames`; a `Retry` at any error or anything
+/// the frame reader does not expect.
+fn fast(head: &str, text: &[u8], file: &Path) -> Result<Bvh, Retry> {
+    // a token that reaches the end of `head` may go on in `text`: only a header read from
+    // bytes before that end is the file's
+    let cut = if head.len() < text.len() {
+        Retry::Whole
+    } else {
+        Retry::Careful
+    };
+    let mut lx = Lexer::new(head, file);
+    let Ok(joints) = hierarchy(&mut lx) else {
+        return Err(cut);
+    };
     let channel_count = joints.iter().map(|j| j.channels.len()).sum();
-    let (frames, frame_time) = motion_header(&mut lx, channel_count).ok()?;
+    let Ok((frames, frame_time)) = motion_header(&mut lx, channel_count) else {
+        return Err(cut);
+    };
+    if lx.pos == head.len() && head.len() < text.len() {
+        return Err(Retry::Whole);
+    }
     // the frame reader accepts no control character; the header is checked here
-    control_characters(&text[..lx.pos], file).ok()?;
+    control_characters(&head[..lx.pos], file).map_err(|_| Retry::Careful)?;
     let (motion, decimals) =
-        super::frames::read(&text.as_bytes()[lx.pos..], frames, channel_count)?;
-    Some(Bvh {
+        super::frames::read(&text[lx.pos..], frames, channel_count).ok_or(Retry::Careful)?;
+    Ok(Bvh {
         joints,
         frame_time,
         frames,
