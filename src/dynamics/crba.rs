@@ -22,7 +22,7 @@ pub struct WorldInertia {
 impl WorldInertia {
     /// A body's inertia `I` (about its centre of mass, body axes) placed by `o`, the body's pose
     /// relative to O: `c = p + R c_b`, `I_O = R I_c Rᵀ + m (|c|² 1 − c cᵀ)` (parallel axes).
-    #[inline]
+    #[inline(always)]
     pub fn of_body(inertia: &SpatialInertia, o: &SpatialTransform) -> Self {
         let (r, m) = (&o.rot, inertia.mass);
         let c = o.trans + r * inertia.com;
