@@ -623,8 +623,8 @@ impl Stepper {
         for &i in &self.layout.manifold {
             let j = &model.joints[i];
             let (iq, iv) = (model.idx_q[i], model.idx_v[i]);
-            for r in iv..iv + j.nv() {
-                (self.omega[r], v[r]) = sums(r, v[r]);
+            for (r, v) in v.iter_mut().enumerate().skip(iv).take(j.nv()) {
+                (self.omega[r], *v) = sums(r, *v);
             }
             let out = &mut self.q_new[iq..iq + j.nq()];
             j.integrate(&q[iq..iq + j.nq()], &self.omega[iv..iv + j.nv()], 1.0, out);
