@@ -237,6 +237,15 @@ pub struct Stepper {
     layout: Layout,
 }
 
+/// `out = q ⊕ Ω` on body `i`'s spherical or free joint ([`JointKind::integrate`] with
+/// `dt = 1`; `q`, `omega` and `out` whole states, the joint's slots read and written).
+fn manifold_step(model: &Model, i: usize, q: &[f64], omega: &[f64], out: &mut [f64]) {
+    let j = &model.joints[i];
+    let (iq, iv) = (model.idx_q[i], model.idx_v[i]);
+    let (q, omega) = (&q[iq..iq + j.nq()], &omega[iv..iv + j.nv()]);
+    j.integrate(q, omega, 1.0, &mut out[iq..iq + j.nq()]);
+}
+
 /// `(0 + Σ_s hb_s Ω̇_s, v + Σ_s hb_s a_s)` at coordinate `r`, each sum in stage order, over
 /// the stages `hb` weighs (`kq`, `kv` stage-major, `nv` each).
 fn stage_sums(hb: &[f64], kq: &[f64], kv: &[f64], nv: usize, r: usize, v: f64) -> (f64, f64) {
@@ -315,14 +324,7 @@ impl Layout {
             }
         }
         for &i in &self.manifold {
-            let j = &model.joints[i];
-            let (iq, iv) = (model.idx_q[i], model.idx_v[i]);
-            j.integrate(
-                &q[iq..iq + j.nq()],
-                &omega[iv..iv + j.nv()],
-                1.0,
-                &mut out[iq..iq + j.nq()],
-            );
+            manifold_step(model, i, q, omega, out);
         }
     }
 
@@ -562,18 +564,12 @@ impl Stepper {
                 }
             }
             for &i in &self.layout.manifold {
-                let joint = &model.joints[i];
-                let (iq, iv) = (model.idx_q[i], model.idx_v[i]);
-                for r in iv..iv + joint.nv() {
+                let iv = model.idx_v[i];
+                for r in iv..iv + model.joints[i].nv() {
                     self.omega[r] = 0.0 + ha * kq_j[r];
                     self.v_stage[r] = v[r] + ha * kv_j[r];
                 }
-                joint.integrate(
-                    &q[iq..iq + joint.nq()],
-                    &self.omega[iv..iv + joint.nv()],
-                    1.0,
-                    &mut self.q_stage[iq..iq + joint.nq()],
-                );
+                manifold_step(model, i, q, &self.omega, &mut self.q_stage);
             }
             // stage derivatives: a_s = f(…), Ω̇_s = dexp⁻¹_{−Ω}(v_s) on the manifold
             if flat {
@@ -626,9 +622,8 @@ impl Stepper {
             for (r, v) in v.iter_mut().enumerate().skip(iv).take(j.nv()) {
                 (self.omega[r], *v) = sums(r, *v);
             }
-            let out = &mut self.q_new[iq..iq + j.nq()];
-            j.integrate(&q[iq..iq + j.nq()], &self.omega[iv..iv + j.nv()], 1.0, out);
-            q[iq..iq + j.nq()].copy_from_slice(out);
+            manifold_step(model, i, q, &self.omega, &mut self.q_new);
+            q[iq..iq + j.nq()].copy_from_slice(&self.q_new[iq..iq + j.nq()]);
         }
     }
 
