@@ -6,6 +6,16 @@ mod cli;
 use clap::Parser;
 use std::process::ExitCode;
 
+/// mimalloc, not the system allocator, for the binary (the library and its tests keep the
+/// system's; the alloc-counting tests set their own). A take's stages allocate a few tables of
+/// megabytes and thousands of rows, run after run in the workbench and in `bench`: glibc gives
+/// such blocks back to the kernel at each free and faults their pages in again at the next
+/// run (a tenth of a minute take's time, `perf record`), and with two threads the derivatives
+/// stage took longer than with one. mimalloc keeps freed pages for reuse. Measured
+/// in docs/performance.md ("The allocator", stop 37). Results are the same bits.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn main() -> ExitCode {
     let args = cli::Cli::parse_from(batch::with_command_separator(std::env::args_os().collect()));
     match cli::run(args) {
