@@ -6,8 +6,9 @@ mod cli;
 use clap::Parser;
 use std::process::ExitCode;
 
-/// mimalloc, not the system allocator, for the binary (the library and its tests keep the
-/// system's; the alloc-counting tests set their own). A take's stages allocate a few tables of
+/// mimalloc, not the system allocator, for the binary (and the Python module,
+/// python/src/lib.rs; the library's tests keep the system's, the alloc-counting tests set
+/// their own). A take's stages allocate a few tables of
 /// megabytes and thousands of rows, run after run in the workbench and in `bench`: glibc gives
 /// such blocks back to the kernel at each free and faults their pages in again at the next
 /// run (a tenth of a minute take's time, `perf record`), and with two threads the derivatives

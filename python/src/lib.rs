@@ -11,6 +11,13 @@ mod take;
 
 use pyo3::prelude::*;
 
+/// mimalloc for the module's own allocations, as for the `articula` binary (src/main.rs): a
+/// process that loads take after take (a Dask worker, a notebook) gets freed pages back for
+/// the next take instead of faulting them in again. Python's objects keep Python's allocator;
+/// the numpy arrays made from the module's vectors are freed by this one, which made them.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 pyo3::create_exception!(
     articula,
     ArticulaError,
