@@ -3,7 +3,9 @@
 //! naming the file, the line and what was expected.
 
 use articula::error::Error;
-use articula::report::csv::{columns_to_string, parse_columns, read_columns, write_columns};
+use articula::report::csv::{
+    columns_to_string, parse_columns, read_columns, write_columns, write_row_table,
+};
 use std::path::Path;
 
 fn names(v: &[&str]) -> Vec<String> {
@@ -141,4 +143,51 @@ fn missing_file_is_an_io_error_naming_it() {
     let err = read_columns(Path::new("/nonexistent/articula.csv")).unwrap_err();
     assert!(matches!(err, Error::Io { .. }));
     assert!(err.to_string().contains("/nonexistent/articula.csv"));
+}
+
+/// A table written from its rows is the text of the same table written from its columns, over
+/// more rows than one thread formats at once (the pieces join in order), and reads back to
+/// the bit; a row of the wrong width or a non-finite value is an error that writes nothing.
+#[test]
+fn rows_write_the_text_of_their_columns() {
+    let n = 1_300;
+    let a = awkward(n, 0x9E37_79B9_7F4A_7C15);
+    let b = awkward(n, 0x0123_4567_89AB_CDEF);
+    let t: Vec<f64> = (0..n).map(|i| i as f64 / 120.0).collect();
+    let header = names(&["time", "a", "b"]);
+    let rows: Vec<Vec<f64>> = (0..n).map(|i| vec![t[i], a[i], b[i]]).collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("rows.csv");
+    write_row_table(&path, &header, &rows).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert_eq!(text, columns_to_string(&header, &[&t, &a, &b]).unwrap());
+    assert_eq!(text.lines().count(), n + 1);
+    let (h, cols) = read_columns(&path).unwrap();
+    assert_eq!(h, header);
+    for (got, want) in cols.iter().zip([&t, &a, &b]) {
+        assert!(
+            got.iter()
+                .zip(want.iter())
+                .all(|(g, w)| g.to_bits() == w.to_bits())
+        );
+    }
+    // an empty table is its header
+    write_row_table(&path, &header, &[]).unwrap();
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "time,a,b\n");
+    let other = dir.path().join("bad.csv");
+    let mut short = rows.clone();
+    short[700].pop();
+    let e = write_row_table(&other, &header, &short).unwrap_err();
+    assert!(
+        matches!(e, Error::Invalid(_)) && e.to_string().contains("row 701"),
+        "{e}"
+    );
+    let mut nan = rows;
+    nan[1_299][2] = f64::NAN;
+    let e = write_row_table(&other, &header, &nan).unwrap_err();
+    assert!(
+        e.to_string().contains("\"b\"") && e.to_string().contains("row 1300"),
+        "{e}"
+    );
+    assert!(!other.exists());
 }

@@ -5,19 +5,12 @@ use super::{Take, table};
 use crate::error::Error;
 use crate::io::bvh::{self, Bvh};
 use crate::report::columns;
-use crate::report::csv::write_columns;
+use crate::report::csv::write_row_table;
 use std::path::Path;
 
+/// The one CSV writer of row tables (`time` first, one row per frame): [`write_row_table`].
 pub(crate) fn write_rows(path: &Path, header: Vec<String>, rows: &[Vec<f64>]) -> Result<(), Error> {
-    let ncol = header.len();
-    let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(rows.len()); ncol];
-    for r in rows {
-        for (c, x) in cols.iter_mut().zip(r) {
-            c.push(*x);
-        }
-    }
-    let refs: Vec<&[f64]> = cols.iter().map(|c| c.as_slice()).collect();
-    write_columns(path, &header, &refs)
+    write_row_table(path, &header, rows)
 }
 
 /// `articula export states`.
