@@ -116,11 +116,21 @@ const ROWS_PER_CHUNK: usize = 512;
 fn csv_chunks(header: &[String], cells: Cells) -> Result<Vec<Vec<u8>>, Error> {
     use rayon::prelude::*;
     let (ncols, nrows) = cells.shape(header)?;
-    let bad = (0..ncols).find_map(|j| {
-        (0..nrows)
-            .find(|&i| !cells.get(i, j).is_finite())
-            .map(|i| (j, i))
-    });
+    // any non-finite value, read in the table's own order; then the first one column by column,
+    // the cell the message names
+    let any_bad = match cells {
+        Cells::Columns(c) => c.iter().any(|c| c.iter().any(|x| !x.is_finite())),
+        Cells::Rows(r) => r.iter().any(|r| r.iter().any(|x| !x.is_finite())),
+    };
+    let bad = any_bad
+        .then(|| {
+            (0..ncols).find_map(|j| {
+                (0..nrows)
+                    .find(|&i| !cells.get(i, j).is_finite())
+                    .map(|i| (j, i))
+            })
+        })
+        .flatten();
     if let Some((j, i)) = bad {
         return Err(Error::Numerical(format!(
             "CSV export: column {:?} is {} at row {}; nothing written",
