@@ -106,7 +106,7 @@ impl Cells<'_> {
     }
 }
 
-/// Rows per piece of text formatted on one thread (about 200 kB on a 96-coordinate take).
+/// Rows per piece of text formatted on one thread (about 1 MB of text on a 96-coordinate take).
 const ROWS_PER_CHUNK: usize = 512;
 
 /// The CSV text of `cells` under `header`, in pieces to be written one after the other: the
