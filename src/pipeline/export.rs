@@ -1,5 +1,6 @@
 //! The plain exports of a take: its states, its joints' world positions, its model as URDF,
-//! and the generated demo walk; and the row writer the CSV outputs share.
+//! and the generated demo walk. Row tables go to CSV through `report::csv::write_row_table`,
+//! the writer every CSV output shares.
 
 use super::{Take, table};
 use crate::error::Error;
@@ -7,11 +8,6 @@ use crate::io::bvh::{self, Bvh};
 use crate::report::columns;
 use crate::report::csv::write_row_table;
 use std::path::Path;
-
-/// The one CSV writer of row tables (`time` first, one row per frame): [`write_row_table`].
-pub(crate) fn write_rows(path: &Path, header: Vec<String>, rows: &[Vec<f64>]) -> Result<(), Error> {
-    write_row_table(path, &header, rows)
-}
 
 /// `articula export states`.
 pub fn export_states(take: &Take, path: &Path) -> Result<(), Error> {
@@ -35,7 +31,7 @@ pub fn export_positions(take: &Take, path: &Path) -> Result<(), Error> {
             r
         })
         .collect();
-    write_rows(path, header, &rows)
+    write_row_table(path, &header, &rows)
 }
 
 /// The world positions of a take's joints (`export positions`, `export trc`).

@@ -6,9 +6,10 @@
 //! else CSV; `-` (standard output) is CSV unless `--format` says otherwise. Every time is the
 //! file's ([`crate::io::bvh::Bvh::time`]); every file states its units in its header.
 
-use super::{Job, Take, ground_reactions, job_torques, joint_centres, write_rows};
+use super::{Job, Take, ground_reactions, job_torques, joint_centres};
 use crate::dynamics::grf::GroundReactions;
 use crate::error::Error;
+use crate::report::csv::write_row_table;
 use crate::report::opensim::{self, Sto, Trc, TrcUnits};
 use std::path::{Path, PathBuf};
 
@@ -234,7 +235,7 @@ pub fn export_grf(
                     .collect()
             })
             .collect();
-        write_rows(path, header, &rows)?;
+        write_row_table(path, &header, &rows)?;
         return Ok(ExternalLoadsXml::None("a CSV output".into()));
     }
     let metadata = [(

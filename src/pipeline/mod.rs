@@ -55,10 +55,10 @@ pub use contact::{
     ground_reactions_with, resolve_contact, resolve_contact_after, same_motion, take_feet,
 };
 pub use edit::{blend_files, export_smoothed_bvh, export_smoothed_bvh_as};
+pub(crate) use export::as_in_file;
 pub use export::{
     JointCentres, export_positions, export_states, export_urdf, generate_walk, joint_centres,
 };
-pub(crate) use export::{as_in_file, write_rows};
 pub use info::{Info, info};
 pub use job::{Job, ModelSource, load_model, load_source, load_source_marked, load_source_with};
 pub(crate) use load::at_file;

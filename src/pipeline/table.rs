@@ -3,12 +3,13 @@
 //! these tables, and the Python module hands the same tables out, so that the column names and
 //! numbers of both front ends come from one function each.
 
-use super::{Job, States, Take, Torques, job_torques, states_header, write_rows};
+use super::{Job, States, Take, Torques, job_torques, states_header};
 use crate::dynamics::grf::GroundQuality;
 use crate::dynamics::grf::GroundReactions;
 use crate::error::Error;
 use crate::model::Model;
 use crate::report::columns;
+use crate::report::csv::write_row_table;
 use std::borrow::Cow;
 use std::path::Path;
 
@@ -24,7 +25,7 @@ pub struct Table {
 impl Table {
     /// Writes the table as CSV (`-` is standard output), atomically.
     pub fn write_csv(&self, path: &Path) -> Result<(), Error> {
-        write_rows(path, self.header.clone(), &self.rows)
+        write_row_table(path, &self.header, &self.rows)
     }
 
     /// A table from named columns of equal length.

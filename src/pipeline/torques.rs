@@ -3,13 +3,14 @@
 //! (`articula fd`) and the mass matrix (`articula mass-matrix`).
 
 use super::stages::Stage;
-use super::{Job, States, ground_reactions, summary, table, write_rows};
+use super::{Job, States, ground_reactions, summary, table};
 use crate::dynamics::{self, Workspace};
 use crate::error::Error;
 use crate::model::Model;
 use crate::par;
 use crate::report::columns;
 use crate::report::csv::read_columns;
+use crate::report::csv::write_row_table;
 use std::borrow::Cow;
 use std::path::Path;
 
@@ -201,7 +202,7 @@ pub fn write_forward_dynamics(job: &Job, torques: &Path, path: &Path) -> Result<
     }
     let mut h = vec!["time".to_string()];
     h.extend(m.v_names.iter().map(|n| columns::name("a", &[n])));
-    write_rows(path, h, &rows)
+    write_row_table(path, &h, &rows)
 }
 
 /// `articula mass-matrix`: D(q) row-major per sample, columns `M:<i>:<j>`.
@@ -227,5 +228,5 @@ pub fn write_mass_matrix(job: &Job, path: &Path) -> Result<(), Error> {
             r
         })
         .collect();
-    write_rows(path, h, &rows)
+    write_row_table(path, &h, &rows)
 }
