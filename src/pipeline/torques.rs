@@ -32,7 +32,7 @@ pub const PROGRESS_EVERY: usize = 64;
 
 /// [`inverse_dynamics`] that reports its progress (0‥1) to `keep_going` every
 /// [`PROGRESS_EVERY`] samples and stops when it returns false: then `tau` holds only the
-/// samples computed so far (fewer than `states.len()`). Frames in parallel ([`par::rounds`]),
+/// samples computed so far (fewer than `states.len()`). Frames in parallel ([`par::for_each_block_reporting`]),
 /// each worker with one [`Workspace`] made once.
 pub fn inverse_dynamics_with(
     model: &Model,
@@ -44,7 +44,7 @@ pub fn inverse_dynamics_with(
     // filled again: one pass over the memory, on the worker's thread)
     let mut tau = vec![Vec::new(); n];
     let mut workspaces = par::scratch(|| Workspace::new(model));
-    let reached = par::rounds(
+    let reached = par::for_each_block_reporting(
         &mut tau,
         PROGRESS_EVERY,
         &mut workspaces,

@@ -127,7 +127,7 @@ pub(super) struct Unloaded<'a> {
 /// RNEA without external forces, the force the world gives the root-level bodies), the
 /// whole-body centre of mass (m, world), and the poses of `bodies` at every frame; with
 /// `unloaded`, also RNEA's torques and the moments pass 3 starts from. Frames in parallel, in
-/// blocks of [`PROGRESS_EVERY`]; `report(first)` between blocks as [`crate::par::rounds`] says.
+/// blocks of [`PROGRESS_EVERY`]; `report(first)` between blocks as [`crate::par::for_each_block_reporting`] says.
 /// `None` when stopped.
 pub(super) fn needed_wrenches(
     model: &Model,
@@ -164,7 +164,7 @@ pub(super) fn needed_wrenches(
         }
     }
     let mut workspaces = crate::par::scratch(|| Workspace::new(model));
-    let reached = crate::par::rounds(
+    let reached = crate::par::for_each_block_reporting(
         &mut frames,
         PROGRESS_EVERY,
         &mut workspaces,
@@ -249,7 +249,7 @@ pub(super) fn with_ground_reactions(
         tau.iter_mut().zip(moments.chunks_mut(nm)).collect()
     };
     let mut scratch = crate::par::scratch(|| Workspace::new(model));
-    let reached = crate::par::rounds(
+    let reached = crate::par::for_each_block_reporting(
         &mut frames,
         PROGRESS_EVERY,
         &mut scratch,

@@ -394,7 +394,7 @@ pub fn inverse_dynamics_and_moments(
         tau.iter_mut().zip(moments.chunks_mut(nb)).collect()
     };
     let mut workspaces = crate::par::scratch(|| Workspace::new(model));
-    let reached = crate::par::rounds(
+    let reached = crate::par::for_each_block_reporting(
         &mut rows,
         crate::pipeline::PROGRESS_EVERY,
         &mut workspaces,

@@ -9,7 +9,7 @@ use crate::model::{EulerTriple, JointKind, Model};
 use crate::motion::euler::{TripleScratch, smooth_triple, smooth_triple_and_rates};
 use crate::motion::smooth::{SmoothSpec, Smoother};
 use crate::motion::unwrap::{AngleUnit, unwrap_angles};
-use crate::par::{self, for_each_block, rounds};
+use crate::par::{self, for_each_block, for_each_block_reporting};
 use crate::rotation::EulerOrder;
 use nalgebra::{Quaternion, UnitQuaternion};
 
@@ -177,7 +177,7 @@ pub(super) fn smooth_columns(
         }
     });
     let total = joints.len();
-    let reached = rounds(
+    let reached = for_each_block_reporting(
         &mut joints,
         1,
         &mut scratch,
