@@ -48,16 +48,18 @@ pub fn unwrap_angles(unit: AngleUnit, x: &mut [f64]) {
     };
     // the common case, every step under half a turn (the Euler triples re-picked before this,
     // most captured channels), in one pass without the loop's chain of divisions from frame
-    // to frame: there each frame's shift is a zero (`round_turns` of a ratio under ½), which
-    // leaves a value as it is, but turns −0 into +0 where the zero is −0 and the value −0
+    // to frame: there each frame's shift is `turn · round_turns(d / turn)`, a zero with the
+    // sign of the step `d`, which leaves a value as it is, but turns −0 into +0 where the
+    // zero is −0 (−0 − (−0) = +0): a zero value whose step from the previous (already
+    // unwrapped) value has its sign bit set becomes +0 (no division)
     let mut small = true;
     for k in 1..x.len() {
         small &= (x[k] - x[k - 1]).abs() < 0.49 * turn;
     }
     if small {
         for k in 1..x.len() {
-            if x[k] == 0.0 {
-                step(x, k);
+            if x[k] == 0.0 && (x[k] - x[k - 1]).is_sign_negative() {
+                x[k] = 0.0;
             }
         }
         return;
@@ -372,8 +374,22 @@ mod tests {
             &[179.0, -179.0, -0.0, 0.0, 176.3, -0.0],
             &[f64::NAN, 0.0, -0.0],
         ];
+        // and random walks of small steps through signed zeros and tiny values
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            seed >> 33
+        };
+        let picks = [0.0, -0.0, 1e-310, -1e-310, 0.25, -0.25, 1e-17, -1e-17];
+        let random: Vec<Vec<f64>> = (0..200)
+            .map(|_| {
+                (0..40)
+                    .map(|_| picks[next() as usize % picks.len()])
+                    .collect()
+            })
+            .collect();
         for unit in [AngleUnit::Radians, AngleUnit::Degrees] {
-            for w in walks {
+            for w in walks.iter().copied().chain(random.iter().map(|w| &w[..])) {
                 let (mut a, mut b) = (w.to_vec(), w.to_vec());
                 unwrap_angles(unit, &mut a);
                 by_loop(unit, &mut b);
