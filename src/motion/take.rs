@@ -12,6 +12,7 @@ use crate::io::bvh::Bvh;
 use crate::io::bvh::joint_rotation;
 use crate::model::Model;
 use crate::model::bvh::BvhMap;
+use crate::par;
 use crate::rotation::matrix_to_euler_near;
 use crate::spatial::{quat_from_xyzw, quat_to_xyzw};
 use nalgebra::{Rotation3, UnitQuaternion};
@@ -47,11 +48,15 @@ impl Trajectory {
 /// is copied out of them.
 const BLOCK_FRAMES: usize = 64;
 
+/// Pieces of frames per worker in [`q_columns`] (pieces of unequal speed keep every worker
+/// busy; a fixed number, so the work allocates the same whatever the take's length).
+const PIECES_PER_WORKER: usize = 4;
+
 /// The take's frames as configurations of `model`, stored by coordinate: coordinate `j` of
 /// frame `k` is `[j·frames + k]` (`nq × frames` values). Each frame is [`frame_to_q`] of its
 /// row, bit for bit, with each quaternion turned into the hemisphere of the previous frame's.
-/// The scalar channels are copied column by column over blocks of frames; the quaternions
-/// are made frame by frame.
+/// The scalar channels are copied column by column over blocks of frames, pieces of the take
+/// in parallel; the quaternions are made frame by frame.
 pub fn q_columns(bvh: &Bvh, model: &Model, map: &BvhMap) -> Vec<f64> {
     let (n, nq, cc) = (bvh.frames, model.nq, bvh.channel_count);
     debug_assert_eq!(bvh.motion.len(), n * cc);
@@ -59,35 +64,48 @@ pub fn q_columns(bvh: &Bvh, model: &Model, map: &BvhMap) -> Vec<f64> {
     if n == 0 {
         return cols;
     }
-    // locked and unmapped coordinates: rest
+    // locked and unmapped coordinates: rest (the others are all written below)
     let mut rest = vec![0.0; nq];
     for i in 1..model.nbodies() {
         let joint = &model.joints[i];
         let iq = model.idx_q[i];
         joint.neutral(&mut rest[iq..iq + joint.nq()]);
     }
-    for (col, &r) in cols.chunks_mut(n).zip(&rest) {
-        col.fill(r);
-    }
-    // channels: degrees → rad, lengths → m from the rest value
-    for first in (0..n).step_by(BLOCK_FRAMES) {
-        let last = (first + BLOCK_FRAMES).min(n);
-        let rows = &bvh.motion[first * cc..last * cc];
-        for c in map.joints.iter().flat_map(|j| &j.channels) {
-            let Some(k) = c.q else { continue };
-            let col = &mut cols[k * n + first..k * n + last];
-            let values = rows[c.column..].iter().step_by(cc);
-            if c.channel.is_rotation() {
-                for (x, v) in col.iter_mut().zip(values) {
-                    *x = v.to_radians();
-                }
-            } else {
-                for (x, v) in col.iter_mut().zip(values) {
-                    *x = (v - c.rest) * map.scale_to_m;
-                }
-            }
+    let mut written = vec![false; nq];
+    for j in &map.joints {
+        for k in j.channels.iter().filter_map(|c| c.q) {
+            written[k] = true;
+        }
+        if let Some(k) = j.quat_q {
+            written[k..k + 4].fill(true);
         }
     }
+    for ((col, &r), _) in cols
+        .chunks_mut(n)
+        .zip(&rest)
+        .zip(&written)
+        .filter(|x| !*x.1)
+    {
+        col.fill(r);
+    }
+    // channels: degrees → rad, lengths → m from the rest value; each piece of frames gets
+    // its part of every column
+    let pieces = (par::slots() * PIECES_PER_WORKER).min(n.div_ceil(BLOCK_FRAMES));
+    let piece = n.div_ceil(pieces).next_multiple_of(BLOCK_FRAMES);
+    let mut parts: Vec<Vec<&mut [f64]>> = (0..n.div_ceil(piece))
+        .map(|_| Vec::with_capacity(nq))
+        .collect();
+    for col in cols.chunks_mut(n) {
+        for (part, p) in parts.iter_mut().zip(col.chunks_mut(piece)) {
+            part.push(p);
+        }
+    }
+    let mut scratch = par::scratch(|| ());
+    par::for_each_block(&mut parts, 1, &mut scratch, |_, first, block| {
+        for part in block {
+            copy_channels(bvh, map, first * piece, part);
+        }
+    });
     // quaternions [x, y, z, w], each in the previous frame's hemisphere
     for (j, bj) in map.joints.iter().zip(&bvh.joints) {
         let Some(k) = j.quat_q else { continue };
@@ -111,6 +129,31 @@ pub fn q_columns(bvh: &Bvh, model: &Model, map: &BvhMap) -> Vec<f64> {
         }
     }
     cols
+}
+
+/// The scalar channels of the frames from `first` on into `part` (one slice per coordinate,
+/// of as many frames), block by block of [`BLOCK_FRAMES`] frames.
+fn copy_channels(bvh: &Bvh, map: &BvhMap, first: usize, part: &mut [&mut [f64]]) {
+    let cc = bvh.channel_count;
+    let frames = part.first().map_or(0, |p| p.len());
+    for start in (0..frames).step_by(BLOCK_FRAMES) {
+        let end = (start + BLOCK_FRAMES).min(frames);
+        let rows = &bvh.motion[(first + start) * cc..(first + end) * cc];
+        for c in map.joints.iter().flat_map(|j| &j.channels) {
+            let Some(k) = c.q else { continue };
+            let col = &mut part[k][start..end];
+            let values = rows[c.column..].iter().step_by(cc);
+            if c.channel.is_rotation() {
+                for (x, v) in col.iter_mut().zip(values) {
+                    *x = v.to_radians();
+                }
+            } else {
+                for (x, v) in col.iter_mut().zip(values) {
+                    *x = (v - c.rest) * map.scale_to_m;
+                }
+            }
+        }
+    }
 }
 
 /// The configuration of `model` at one BVH frame row (`bvh.channel_count` raw values) into
