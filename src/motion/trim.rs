@@ -17,6 +17,7 @@
 //! median is 29–58 for the takes that start with a rest pose and below 1 for all others.
 
 use crate::io::bvh::Bvh;
+use crate::par;
 
 /// Frame 0 is a rest pose when its step is this many times the median step (and see
 /// [`NEXT_RATIO`]). Measured: 11–58 on the CMU-derived takes (rotations or root position),
@@ -50,18 +51,28 @@ fn steps(bvh: &Bvh) -> Vec<(f64, f64)> {
             }
         }
     }
-    (0..bvh.frames.saturating_sub(1))
-        .map(|k| {
-            let (a, b) = (bvh.frame(k), bvh.frame(k + 1));
-            let r2: f64 = rot
-                .iter()
-                .map(|&i| (wrap_360(b[i] - a[i] + 180.0) - 180.0).powi(2))
-                .sum();
-            let p2: f64 = pos.iter().map(|&i| (b[i] - a[i]).powi(2)).sum();
-            ((r2 / rot.len().max(1) as f64).sqrt(), p2.sqrt())
-        })
-        .collect()
+    let step = |k: usize| {
+        let (a, b) = (bvh.frame(k), bvh.frame(k + 1));
+        let r2: f64 = rot
+            .iter()
+            .map(|&i| (wrap_360(b[i] - a[i] + 180.0) - 180.0).powi(2))
+            .sum();
+        let p2: f64 = pos.iter().map(|&i| (b[i] - a[i]).powi(2)).sum();
+        ((r2 / rot.len().max(1) as f64).sqrt(), p2.sqrt())
+    };
+    // frames in parallel, each step the same operations whatever its thread
+    let mut out = vec![(0.0, 0.0); bvh.frames.saturating_sub(1)];
+    let mut scratch = par::scratch(|| ());
+    par::for_each_block(&mut out, STEP_BLOCK, &mut scratch, |_, first, block| {
+        for (d, x) in block.iter_mut().enumerate() {
+            *x = step(first + d);
+        }
+    });
+    out
 }
+
+/// Frames per block of [`steps`].
+const STEP_BLOCK: usize = 512;
 
 /// `x.rem_euclid(360.0)` bit for bit, without the library's `fmod` in the common case
 /// `0 ≤ x < 360` (a step of less than half a turn), where it is `x` itself.
