@@ -63,6 +63,18 @@ pub fn for_each_block_reporting<T: Send, S: Send>(
         }
         return n;
     }
+    in_parallel(items, block, scratch, work, report)
+}
+
+/// [`for_each_block_reporting`] on two or more workers.
+fn in_parallel<T: Send, S: Send>(
+    items: &mut [T],
+    block: usize,
+    scratch: &mut [S],
+    work: impl Fn(&mut S, usize, &mut [T]) + Sync,
+    report: &mut dyn FnMut(usize) -> bool,
+) -> usize {
+    let n = items.len();
     let next = Mutex::new(items.chunks_mut(block).enumerate());
     let stop = AtomicBool::new(false);
     // the next block not yet taken, unless told to stop
@@ -130,7 +142,8 @@ pub fn for_each_block_reporting<T: Send, S: Send>(
     progress.stopped_at.unwrap_or(n)
 }
 
-/// Which blocks of [`for_each_block_reporting`] are finished and how far `report` has been told, in order.
+/// Which blocks of [`for_each_block_reporting`] are finished, and how far `report` has been
+/// told of them, in order.
 struct Progress<'r> {
     done: Vec<bool>,
     reported: usize,

@@ -32,8 +32,8 @@ pub const PROGRESS_EVERY: usize = 64;
 
 /// [`inverse_dynamics`] that reports its progress (0‥1) to `keep_going` every
 /// [`PROGRESS_EVERY`] samples and stops when it returns false: then `tau` holds only the
-/// samples computed so far (fewer than `states.len()`). Frames in parallel ([`par::for_each_block_reporting`]),
-/// each worker with one [`Workspace`] made once.
+/// samples computed so far (fewer than `states.len()`). Frames in parallel
+/// ([`par::for_each_block_reporting`]), each worker with one [`Workspace`] made once.
 pub fn inverse_dynamics_with(
     model: &Model,
     states: &States,

@@ -127,8 +127,8 @@ pub(super) struct Unloaded<'a> {
 /// RNEA without external forces, the force the world gives the root-level bodies), the
 /// whole-body centre of mass (m, world), and the poses of `bodies` at every frame; with
 /// `unloaded`, also RNEA's torques and the moments pass 3 starts from. Frames in parallel, in
-/// blocks of [`PROGRESS_EVERY`]; `report(first)` between blocks as [`crate::par::for_each_block_reporting`] says.
-/// `None` when stopped.
+/// blocks of [`PROGRESS_EVERY`]; `report(first)` as blocks finish, as
+/// [`crate::par::for_each_block_reporting`] says. `None` when stopped.
 pub(super) fn needed_wrenches(
     model: &Model,
     bodies: Vec<usize>,
