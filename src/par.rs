@@ -84,6 +84,13 @@ fn in_parallel<T: Send, S: Send>(
         }
         next.lock().unwrap_or_else(|e| e.into_inner()).next()
     };
+    // takes blocks until none is left, telling `done` of each
+    let blocks = |s: &mut S, done: &mut dyn FnMut(usize)| {
+        while let Some((b, chunk)) = take() {
+            work(s, b * block, chunk);
+            done(b);
+        }
+    };
     let mut progress = Progress {
         done: vec![false; n.div_ceil(block)],
         reported: 0,
@@ -104,28 +111,23 @@ fn in_parallel<T: Send, S: Send>(
         };
         for s in workers {
             let finished = finished.clone();
-            let take = &take;
-            let work = &work;
+            let blocks = &blocks;
+            // the caller may have stopped listening: the block is then dropped anyway
             scope.spawn(move |_| {
-                while let Some((b, chunk)) = take() {
-                    work(s, b * block, chunk);
-                    // the caller may have stopped listening: the block is then dropped anyway
+                blocks(s, &mut |b| {
                     let _ = finished.send(b);
-                }
+                })
             });
         }
         drop(finished);
         match caller {
-            Some(s) => {
-                while let Some((b, chunk)) = take() {
-                    work(s, b * block, chunk);
+            Some(s) => blocks(s, &mut |b| {
+                progress.finish(b);
+                while let Ok(b) = news.try_recv() {
                     progress.finish(b);
-                    while let Ok(b) = news.try_recv() {
-                        progress.finish(b);
-                    }
-                    progress.tell(&stop);
                 }
-            }
+                progress.tell(&stop);
+            }),
             None => {
                 // ends when every worker has ended (each drops its sender)
                 while let Ok(b) = news.recv() {
