@@ -677,7 +677,7 @@ fn summary_table(
     }
     header.extend(["output", "failure"].map(String::from));
 
-    let number = |x: f64| ryu::Buffer::new().format(x).to_string();
+    let number = articula::io::shortest::shortest;
     let cells = rows
         .iter()
         .map(|r| {

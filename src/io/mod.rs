@@ -6,6 +6,7 @@ pub mod generate;
 pub mod gltf_write;
 pub mod mjcf_write;
 pub mod scene;
+pub mod shortest;
 pub mod urdf_write;
 pub mod xml;
 

@@ -17,7 +17,7 @@
 //! `boundmass`/`boundinertia` (it rejects moving massless bodies: they get 1e-9 kg /
 //! 1e-12 kg·m²) and `inertiafromgeom="false"` (the geometry adds no mass). MuJoCo's URDF import
 //! lets every collision geometry touch every other (but a parent's): simulate with the MJCF
-//! export instead (`io::mjcf_write`). Numbers are printed in their shortest exact form (ryu), so reading
+//! export instead (`io::mjcf_write`). Numbers are printed in their shortest exact form (`io::shortest`), so reading
 //! the file back ([`read_urdf`](crate::model::urdf::read_urdf), fixed base) gives the same model.
 
 use crate::error::Error;

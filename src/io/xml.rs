@@ -4,10 +4,11 @@
 
 use nalgebra::Vector3;
 
-/// Shortest exact decimal form of `x` (ryu), `-0` written as `0`, `1.0` as `1`.
+/// Shortest exact decimal form of `x` ([`Shortest`](super::shortest::Shortest)), `-0` written
+/// as `0`, `1.0` as `1`.
 pub fn num(x: f64) -> String {
     let x = if x == 0.0 { 0.0 } else { x };
-    let mut b = ryu::Buffer::new();
+    let mut b = super::shortest::Shortest::new();
     let s = b.format(x);
     s.strip_suffix(".0").unwrap_or(s).to_string()
 }

@@ -481,7 +481,7 @@ impl Tradeoff {
     /// Writes the table as CSV through the one CSV writer ([`Tradeoff::header`]; failed runs:
     /// infinite numbers, `pareto` 0).
     pub fn write_csv(&self, path: &Path) -> Result<(), Error> {
-        let mut buf = ryu::Buffer::new();
+        let mut buf = crate::io::shortest::Shortest::new();
         let mut num = |x: f64| buf.format(x).to_string();
         let rows: Vec<Vec<String>> = (self.rows.iter())
             .map(|r| {

@@ -1,6 +1,6 @@
 //! Column tables as CSV: one header line, then one line per sample, one column per series.
 //!
-//! Numbers are printed by `ryu` (Adams 2018, *Ryū: fast float-to-string conversion*, PLDI): the
+//! Numbers are printed by [`Shortest`] (the digits of Ryū, Adams 2018, PLDI, made by `zmij`): the
 //! shortest text that parses back to the same `f64`, so a write → read round trip is exact to the
 //! bit. A non-finite value (NaN, ±∞) is never written: the export fails naming its column and
 //! row, and nothing is written (a file read in may hold `NaN`, `inf`, `-inf`). The values are
@@ -11,6 +11,7 @@
 //! text is the same whatever the number of threads.
 
 use crate::error::Error;
+use crate::io::shortest::Shortest;
 use std::path::Path;
 
 /// The CSV text of `columns` under `header`: a header line, then row `i` holds `columns[j][i]`.
@@ -111,7 +112,7 @@ const ROWS_PER_CHUNK: usize = 512;
 
 /// The CSV text of `cells` under `header`, in pieces to be written one after the other: the
 /// header line (through the csv writer, which quotes names holding commas or quotes), then
-/// the rows by `ryu`, [`ROWS_PER_CHUNK`] at a time, formatted in parallel (each piece is the
+/// the rows by [`Shortest`], [`ROWS_PER_CHUNK`] at a time, formatted in parallel (each piece is the
 /// same text whichever thread made it). Nothing is formatted when a value is not finite.
 fn csv_chunks(header: &[String], cells: Cells) -> Result<Vec<Vec<u8>>, Error> {
     use rayon::prelude::*;
@@ -152,7 +153,7 @@ fn csv_chunks(header: &[String], cells: Cells) -> Result<Vec<Vec<u8>>, Error> {
         let rows = first..nrows.min(first + ROWS_PER_CHUNK);
         // a number takes at most 24 bytes and its comma or line end one: no regrowth
         let mut out = Vec::with_capacity(rows.len() * ncols * 25);
-        let mut buf = ryu::Buffer::new();
+        let mut buf = Shortest::new();
         for i in rows {
             for j in 0..ncols {
                 if j > 0 {

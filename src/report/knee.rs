@@ -61,7 +61,7 @@ pub fn mass_label(mass_kg: f64) -> String {
 
 /// Shortest decimal of `x` without a trailing `.0` (`60`, `62.5`).
 fn short(x: f64) -> String {
-    let s = ryu::Buffer::new().format(x).to_string();
+    let s = crate::io::shortest::shortest(x);
     s.strip_suffix(".0").map(str::to_string).unwrap_or(s)
 }
 
@@ -196,10 +196,10 @@ pub fn load_table(runs: &[MassRun]) -> Result<Vec<LoadRow>, Error> {
 }
 
 /// The table as CSV: `mass_kg,peak_abs_tau_Nm,rms_tau_Nm,peak_time_s`, numbers shortest
-/// round-trip (ryu).
+/// round-trip ([`crate::io::shortest`]).
 pub fn load_table_csv(rows: &[LoadRow]) -> String {
     let mut out = String::from("mass_kg,peak_abs_tau_Nm,rms_tau_Nm,peak_time_s\n");
-    let mut b = ryu::Buffer::new();
+    let mut b = crate::io::shortest::Shortest::new();
     for r in rows {
         for (k, v) in [r.mass_kg, r.peak_nm, r.rms_nm, r.peak_time_s]
             .iter()

@@ -381,7 +381,7 @@ pub const MOTOR_TABLE_HEADER: &[&str] = &[
 /// The sizing table as CSV ([`MOTOR_TABLE_HEADER`], numbers shortest round-trip), through the
 /// one CSV writer.
 pub fn motor_table_csv(loads: &[JointLoad]) -> Result<String, Error> {
-    let mut b = ryu::Buffer::new();
+    let mut b = crate::io::shortest::Shortest::new();
     let mut num = |x: f64| b.format(x).to_string();
     let rows: Vec<Vec<String>> = loads
         .iter()

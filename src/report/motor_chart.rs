@@ -211,10 +211,8 @@ fn drive_rows(
     for (k, (m, s)) in joints.iter().zip(specs).enumerate() {
         let d = defaults.get(k).copied().unwrap_or([false; 3]);
         let cell = |v: f64, default: bool| {
-            let v = ryu::Buffer::new()
-                .format(v)
-                .trim_end_matches(".0")
-                .to_string();
+            let v = crate::io::shortest::shortest(v);
+            let v = v.trim_end_matches(".0").to_string();
             if default { format!("{v} (default)") } else { v }
         };
         rows.push(vec![

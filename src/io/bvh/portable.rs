@@ -164,11 +164,11 @@ fn plan(bvh: &Bvh, joint: &BvhJoint, mode: Option<ResolvedPosition>, read_with: 
     let cols = joint.position_columns();
     // decimals the OFFSET adds to each axis's translation: where the channel adds to it, or
     // where there is no channel
-    let mut ryu = ryu::Buffer::new();
+    let mut shortest = crate::io::shortest::Shortest::new();
     let axis_decimals: [u8; 3] = std::array::from_fn(|axis| {
         let counts = cols[axis].is_none() || mode == ResolvedPosition::Add;
         if counts {
-            decimals_of(ryu.format(joint.offset[axis]))
+            decimals_of(shortest.format(joint.offset[axis]))
         } else {
             0
         }

@@ -12,12 +12,13 @@
 //! at the take's precision (the most decimals any of its values was read with), so a smoothed take
 //! has no float-noise digits (`3.4357`, not `3.4356999999999998`). Other numbers (OFFSETs,
 //! the frame time, values of a take built by code) are printed in their shortest form that
-//! parses back to the same `f64` (ryu; e.g. `93.9241`, `-0`, `0.0000187007`, `1e-7`), so
+//! parses back to the same `f64` ([`Shortest`]; e.g. `93.9241`, `-0`, `0.0000187007`, `1e-7`), so
 //! parse → write → parse reproduces every value exactly. Integral values drop the `.0` (`0`,
 //! `-0`, `90`) as most BVH files do.
 
 use super::Bvh;
 use crate::error::Error;
+use crate::io::shortest::Shortest;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -37,7 +38,7 @@ pub fn write_string(bvh: &Bvh) -> String {
             children[p].push(j);
         }
     }
-    let mut ryu = ryu::Buffer::new();
+    let mut shortest = Shortest::new();
     // joints in the order they are written (depth-first), for the motion columns
     let mut written: Vec<usize> = Vec::with_capacity(bvh.joints.len());
     out.push_str("HIERARCHY\n");
@@ -73,7 +74,7 @@ pub fn write_string(bvh: &Bvh) -> String {
                 out.push_str("OFFSET");
                 for v in joint.offset.iter() {
                     out.push(' ');
-                    out.push_str(number(&mut ryu, *v));
+                    out.push_str(number(&mut shortest, *v));
                 }
                 out.push('\n');
                 indent(&mut out, depth + 1);
@@ -98,7 +99,7 @@ pub fn write_string(bvh: &Bvh) -> String {
                     out.push_str("OFFSET");
                     for v in site.iter() {
                         out.push(' ');
-                        out.push_str(number(&mut ryu, *v));
+                        out.push_str(number(&mut shortest, *v));
                     }
                     out.push('\n');
                     indent(&mut out, depth + 1);
@@ -112,7 +113,7 @@ pub fn write_string(bvh: &Bvh) -> String {
     out.push_str("MOTION\n");
     let _ = writeln!(out, "Frames: {}", bvh.frames);
     out.push_str("Frame Time: ");
-    out.push_str(number(&mut ryu, bvh.frame_time));
+    out.push_str(number(&mut shortest, bvh.frame_time));
     out.push('\n');
     if bvh.channel_count > 0 {
         let read_with = bvh.decimals.len() == bvh.motion.len();
@@ -128,7 +129,7 @@ pub fn write_string(bvh: &Bvh) -> String {
                     }
                     first = false;
                     let own = read_with.then(|| bvh.decimals[k * bvh.channel_count + c]);
-                    value(&mut out, &mut ryu, v, own, precision);
+                    value(&mut out, &mut shortest, v, own, precision);
                 }
             }
             out.push('\n');
@@ -141,7 +142,13 @@ pub fn write_string(bvh: &Bvh) -> String {
 /// decimals when that reproduces it up to float noise (it was not changed), else at its
 /// the take's `precision`; shortest for a take built by code. A value that rounds to zero is
 /// written with a minus sign only when it is `-0` itself (float noise below zero is no sign).
-fn value(out: &mut String, ryu: &mut ryu::Buffer, v: f64, own: Option<u8>, precision: Option<u8>) {
+fn value(
+    out: &mut String,
+    shortest: &mut Shortest,
+    v: f64,
+    own: Option<u8>,
+    precision: Option<u8>,
+) {
     let start = out.len();
     let fixed = |out: &mut String, d: u8| {
         let at = out.len();
@@ -153,7 +160,7 @@ fn value(out: &mut String, ryu: &mut ryu::Buffer, v: f64, own: Option<u8>, preci
     };
     if own == Some(super::SHORTEST) {
         // read in exponent form (or past f64's digits): shortest form again
-        out.push_str(number(ryu, v));
+        out.push_str(number(shortest, v));
         return;
     }
     if let Some(d) = own {
@@ -169,7 +176,7 @@ fn value(out: &mut String, ryu: &mut ryu::Buffer, v: f64, own: Option<u8>, preci
     }
     match precision {
         Some(d) => fixed(out, d),
-        None => out.push_str(number(ryu, v)),
+        None => out.push_str(number(shortest, v)),
     }
 }
 
@@ -185,7 +192,7 @@ fn indent(out: &mut String, depth: usize) {
 }
 
 /// Shortest round-tripping text of `v`, without a trailing `.0`.
-fn number(buf: &mut ryu::Buffer, v: f64) -> &str {
+fn number(buf: &mut Shortest, v: f64) -> &str {
     let s = buf.format(v);
     s.strip_suffix(".0").unwrap_or(s)
 }

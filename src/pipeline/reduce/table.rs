@@ -98,7 +98,7 @@ impl Reduce {
 
     /// Writes the steps as CSV, one row per step ([`Reduce::header`]; SI: s, N·m, %).
     pub fn write_csv(&self, path: &Path) -> Result<(), Error> {
-        let mut buf = ryu::Buffer::new();
+        let mut buf = crate::io::shortest::Shortest::new();
         let mut num = |x: f64| buf.format(x).to_string();
         let rows: Vec<Vec<String>> = self
             .steps
