@@ -1,4 +1,4 @@
-//! CSV column tables: a write → read round trip is exact to the bit (ryu prints the shortest
+//! CSV column tables: a write → read round trip is exact to the bit (`io::shortest` prints the shortest
 //! text that parses back to the same f64), writes are atomic, and malformed input is an error
 //! naming the file, the line and what was expected.
 
@@ -190,4 +190,41 @@ fn rows_write_the_text_of_their_columns() {
         "{e}"
     );
     assert!(!other.exists());
+}
+
+/// The text is each row's numbers by the one number printer, line after line, whatever the
+/// number of threads: over several batches of pieces (each worker formats two pieces of 512
+/// rows at a time, written before the next batch goes into the same buffers), for pools of
+/// one, two and three threads, and into a file as into a string.
+#[test]
+fn batches_of_pieces_join_in_order_for_any_thread_count() {
+    use articula::io::shortest::Shortest;
+    let n = 2 * 3 * 512 * 2 + 17;
+    let a = awkward(n, 0x5DEE_CE66_D1CE_4E5B);
+    let b = awkward(n, 0x2545_F491_4F6C_DD1D);
+    let header = names(&["a", "b"]);
+    let mut want = String::from("a,b\n");
+    let mut s = Shortest::new();
+    for i in 0..n {
+        want.push_str(s.format(a[i]));
+        want.push(',');
+        want.push_str(s.format(b[i]));
+        want.push('\n');
+    }
+    let rows: Vec<Vec<f64>> = (0..n).map(|i| vec![a[i], b[i]]).collect();
+    let dir = tempfile::tempdir().unwrap();
+    for threads in 1..=3 {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let path = dir.path().join(format!("t{threads}.csv"));
+        pool.install(|| write_row_table(&path, &header, &rows))
+            .unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), want, "{threads}");
+        let text = pool
+            .install(|| columns_to_string(&header, &[&a, &b]))
+            .unwrap();
+        assert_eq!(text, want, "{threads}");
+    }
 }

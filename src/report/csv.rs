@@ -12,6 +12,7 @@
 
 use crate::error::Error;
 use crate::io::shortest::Shortest;
+use std::io::Write;
 use std::path::Path;
 
 /// The CSV text of `columns` under `header`: a header line, then row `i` holds `columns[j][i]`.
@@ -19,20 +20,26 @@ use std::path::Path;
 /// Errors when `header` and `columns` differ in length, when the columns differ in length, when
 /// there are no columns, or when a value is not finite.
 pub fn columns_to_string(header: &[String], columns: &[&[f64]]) -> Result<String, Error> {
-    let chunks = csv_chunks(header, Cells::Columns(columns))?;
-    String::from_utf8(chunks.concat()).map_err(|e| Error::Invalid(format!("CSV export: {e}")))
+    let table = Table::checked(header, Cells::Columns(columns))?;
+    let mut text = Vec::new();
+    table
+        .write(&mut text)
+        .map_err(|e| Error::Invalid(format!("CSV export: {e}")))?;
+    String::from_utf8(text).map_err(|e| Error::Invalid(format!("CSV export: {e}")))
 }
 
 /// Writes [`columns_to_string`] to `path` atomically.
 pub fn write_columns(path: &Path, header: &[String], columns: &[&[f64]]) -> Result<(), Error> {
-    write_chunks(path, &csv_chunks(header, Cells::Columns(columns))?)
+    let table = Table::checked(header, Cells::Columns(columns))?;
+    crate::io::write_atomic_with(path, |w| table.write(w))
 }
 
 /// Writes the CSV of `rows` (row `i` holds the values of line `i`, one per header name) to
 /// `path` atomically: the same text as [`write_columns`] of their columns, without making the
 /// columns.
 pub fn write_row_table(path: &Path, header: &[String], rows: &[Vec<f64>]) -> Result<(), Error> {
-    write_chunks(path, &csv_chunks(header, Cells::Rows(rows))?)
+    let table = Table::checked(header, Cells::Rows(rows))?;
+    crate::io::write_atomic_with(path, |w| table.write(w))
 }
 
 /// The numbers of a table as a caller holds them.
@@ -110,69 +117,108 @@ impl Cells<'_> {
 /// Rows per piece of text formatted on one thread (about 1 MB of text on a 96-coordinate take).
 const ROWS_PER_CHUNK: usize = 512;
 
-/// The CSV text of `cells` under `header`, in pieces to be written one after the other: the
-/// header line (through the csv writer, which quotes names holding commas or quotes), then
-/// the rows by [`Shortest`], [`ROWS_PER_CHUNK`] at a time, formatted in parallel (each piece is the
-/// same text whichever thread made it). Nothing is formatted when a value is not finite.
-fn csv_chunks(header: &[String], cells: Cells) -> Result<Vec<Vec<u8>>, Error> {
-    use rayon::prelude::*;
-    let (ncols, nrows) = cells.shape(header)?;
-    // any non-finite value, read in the table's own order; then the first one column by column,
-    // the cell the message names
-    let any_bad = match cells {
-        Cells::Columns(c) => c.iter().any(|c| c.iter().any(|x| !x.is_finite())),
-        Cells::Rows(r) => r.iter().any(|r| r.iter().any(|x| !x.is_finite())),
-    };
-    let bad = any_bad
-        .then(|| {
-            (0..ncols).find_map(|j| {
-                (0..nrows)
-                    .find(|&i| !cells.get(i, j).is_finite())
-                    .map(|i| (j, i))
-            })
-        })
-        .flatten();
-    if let Some((j, i)) = bad {
-        return Err(Error::Numerical(format!(
-            "CSV export: column {:?} is {} at row {}; nothing written",
-            header[j],
-            cells.get(i, j),
-            i + 1
-        )));
-    }
-    let mut w = ::csv::WriterBuilder::new()
-        .terminator(::csv::Terminator::Any(b'\n'))
-        .from_writer(Vec::new());
-    w.write_record(header)
-        .map_err(|e| Error::Invalid(format!("CSV export: header: {e}")))?;
-    let head = w
-        .into_inner()
-        .map_err(|e| Error::Invalid(format!("CSV export: header: {e}")))?;
-    let starts: Vec<usize> = (0..nrows).step_by(ROWS_PER_CHUNK).collect();
-    let body = starts.par_iter().map(|&first| {
-        let rows = first..nrows.min(first + ROWS_PER_CHUNK);
-        // a number takes at most 24 bytes and its comma or line end one: no regrowth
-        let mut out = Vec::with_capacity(rows.len() * ncols * 25);
-        let mut buf = Shortest::new();
-        for i in rows {
-            for j in 0..ncols {
-                if j > 0 {
-                    out.push(b',');
-                }
-                out.extend_from_slice(buf.format(cells.get(i, j)).as_bytes());
-            }
-            out.push(b'\n');
-        }
-        out
-    });
-    Ok(std::iter::once(head)
-        .chain(body.collect::<Vec<_>>())
-        .collect())
+/// Pieces formatted at once per worker thread: each batch of pieces is written before the next
+/// is formatted into the same buffers.
+const PIECES_PER_THREAD: usize = 2;
+
+/// A numeric table checked for writing: its header line (through the csv writer, which quotes
+/// names holding commas or quotes) and its numbers, every one finite.
+struct Table<'a> {
+    head: Vec<u8>,
+    cells: Cells<'a>,
+    ncols: usize,
+    nrows: usize,
 }
 
-/// Writes the pieces of [`csv_chunks`] to `path` atomically, one after the other.
-fn write_chunks(path: &Path, chunks: &[Vec<u8>]) -> Result<(), Error> {
-    crate::io::write_atomic_with(path, |w| chunks.iter().try_for_each(|c| w.write_all(c)))
+impl<'a> Table<'a> {
+    /// `cells` under `header`, or what cannot be written (a shape that does not fit, or the
+    /// first non-finite value column by column, named with its row): nothing is written then.
+    fn checked(header: &[String], cells: Cells<'a>) -> Result<Self, Error> {
+        let (ncols, nrows) = cells.shape(header)?;
+        // any non-finite value, read in the table's own order; then the first one column by
+        // column, the cell the message names
+        let any_bad = match cells {
+            Cells::Columns(c) => c.iter().any(|c| c.iter().any(|x| !x.is_finite())),
+            Cells::Rows(r) => r.iter().any(|r| r.iter().any(|x| !x.is_finite())),
+        };
+        let bad = any_bad
+            .then(|| {
+                (0..ncols).find_map(|j| {
+                    (0..nrows)
+                        .find(|&i| !cells.get(i, j).is_finite())
+                        .map(|i| (j, i))
+                })
+            })
+            .flatten();
+        if let Some((j, i)) = bad {
+            return Err(Error::Numerical(format!(
+                "CSV export: column {:?} is {} at row {}; nothing written",
+                header[j],
+                cells.get(i, j),
+                i + 1
+            )));
+        }
+        let mut w = ::csv::WriterBuilder::new()
+            .terminator(::csv::Terminator::Any(b'\n'))
+            .from_writer(Vec::new());
+        w.write_record(header)
+            .map_err(|e| Error::Invalid(format!("CSV export: header: {e}")))?;
+        let head = w
+            .into_inner()
+            .map_err(|e| Error::Invalid(format!("CSV export: header: {e}")))?;
+        Ok(Self {
+            head,
+            cells,
+            ncols,
+            nrows,
+        })
+    }
+
+    /// Writes the text to `w`: the header line, then the rows by [`Shortest`],
+    /// [`ROWS_PER_CHUNK`] to a piece, a batch of [`PIECES_PER_THREAD`] pieces per worker
+    /// formatted in parallel and written in order, the next batch into the same buffers (each
+    /// piece is the same text whichever thread made it; a minute take's 14 MB of text is never
+    /// held at once).
+    fn write(&self, w: &mut dyn Write) -> std::io::Result<()> {
+        use rayon::prelude::*;
+        w.write_all(&self.head)?;
+        let (ncols, nrows) = (self.ncols, self.nrows);
+        let starts: Vec<usize> = (0..nrows).step_by(ROWS_PER_CHUNK).collect();
+        let per_batch = PIECES_PER_THREAD * rayon::current_num_threads();
+        let mut pieces: Vec<Vec<u8>> = vec![Vec::new(); per_batch.min(starts.len())];
+        for batch in starts.chunks(per_batch) {
+            let pieces = &mut pieces[..batch.len()];
+            pieces
+                .par_iter_mut()
+                .zip(batch)
+                .for_each(|(piece, &first)| {
+                    let rows = first..nrows.min(first + ROWS_PER_CHUNK);
+                    // the buffer moved here while it is filled: the pieces' lengths side by
+                    // side in one cache line, updated at every number by two threads, made
+                    // two-thread runs slower than one
+                    let mut out = std::mem::take(piece);
+                    // a number takes at most 24 bytes and its comma or line end one: no
+                    // regrowth
+                    out.clear();
+                    out.reserve(rows.len() * ncols * 25);
+                    let mut buf = Shortest::new();
+                    for i in rows {
+                        for j in 0..ncols {
+                            if j > 0 {
+                                out.push(b',');
+                            }
+                            out.extend_from_slice(buf.format(self.cells.get(i, j)).as_bytes());
+                        }
+                        out.push(b'\n');
+                    }
+                    *piece = out;
+                });
+            for piece in pieces.iter() {
+                w.write_all(piece)?;
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The CSV text of a table of text cells (a summary: names, statuses, messages, numbers
