@@ -4,7 +4,8 @@
 
 use articula::error::Error;
 use articula::report::csv::{
-    columns_to_string, parse_columns, read_columns, write_columns, write_row_table,
+    columns_to_string, parse_columns, read_columns, write_columns, write_filled_rows,
+    write_row_table,
 };
 use std::path::Path;
 
@@ -226,5 +227,39 @@ fn batches_of_pieces_join_in_order_for_any_thread_count() {
             .install(|| columns_to_string(&header, &[&a, &b]))
             .unwrap();
         assert_eq!(text, want, "{threads}");
+        let fill = |k: usize, r: &mut Vec<f64>| r.extend([a[k], b[k]]);
+        pool.install(|| write_filled_rows(&path, &header, n, &fill))
+            .unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), want, "{threads}");
     }
+}
+
+/// Rows made on the fly are checked as rows held are: a row of the wrong width, or a value
+/// that is not finite (the first column holding one named, with its first row), writes nothing.
+#[test]
+fn filled_rows_are_checked_before_anything_is_written() {
+    let header = names(&["time", "x", "y"]);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("filled.csv");
+    let short = |k: usize, r: &mut Vec<f64>| {
+        r.extend([k as f64, 1.0]);
+        if k != 3 {
+            r.push(2.0);
+        }
+    };
+    let e = write_filled_rows(&path, &header, 10, &short).unwrap_err();
+    assert!(
+        matches!(e, Error::Invalid(_)) && e.to_string().contains("row 4 has 2 values"),
+        "{e}"
+    );
+    let nan = |k: usize, r: &mut Vec<f64>| {
+        let y = if k >= 5 { f64::INFINITY } else { 0.5 };
+        let x = if k == 7 { f64::NAN } else { 1.0 };
+        r.extend([k as f64, x, y]);
+    };
+    let e = write_filled_rows(&path, &header, 10, &nan).unwrap_err();
+    assert!(e.to_string().contains("\"x\" is NaN at row 8"), "{e}");
+    assert!(!path.exists());
+    write_filled_rows(&path, &header, 0, &nan).unwrap();
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "time,x,y\n");
 }

@@ -11,7 +11,7 @@ use std::path::Path;
 
 /// `articula export states`.
 pub fn export_states(take: &Take, path: &Path) -> Result<(), Error> {
-    table::take_states_table(take).write_csv(path)
+    table::write_states_csv(&take.model, &take.states, path)
 }
 
 /// `articula export positions`: world position of every BVH joint, `pos:<joint>:x|y|z` (m, the

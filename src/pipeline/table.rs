@@ -3,14 +3,13 @@
 //! these tables, and the Python module hands the same tables out, so that the column names and
 //! numbers of both front ends come from one function each.
 
-use super::{Job, States, Take, Torques, job_torques, states_header};
+use super::{Job, States, Torques, job_torques, states_header};
 use crate::dynamics::grf::GroundQuality;
 use crate::dynamics::grf::GroundReactions;
 use crate::error::Error;
 use crate::model::Model;
 use crate::report::columns;
-use crate::report::csv::write_row_table;
-use std::borrow::Cow;
+use crate::report::csv::{write_filled_rows, write_row_table};
 use std::path::Path;
 
 /// A result table: `header[0]` is `time`; every row has `header.len()` numbers.
@@ -43,49 +42,69 @@ impl Table {
 /// ([`GroundReactions::columns`](crate::dynamics::grf::GroundReactions::columns)). Also how far
 /// the feet could give the force the motion needs.
 pub fn inverse_dynamics_table(job: &Job) -> Result<(Table, Option<GroundQuality>), Error> {
-    let (table, _, grf) = inverse_dynamics_parts(job)?;
-    Ok((table, grf.map(|g| g.quality())))
+    let (t, grf) = job_torques(job)?;
+    let header = inverse_dynamics_header(&t, grf.as_deref());
+    let rows = made_rows(header.len(), t.time.len(), |k, r| {
+        inverse_dynamics_row(&t, grf.as_deref(), k, r)
+    });
+    Ok((Table { header, rows }, grf.map(|g| g.quality())))
 }
 
-/// [`inverse_dynamics_table`] with the torques and ground reactions it was made of (for the
-/// `--json` figures).
-pub(crate) fn inverse_dynamics_parts(
-    job: &Job,
-) -> Result<(Table, Torques, Option<Cow<'_, GroundReactions>>), Error> {
-    let (t, grf) = job_torques(job)?;
+/// The header of [`inverse_dynamics_table`].
+pub(crate) fn inverse_dynamics_header(t: &Torques, grf: Option<&GroundReactions>) -> Vec<String> {
     let mut header = vec!["time".to_string()];
     header.extend(t.names.iter().map(|n| columns::name("tau", &[n])));
-    if let Some(g) = &grf {
+    if let Some(g) = grf {
         header.extend(g.columns());
     }
-    let rows: Vec<Vec<f64>> = (0..t.time.len())
+    header
+}
+
+/// Row `k` of [`inverse_dynamics_table`], appended to `r`.
+pub(crate) fn inverse_dynamics_row(
+    t: &Torques,
+    grf: Option<&GroundReactions>,
+    k: usize,
+    r: &mut Vec<f64>,
+) {
+    r.push(t.time[k]);
+    r.extend_from_slice(&t.tau[k]);
+    if let Some(g) = grf {
+        g.row(k, r);
+    }
+}
+
+/// `n` rows of `width` values, row `k` what `fill(k, row)` appends (each row allocated once).
+fn made_rows(width: usize, n: usize, fill: impl Fn(usize, &mut Vec<f64>)) -> Vec<Vec<f64>> {
+    (0..n)
         .map(|k| {
-            let mut r = vec![t.time[k]];
-            r.extend_from_slice(&t.tau[k]);
-            if let Some(g) = &grf {
-                g.row(k, &mut r);
-            }
+            let mut r = Vec::with_capacity(width);
+            fill(k, &mut r);
             r
         })
-        .collect();
-    Ok((Table { header, rows }, t, grf))
+        .collect()
 }
 
 /// `articula export states`' table: `time`, `q:<coord>`, `v:<coord>`, `a:<coord>`.
 pub fn states_table(model: &Model, s: &States) -> Table {
-    let rows: Vec<Vec<f64>> = (0..s.len())
-        .map(|k| {
-            let mut r = vec![s.time[k]];
-            r.extend_from_slice(&s.q[k]);
-            r.extend_from_slice(&s.v[k]);
-            r.extend_from_slice(&s.a[k]);
-            r
-        })
-        .collect();
-    Table {
-        header: states_header(model),
-        rows,
-    }
+    let header = states_header(model);
+    let rows = made_rows(header.len(), s.len(), |k, r| states_row(s, k, r));
+    Table { header, rows }
+}
+
+/// Row `k` of [`states_table`], appended to `r`.
+fn states_row(s: &States, k: usize, r: &mut Vec<f64>) {
+    r.push(s.time[k]);
+    r.extend_from_slice(&s.q[k]);
+    r.extend_from_slice(&s.v[k]);
+    r.extend_from_slice(&s.a[k]);
+}
+
+/// Writes [`states_table`] as CSV to `path` (`-` is standard output), atomically, without
+/// making the table ([`write_filled_rows`]).
+pub fn write_states_csv(model: &Model, s: &States, path: &Path) -> Result<(), Error> {
+    let fill = |k: usize, r: &mut Vec<f64>| states_row(s, k, r);
+    write_filled_rows(path, &states_header(model), s.len(), &fill)
 }
 
 /// `articula simulate -o`'s table: `time`, `q:<coord>`, `v:<coord>`, `tau:<coord>`,
@@ -111,11 +130,6 @@ pub fn simulation_table(model: &Model, result: &crate::dynamics::simulate::SimRe
         })
         .collect();
     Table { header, rows }
-}
-
-/// `articula export states` of a take.
-pub fn take_states_table(take: &Take) -> Table {
-    states_table(&take.model, &take.states)
 }
 
 /// Peak |x| and root mean square of a column: the figures `articula batch` summarises and

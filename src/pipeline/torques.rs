@@ -71,9 +71,12 @@ pub fn inverse_dynamics_with(
 /// how far the feet could give the ground force the motion needs
 /// ([`GroundReactions::quality`](crate::dynamics::grf::GroundReactions::quality)).
 pub fn write_inverse_dynamics(job: &Job, path: &Path) -> Result<IdOutcome, Error> {
-    let (table, t, grf) = table::inverse_dynamics_parts(job)?;
-    table.write_csv(path)?;
-    Ok(IdOutcome::new(job, &t, grf.as_deref()))
+    let (t, grf) = job_torques(job)?;
+    let grf = grf.as_deref();
+    let header = table::inverse_dynamics_header(&t, grf);
+    let fill = |k: usize, r: &mut Vec<f64>| table::inverse_dynamics_row(&t, grf, k, r);
+    crate::report::csv::write_filled_rows(path, &header, t.time.len(), &fill)?;
+    Ok(IdOutcome::new(job, &t, grf))
 }
 
 /// What `articula id` found besides its file: the ground reactions' quality (estimated forces)

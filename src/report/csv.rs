@@ -42,6 +42,20 @@ pub fn write_row_table(path: &Path, header: &[String], rows: &[Vec<f64>]) -> Res
     crate::io::write_atomic_with(path, |w| table.write(w))
 }
 
+/// Writes the CSV of `nrows` rows, row `i` being what `fill(i, row)` appends to an empty `row`
+/// (one value per header name), to `path` atomically: the text of [`write_row_table`] of those
+/// rows without making them (an output table of a minute take is 5–17 MB of fresh memory, whose
+/// first touch costs more than formatting it). `fill` is called more than once per row.
+pub fn write_filled_rows(
+    path: &Path,
+    header: &[String],
+    nrows: usize,
+    fill: &(dyn Fn(usize, &mut Vec<f64>) + Sync),
+) -> Result<(), Error> {
+    let table = Table::checked(header, Cells::Filled { nrows, fill })?;
+    crate::io::write_atomic_with(path, |w| table.write(w))
+}
+
 /// The numbers of a table as a caller holds them.
 #[derive(Clone, Copy)]
 enum Cells<'a> {
@@ -49,6 +63,11 @@ enum Cells<'a> {
     Columns(&'a [&'a [f64]]),
     /// Row `i` is `rows[i]`.
     Rows(&'a [Vec<f64>]),
+    /// Row `i` is what `fill(i, row)` appends to an empty `row`.
+    Filled {
+        nrows: usize,
+        fill: &'a (dyn Fn(usize, &mut Vec<f64>) + Sync),
+    },
 }
 
 impl Cells<'_> {
@@ -101,15 +120,24 @@ impl Cells<'_> {
                 }
                 Ok((header.len(), rows.len()))
             }
+            Cells::Filled { nrows, .. } => {
+                if header.is_empty() {
+                    return Err(Error::Invalid(
+                        "CSV export: no columns to write (give at least one series)".into(),
+                    ));
+                }
+                Ok((header.len(), nrows))
+            }
         }
     }
 
-    /// The value of row `i`, column `j`.
+    /// Appends the values of row `i` to `out`.
     #[inline]
-    fn get(&self, i: usize, j: usize) -> f64 {
+    fn row_into(&self, i: usize, out: &mut Vec<f64>) {
         match *self {
-            Cells::Columns(columns) => columns[j][i],
-            Cells::Rows(rows) => rows[i][j],
+            Cells::Columns(columns) => out.extend(columns.iter().map(|c| c[i])),
+            Cells::Rows(rows) => out.extend_from_slice(&rows[i]),
+            Cells::Filled { fill, .. } => fill(i, out),
         }
     }
 }
@@ -135,26 +163,36 @@ impl<'a> Table<'a> {
     /// first non-finite value column by column, named with its row): nothing is written then.
     fn checked(header: &[String], cells: Cells<'a>) -> Result<Self, Error> {
         let (ncols, nrows) = cells.shape(header)?;
-        // any non-finite value, read in the table's own order; then the first one column by
-        // column, the cell the message names
-        let any_bad = match cells {
-            Cells::Columns(c) => c.iter().any(|c| c.iter().any(|x| !x.is_finite())),
-            Cells::Rows(r) => r.iter().any(|r| r.iter().any(|x| !x.is_finite())),
-        };
-        let bad = any_bad
-            .then(|| {
-                (0..ncols).find_map(|j| {
-                    (0..nrows)
-                        .find(|&i| !cells.get(i, j).is_finite())
-                        .map(|i| (j, i))
-                })
-            })
-            .flatten();
-        if let Some((j, i)) = bad {
+        // row by row: a row of the wrong width, else the first non-finite value of each
+        // column; the message names the first column that has one
+        let mut first_bad: Vec<Option<(usize, f64)>> = vec![None; ncols];
+        let mut row = Vec::with_capacity(ncols);
+        for i in 0..nrows {
+            row.clear();
+            cells.row_into(i, &mut row);
+            if row.len() != ncols {
+                return Err(Error::Invalid(format!(
+                    "CSV export: row {} has {} values for {ncols} header names; give one value \
+                     per column",
+                    i + 1,
+                    row.len(),
+                )));
+            }
+            if row.iter().all(|x| x.is_finite()) {
+                continue;
+            }
+            for (bad, &x) in first_bad.iter_mut().zip(&row) {
+                if bad.is_none() && !x.is_finite() {
+                    *bad = Some((i, x));
+                }
+            }
+        }
+        if let Some((j, (i, x))) =
+            (first_bad.iter().enumerate()).find_map(|(j, b)| Some((j, (*b)?)))
+        {
             return Err(Error::Numerical(format!(
-                "CSV export: column {:?} is {} at row {}; nothing written",
+                "CSV export: column {:?} is {x} at row {}; nothing written",
                 header[j],
-                cells.get(i, j),
                 i + 1
             )));
         }
@@ -202,12 +240,15 @@ impl<'a> Table<'a> {
                     out.clear();
                     out.reserve(rows.len() * ncols * 25);
                     let mut buf = Shortest::new();
+                    let mut row = Vec::with_capacity(ncols);
                     for i in rows {
-                        for j in 0..ncols {
+                        row.clear();
+                        self.cells.row_into(i, &mut row);
+                        for (j, &x) in row.iter().enumerate() {
                             if j > 0 {
                                 out.push(b',');
                             }
-                            out.extend_from_slice(buf.format(self.cells.get(i, j)).as_bytes());
+                            out.extend_from_slice(buf.format(x).as_bytes());
                         }
                         out.push(b'\n');
                     }
