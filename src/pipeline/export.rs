@@ -1,12 +1,12 @@
 //! The plain exports of a take: its states, its joints' world positions, its model as URDF,
-//! and the generated demo walk. Row tables go to CSV through `report::csv::write_row_table`,
+//! and the generated demo walk. Row tables go to CSV through `report::csv`'s row writer,
 //! the writer every CSV output shares.
 
 use super::{Take, table};
 use crate::error::Error;
 use crate::io::bvh::{self, Bvh};
 use crate::report::columns;
-use crate::report::csv::write_row_table;
+use crate::report::csv::write_filled_rows;
 use std::path::Path;
 
 /// `articula export states`.
@@ -24,14 +24,11 @@ pub fn export_positions(take: &Take, path: &Path) -> Result<(), Error> {
             header.push(columns::name("pos", &[name, a]));
         }
     }
-    let rows: Vec<Vec<f64>> = (0..c.time.len())
-        .map(|k| {
-            let mut r = vec![c.time[k]];
-            r.extend(c.positions[k].iter().flatten());
-            r
-        })
-        .collect();
-    write_row_table(path, &header, &rows)
+    let fill = |k: usize, r: &mut Vec<f64>| {
+        r.push(c.time[k]);
+        r.extend(c.positions[k].iter().flatten());
+    };
+    write_filled_rows(path, &header, c.time.len(), &fill)
 }
 
 /// The world positions of a take's joints (`export positions`, `export trc`).

@@ -9,7 +9,7 @@
 use super::{Job, Take, ground_reactions, job_torques, joint_centres};
 use crate::dynamics::grf::GroundReactions;
 use crate::error::Error;
-use crate::report::csv::write_row_table;
+use crate::report::csv::write_columns;
 use crate::report::opensim::{self, Sto, Trc, TrcUnits};
 use std::path::{Path, PathBuf};
 
@@ -228,14 +228,10 @@ pub fn export_grf(
     if format == TableFormat::Csv {
         let mut header = vec!["time".to_string()];
         header.extend(labels);
-        let rows: Vec<Vec<f64>> = (0..time.len())
-            .map(|k| {
-                std::iter::once(time[k])
-                    .chain(refs.iter().map(|c| c[k]))
-                    .collect()
-            })
+        let columns: Vec<&[f64]> = std::iter::once(&time[..])
+            .chain(refs.iter().copied())
             .collect();
-        write_row_table(path, &header, &rows)?;
+        write_columns(path, &header, &columns)?;
         return Ok(ExternalLoadsXml::None("a CSV output".into()));
     }
     let metadata = [(
