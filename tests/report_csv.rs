@@ -194,25 +194,33 @@ fn rows_write_the_text_of_their_columns() {
 }
 
 /// The text is each row's numbers by the one number printer, line after line, whatever the
-/// number of threads: over several batches of pieces (each worker formats two pieces of 512
-/// rows at a time, written before the next batch goes into the same buffers), for pools of
-/// one, two and three threads, and into a file as into a string.
+/// number of threads: over several batches of pieces (each worker formats two pieces of 2¹⁶
+/// numbers, 1,024 rows of this 64-column table, at a time, written before the next batch goes
+/// into the same buffers), for pools of one, two and three threads, from rows, columns and a
+/// row function, into a file as into a string.
 #[test]
 fn batches_of_pieces_join_in_order_for_any_thread_count() {
     use articula::io::shortest::Shortest;
-    let n = 2 * 3 * 512 * 2 + 17;
-    let a = awkward(n, 0x5DEE_CE66_D1CE_4E5B);
-    let b = awkward(n, 0x2545_F491_4F6C_DD1D);
-    let header = names(&["a", "b"]);
-    let mut want = String::from("a,b\n");
+    let (n, width) = (2 * 3 * 1024 * 2 + 17, 64);
+    let cols: Vec<Vec<f64>> = (0..width)
+        .map(|j| awkward(n, 0x5DEE_CE66_D1CE_4E5B ^ (j as u64 + 1)))
+        .collect();
+    let header: Vec<String> = (0..width).map(|j| format!("c{j}")).collect();
+    let mut want = header.join(",") + "\n";
     let mut s = Shortest::new();
     for i in 0..n {
-        want.push_str(s.format(a[i]));
-        want.push(',');
-        want.push_str(s.format(b[i]));
+        for (j, c) in cols.iter().enumerate() {
+            if j > 0 {
+                want.push(',');
+            }
+            want.push_str(s.format(c[i]));
+        }
         want.push('\n');
     }
-    let rows: Vec<Vec<f64>> = (0..n).map(|i| vec![a[i], b[i]]).collect();
+    let rows: Vec<Vec<f64>> = (0..n)
+        .map(|i| cols.iter().map(|c| c[i]).collect())
+        .collect();
+    let refs: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
     let dir = tempfile::tempdir().unwrap();
     for threads in 1..=3 {
         let pool = rayon::ThreadPoolBuilder::new()
@@ -223,11 +231,9 @@ fn batches_of_pieces_join_in_order_for_any_thread_count() {
         pool.install(|| write_row_table(&path, &header, &rows))
             .unwrap();
         assert_eq!(std::fs::read_to_string(&path).unwrap(), want, "{threads}");
-        let text = pool
-            .install(|| columns_to_string(&header, &[&a, &b]))
-            .unwrap();
+        let text = pool.install(|| columns_to_string(&header, &refs)).unwrap();
         assert_eq!(text, want, "{threads}");
-        let fill = |k: usize, r: &mut Vec<f64>| r.extend([a[k], b[k]]);
+        let fill = |k: usize, r: &mut Vec<f64>| r.extend(cols.iter().map(|c| c[k]));
         pool.install(|| write_filled_rows(&path, &header, n, &fill))
             .unwrap();
         assert_eq!(std::fs::read_to_string(&path).unwrap(), want, "{threads}");

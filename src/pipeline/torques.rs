@@ -10,7 +10,7 @@ use crate::model::Model;
 use crate::par;
 use crate::report::columns;
 use crate::report::csv::read_columns;
-use crate::report::csv::write_row_table;
+use crate::report::csv::{write_filled_rows, write_row_table};
 use std::borrow::Cow;
 use std::path::Path;
 
@@ -211,7 +211,6 @@ pub fn write_forward_dynamics(job: &Job, torques: &Path, path: &Path) -> Result<
 /// `articula mass-matrix`: D(q) row-major per sample, columns `M:<i>:<j>`.
 pub fn write_mass_matrix(job: &Job, path: &Path) -> Result<(), Error> {
     let m = &job.model;
-    let mut ws = Workspace::new(m);
     let mut h = vec!["time".to_string()];
     for i in 0..m.nv {
         for j in 0..m.nv {
@@ -219,17 +218,19 @@ pub fn write_mass_matrix(job: &Job, path: &Path) -> Result<(), Error> {
         }
     }
     let s = &job.states;
-    let rows: Vec<Vec<f64>> = (0..s.len())
-        .map(|k| {
-            let d = dynamics::crba(m, &mut ws, &s.q[k]);
-            let mut r = vec![s.time[k]];
-            for i in 0..m.nv {
-                for j in 0..m.nv {
-                    r.push(d[(i, j)]);
-                }
-            }
-            r
-        })
-        .collect();
-    write_row_table(path, &h, &rows)
+    // the rows made as they are written (a minute take's would be 7,200 × 9,217 numbers held
+    // at once): each worker borrows a workspace from the pool for a row, then gives it back
+    let pool = std::sync::Mutex::new(vec![]);
+    let fill = |k: usize, r: &mut Vec<f64>| {
+        let taken = pool.lock().map(|mut p| p.pop()).unwrap_or(None);
+        let mut ws = taken.unwrap_or_else(|| Workspace::new(m));
+        let d = dynamics::crba(m, &mut ws, &s.q[k]);
+        r.push(s.time[k]);
+        // row-major: D is symmetric, so its column-major storage read in order is row i
+        r.extend_from_slice(d.as_slice());
+        if let Ok(mut p) = pool.lock() {
+            p.push(ws);
+        }
+    };
+    write_filled_rows(path, &h, s.len(), &fill)
 }

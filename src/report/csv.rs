@@ -142,8 +142,9 @@ impl Cells<'_> {
     }
 }
 
-/// Rows per piece of text formatted on one thread (about 1 MB of text on a 96-coordinate take).
-const ROWS_PER_CHUNK: usize = 512;
+/// Numbers per piece of text formatted on one thread (about 1.3 MB of text), whole rows: 675
+/// rows of a 96-coordinate take's torques, 7 of its mass matrix's 9,217 columns.
+const CELLS_PER_PIECE: usize = 1 << 16;
 
 /// Pieces formatted at once per worker thread: each batch of pieces is written before the next
 /// is formatted into the same buffers.
@@ -213,7 +214,7 @@ impl<'a> Table<'a> {
     }
 
     /// Writes the text to `w`: the header line, then the rows by [`Shortest`],
-    /// [`ROWS_PER_CHUNK`] to a piece, a batch of [`PIECES_PER_THREAD`] pieces per worker
+    /// [`CELLS_PER_PIECE`] numbers (whole rows, at least one) to a piece, a batch of [`PIECES_PER_THREAD`] pieces per worker
     /// formatted in parallel and written in order, the next batch into the same buffers (each
     /// piece is the same text whichever thread made it; a minute take's 14 MB of text is never
     /// held at once).
@@ -221,7 +222,8 @@ impl<'a> Table<'a> {
         use rayon::prelude::*;
         w.write_all(&self.head)?;
         let (ncols, nrows) = (self.ncols, self.nrows);
-        let starts: Vec<usize> = (0..nrows).step_by(ROWS_PER_CHUNK).collect();
+        let rows_per_piece = (CELLS_PER_PIECE / ncols.max(1)).max(1);
+        let starts: Vec<usize> = (0..nrows).step_by(rows_per_piece).collect();
         let per_batch = PIECES_PER_THREAD * rayon::current_num_threads();
         let mut pieces: Vec<Vec<u8>> = vec![Vec::new(); per_batch.min(starts.len())];
         for batch in starts.chunks(per_batch) {
@@ -230,7 +232,7 @@ impl<'a> Table<'a> {
                 .par_iter_mut()
                 .zip(batch)
                 .for_each(|(piece, &first)| {
-                    let rows = first..nrows.min(first + ROWS_PER_CHUNK);
+                    let rows = first..nrows.min(first + rows_per_piece);
                     // the buffer moved here while it is filled: the pieces' lengths side by
                     // side in one cache line, updated at every number by two threads, made
                     // two-thread runs slower than one
