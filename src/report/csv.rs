@@ -6,9 +6,10 @@
 //! row, and nothing is written (a file read in may hold `NaN`, `inf`, `-inf`). The values are
 //! whatever SI quantities the caller puts in; the header names carry the unit (e.g.
 //! `"knee_tau_Nm"`, `"t_s"`). Files are written atomically ([`crate::io::write_atomic`]).
-//! Tables come as columns or as rows (`pipeline`'s row tables, one row per frame); the rows
-//! are formatted a few hundred at a time in parallel and the pieces written in order, so the
-//! text is the same whatever the number of threads.
+//! Tables come as columns, as rows (`pipeline`'s row tables, one row per frame) or as a
+//! function that makes each row (written without holding the table); the rows are formatted in
+//! pieces of about 2¹⁶ numbers, a few pieces at a time in parallel, and the pieces written in
+//! order, so the text is the same whatever the number of threads.
 
 use crate::error::Error;
 use crate::io::shortest::Shortest;
@@ -70,6 +71,16 @@ enum Cells<'a> {
     },
 }
 
+/// The shape of `nrows` rows under `header`, which must name at least one column.
+fn rows_under(header: &[String], nrows: usize) -> Result<(usize, usize), Error> {
+    if header.is_empty() {
+        return Err(Error::Invalid(
+            "CSV export: no columns to write (give at least one series)".into(),
+        ));
+    }
+    Ok((header.len(), nrows))
+}
+
 impl Cells<'_> {
     /// Number of columns and rows, or what does not fit (columns or rows of unequal lengths).
     fn shape(&self, header: &[String]) -> Result<(usize, usize), Error> {
@@ -99,35 +110,9 @@ impl Cells<'_> {
                 }
                 Ok((columns.len(), rows))
             }
-            Cells::Rows(rows) => {
-                if header.is_empty() {
-                    return Err(Error::Invalid(
-                        "CSV export: no columns to write (give at least one series)".into(),
-                    ));
-                }
-                if let Some((i, r)) = rows
-                    .iter()
-                    .enumerate()
-                    .find(|(_, r)| r.len() != header.len())
-                {
-                    return Err(Error::Invalid(format!(
-                        "CSV export: row {} has {} values for {} header names; give one value \
-                         per column",
-                        i + 1,
-                        r.len(),
-                        header.len()
-                    )));
-                }
-                Ok((header.len(), rows.len()))
-            }
-            Cells::Filled { nrows, .. } => {
-                if header.is_empty() {
-                    return Err(Error::Invalid(
-                        "CSV export: no columns to write (give at least one series)".into(),
-                    ));
-                }
-                Ok((header.len(), nrows))
-            }
+            // the rows' widths are checked as they are read (`Table::checked`)
+            Cells::Rows(rows) => rows_under(header, rows.len()),
+            Cells::Filled { nrows, .. } => rows_under(header, nrows),
         }
     }
 
@@ -214,10 +199,10 @@ impl<'a> Table<'a> {
     }
 
     /// Writes the text to `w`: the header line, then the rows by [`Shortest`],
-    /// [`CELLS_PER_PIECE`] numbers (whole rows, at least one) to a piece, a batch of [`PIECES_PER_THREAD`] pieces per worker
-    /// formatted in parallel and written in order, the next batch into the same buffers (each
-    /// piece is the same text whichever thread made it; a minute take's 14 MB of text is never
-    /// held at once).
+    /// [`CELLS_PER_PIECE`] numbers (whole rows, at least one) to a piece, a batch of
+    /// [`PIECES_PER_THREAD`] pieces per worker formatted in parallel and written in order, the
+    /// next batch into the same buffers (each piece is the same text whichever thread made it;
+    /// a minute take's 14 MB of text is never held at once).
     fn write(&self, w: &mut dyn Write) -> std::io::Result<()> {
         use rayon::prelude::*;
         w.write_all(&self.head)?;
