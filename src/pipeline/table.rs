@@ -50,8 +50,21 @@ pub fn inverse_dynamics_table(job: &Job) -> Result<(Table, Option<GroundQuality>
     Ok((Table { header, rows }, grf.map(|g| g.quality())))
 }
 
+/// Writes [`inverse_dynamics_table`] of the torques `t` (and the ground reactions `grf` they
+/// were computed with) as CSV to `path` (`-` is standard output), atomically, without making
+/// the table ([`write_filled_rows`]).
+pub(crate) fn write_inverse_dynamics_csv(
+    t: &Torques,
+    grf: Option<&GroundReactions>,
+    path: &Path,
+) -> Result<(), Error> {
+    let fill = |k: usize, r: &mut Vec<f64>| inverse_dynamics_row(t, grf, k, r);
+    let header = inverse_dynamics_header(t, grf);
+    write_filled_rows(path, &header, t.time.len(), &fill)
+}
+
 /// The header of [`inverse_dynamics_table`].
-pub(crate) fn inverse_dynamics_header(t: &Torques, grf: Option<&GroundReactions>) -> Vec<String> {
+fn inverse_dynamics_header(t: &Torques, grf: Option<&GroundReactions>) -> Vec<String> {
     let mut header = vec!["time".to_string()];
     header.extend(t.names.iter().map(|n| columns::name("tau", &[n])));
     if let Some(g) = grf {
@@ -61,12 +74,7 @@ pub(crate) fn inverse_dynamics_header(t: &Torques, grf: Option<&GroundReactions>
 }
 
 /// Row `k` of [`inverse_dynamics_table`], appended to `r`.
-pub(crate) fn inverse_dynamics_row(
-    t: &Torques,
-    grf: Option<&GroundReactions>,
-    k: usize,
-    r: &mut Vec<f64>,
-) {
+fn inverse_dynamics_row(t: &Torques, grf: Option<&GroundReactions>, k: usize, r: &mut Vec<f64>) {
     r.push(t.time[k]);
     r.extend_from_slice(&t.tau[k]);
     if let Some(g) = grf {

@@ -72,11 +72,8 @@ pub fn inverse_dynamics_with(
 /// ([`GroundReactions::quality`](crate::dynamics::grf::GroundReactions::quality)).
 pub fn write_inverse_dynamics(job: &Job, path: &Path) -> Result<IdOutcome, Error> {
     let (t, grf) = job_torques(job)?;
-    let grf = grf.as_deref();
-    let header = table::inverse_dynamics_header(&t, grf);
-    let fill = |k: usize, r: &mut Vec<f64>| table::inverse_dynamics_row(&t, grf, k, r);
-    crate::report::csv::write_filled_rows(path, &header, t.time.len(), &fill)?;
-    Ok(IdOutcome::new(job, &t, grf))
+    table::write_inverse_dynamics_csv(&t, grf.as_deref(), path)?;
+    Ok(IdOutcome::new(job, &t, grf.as_deref()))
 }
 
 /// What `articula id` found besides its file: the ground reactions' quality (estimated forces)
@@ -226,7 +223,8 @@ pub fn write_mass_matrix(job: &Job, path: &Path) -> Result<(), Error> {
         let mut ws = taken.unwrap_or_else(|| Workspace::new(m));
         let d = dynamics::crba(m, &mut ws, &s.q[k]);
         r.push(s.time[k]);
-        // row-major: D is symmetric, so its column-major storage read in order is row i
+        // row-major: D is symmetric (CRBA writes each entry and its mirror from one number),
+        // so its column-major storage, read in order, is its rows one after the other
         r.extend_from_slice(d.as_slice());
         if let Ok(mut p) = pool.lock() {
             p.push(ws);
