@@ -44,9 +44,24 @@ impl Shortest {
     }
 }
 
+impl Shortest {
+    /// [`Shortest::format`] without the `.0` of an integral value (`60`, `62.5`, `-0`), as
+    /// hand-written files and labels write them.
+    #[inline]
+    pub fn format_plain(&mut self, x: f64) -> &str {
+        let s = self.format(x);
+        s.strip_suffix(".0").unwrap_or(s)
+    }
+}
+
 /// [`Shortest::format`] of `x` as a new string.
 pub fn shortest(x: f64) -> String {
     Shortest::new().format(x).to_string()
+}
+
+/// [`Shortest::format_plain`] of `x` as a new string.
+pub fn plain(x: f64) -> String {
+    Shortest::new().format_plain(x).to_string()
 }
 
 #[cfg(test)]
@@ -101,6 +116,9 @@ mod tests {
                 x.to_bits(),
                 "{text}"
             );
+        }
+        for (x, text) in [(60.0, "60"), (62.5, "62.5"), (-0.0, "-0"), (1e16, "1e16")] {
+            assert_eq!(plain(x), text);
         }
     }
 }

@@ -8,9 +8,7 @@ use nalgebra::Vector3;
 /// as `0`, `1.0` as `1`.
 pub fn num(x: f64) -> String {
     let x = if x == 0.0 { 0.0 } else { x };
-    let mut b = super::shortest::Shortest::new();
-    let s = b.format(x);
-    s.strip_suffix(".0").unwrap_or(s).to_string()
+    super::shortest::plain(x)
 }
 
 /// `x y z`, each by [`num`].

@@ -12,6 +12,7 @@
 //!   t_first`; a single sample gives `|τ_0|`.
 
 use crate::error::Error;
+use crate::io::shortest::plain;
 use crate::report::chart::{ImageFormat, Panel, Series, Table, fmt_value, stacked_chart};
 
 /// One joint's torque over time for one body mass.
@@ -56,13 +57,7 @@ pub struct LoadRow {
 
 /// The legend label of a mass: `"60 kg"`, `"62.5 kg"`.
 pub fn mass_label(mass_kg: f64) -> String {
-    format!("{} kg", short(mass_kg))
-}
-
-/// Shortest decimal of `x` without a trailing `.0` (`60`, `62.5`).
-fn short(x: f64) -> String {
-    let s = crate::io::shortest::shortest(x);
-    s.strip_suffix(".0").map(str::to_string).unwrap_or(s)
+    format!("{} kg", plain(mass_kg))
 }
 
 /// Checks a time series: same lengths, at least one sample, finite values, time non-decreasing.
@@ -225,7 +220,7 @@ pub fn curves_csv(kind: &str, coord: &str, runs: &[MassRun]) -> Result<String, E
         .into_iter()
         .zip(runs)
         .map(|(s, r)| Series {
-            label: crate::report::columns::name(kind, &[coord, &format!("{}kg", short(r.mass_kg))]),
+            label: crate::report::columns::name(kind, &[coord, &format!("{}kg", plain(r.mass_kg))]),
             ..s
         })
         .collect();
@@ -282,7 +277,7 @@ pub fn knee_chart(
             .zip(runs)
             .map(|(r, run)| {
                 let mut row = vec![
-                    short(r.mass_kg),
+                    plain(r.mass_kg),
                     fmt_value(r.peak_nm),
                     fmt_value(r.rms_nm),
                     fmt_value(r.peak_time_s),

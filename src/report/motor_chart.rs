@@ -211,8 +211,7 @@ fn drive_rows(
     for (k, (m, s)) in joints.iter().zip(specs).enumerate() {
         let d = defaults.get(k).copied().unwrap_or([false; 3]);
         let cell = |v: f64, default: bool| {
-            let v = crate::io::shortest::shortest(v);
-            let v = v.trim_end_matches(".0").to_string();
+            let v = crate::io::shortest::plain(v);
             if default { format!("{v} (default)") } else { v }
         };
         rows.push(vec![

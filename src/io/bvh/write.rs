@@ -74,7 +74,7 @@ pub fn write_string(bvh: &Bvh) -> String {
                 out.push_str("OFFSET");
                 for v in joint.offset.iter() {
                     out.push(' ');
-                    out.push_str(number(&mut shortest, *v));
+                    out.push_str(shortest.format_plain(*v));
                 }
                 out.push('\n');
                 indent(&mut out, depth + 1);
@@ -99,7 +99,7 @@ pub fn write_string(bvh: &Bvh) -> String {
                     out.push_str("OFFSET");
                     for v in site.iter() {
                         out.push(' ');
-                        out.push_str(number(&mut shortest, *v));
+                        out.push_str(shortest.format_plain(*v));
                     }
                     out.push('\n');
                     indent(&mut out, depth + 1);
@@ -113,7 +113,7 @@ pub fn write_string(bvh: &Bvh) -> String {
     out.push_str("MOTION\n");
     let _ = writeln!(out, "Frames: {}", bvh.frames);
     out.push_str("Frame Time: ");
-    out.push_str(number(&mut shortest, bvh.frame_time));
+    out.push_str(shortest.format_plain(bvh.frame_time));
     out.push('\n');
     if bvh.channel_count > 0 {
         let read_with = bvh.decimals.len() == bvh.motion.len();
@@ -160,7 +160,7 @@ fn value(
     };
     if own == Some(super::SHORTEST) {
         // read in exponent form (or past f64's digits): shortest form again
-        out.push_str(number(shortest, v));
+        out.push_str(shortest.format_plain(v));
         return;
     }
     if let Some(d) = own {
@@ -176,7 +176,7 @@ fn value(
     }
     match precision {
         Some(d) => fixed(out, d),
-        None => out.push_str(number(shortest, v)),
+        None => out.push_str(shortest.format_plain(v)),
     }
 }
 
@@ -189,10 +189,4 @@ fn indent(out: &mut String, depth: usize) {
     for _ in 0..depth {
         out.push('\t');
     }
-}
-
-/// Shortest round-tripping text of `v`, without a trailing `.0`.
-fn number(buf: &mut Shortest, v: f64) -> &str {
-    let s = buf.format(v);
-    s.strip_suffix(".0").unwrap_or(s)
 }
