@@ -164,14 +164,18 @@ pub(crate) fn sin_cos_lane(x: f64) -> (f64, f64) {
     )
 }
 
-/// Whether `atan2(y, x)` is not [`atan2_lane`]'s: NaN, a zero or an infinity in either, or
-/// `r = |y/x|` outside `[2⁻⁶⁰, 2⁶⁰]` (libm's `x = 1` shortcut, `atan(y)`, gives the same bits as
-/// its general path inside that range: `y/1 = y` and `atan` is odd to the bit).
+/// Whether `atan2(y, x)` is not [`atan2_lane`]'s: NaN or an infinity in either, `x = ±0`, or a
+/// nonzero `y` with `r = |y/x|` outside `[2⁻⁶⁰, 2⁶⁰]` (libm's `x = 1` shortcut, `atan(y)`,
+/// gives the same bits as its general path inside that range: `y/1 = y` and `atan` is odd to
+/// the bit). A zero `y` is the lane's: `r = 0` takes `atan(r) = r`, so it gives `±0` for
+/// `x > 0` and `±π` for `x < 0` (`π + π_lo` rounds to `π`), musl's own answers. Zero `y` is
+/// common (the rotation of a joint that does not move, an identity step of a rotation) and,
+/// sent to the scalar function, cost its block a second pass.
 #[inline(always)]
 fn atan2_special(y: f64, x: f64, r: f64) -> bool {
     const LOW: f64 = f64::from_bits((1023 - 60) << 52);
     const HIGH: f64 = f64::from_bits((1023 + 60) << 52);
-    !(x.is_finite() && y.is_finite() && x != 0.0 && y != 0.0 && (LOW..=HIGH).contains(&r))
+    !(x.is_finite() && y.is_finite() && x != 0.0 && (y == 0.0 || (LOW..=HIGH).contains(&r)))
 }
 
 /// musl's `atan2(y, x)` (`libm::atan2`) where [`atan2_special`] is false, without branches:

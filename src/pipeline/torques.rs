@@ -146,7 +146,10 @@ pub fn job_torques_marked<'j>(
 }
 
 fn check_finite(rows: &[Vec<f64>], names: &[String], what: &str) -> Result<(), Error> {
-    for (k, r) in rows.iter().enumerate() {
+    // every value of a row looked at (no early exit: the loop vectorises), the culprit found
+    // after, in a row that has one
+    let finite = |r: &[f64]| r.iter().fold(true, |ok, x| ok & x.is_finite());
+    for (k, r) in rows.iter().enumerate().filter(|(_, r)| !finite(r)) {
         if let Some(j) = r.iter().position(|x| !x.is_finite()) {
             return Err(Error::Numerical(format!(
                 "{what} of `{}` is not finite at sample {k}; nothing written",
