@@ -29,6 +29,13 @@ fn avx2() -> bool {
     std::arch::is_x86_feature_detected!("avx2")
 }
 
+/// Whether every value of `x` is finite, every value looked at (no early exit, so the loop
+/// vectorises): the check a whole state or row gets before its culprit is searched for.
+#[inline]
+pub fn all_finite(x: &[f64]) -> bool {
+    x.iter().fold(true, |ok, x| ok & x.is_finite())
+}
+
 /// `(s[i], c[i]) = sin_cos(x[i])` ([`crate::spatial::sin_cos`], bit for bit) for every `x[i]`;
 /// `s` and `c` at least as long as `x`.
 pub fn sin_cos_many(x: &[f64], s: &mut [f64], c: &mut [f64]) {
@@ -476,6 +483,18 @@ mod tests {
             let want = libm::atan2(y[i], x[i]);
             assert!(same(out[i], want), "atan2({:e}, {:e})", y[i], x[i]);
             assert!(same(out0[i], want), "atan2({:e}, {:e})", y[i], x[i]);
+        }
+    }
+
+    #[test]
+    fn all_finite_answers_as_every_value_is_finite() {
+        assert!(all_finite(&[]) && all_finite(&[0.0, -1e308, 5e-324]));
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            for at in 0..5 {
+                let mut x = [1.0; 5];
+                x[at] = bad;
+                assert!(!all_finite(&x), "{bad} at {at}");
+            }
         }
     }
 

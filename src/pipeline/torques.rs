@@ -146,10 +146,12 @@ pub fn job_torques_marked<'j>(
 }
 
 fn check_finite(rows: &[Vec<f64>], names: &[String], what: &str) -> Result<(), Error> {
-    // every value of a row looked at (no early exit: the loop vectorises), the culprit found
-    // after, in a row that has one
-    let finite = |r: &[f64]| r.iter().fold(true, |ok, x| ok & x.is_finite());
-    for (k, r) in rows.iter().enumerate().filter(|(_, r)| !finite(r)) {
+    // the culprit searched for only in a row that has one
+    let bad_rows = rows
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| !crate::lanes::all_finite(r));
+    for (k, r) in bad_rows {
         if let Some(j) = r.iter().position(|x| !x.is_finite()) {
             return Err(Error::Numerical(format!(
                 "{what} of `{}` is not finite at sample {k}; nothing written",

@@ -164,7 +164,7 @@ impl<'a> Table<'a> {
                     row.len(),
                 )));
             }
-            if row.iter().all(|x| x.is_finite()) {
+            if crate::lanes::all_finite(&row) {
                 continue;
             }
             for (bad, &x) in first_bad.iter_mut().zip(&row) {

@@ -403,9 +403,8 @@ impl Stepper {
                 self.adaptive(model, t, dt, q, v, f, rtol, atol)?
             }
         }
-        // every value looked at (no early exit: the loop vectorises), the culprit named after
-        let finite = |x: &[f64]| x.iter().fold(true, |ok, x| ok & x.is_finite());
-        if finite(q) & finite(v) {
+        // the culprit named after the whole state is looked at
+        if crate::lanes::all_finite(q) & crate::lanes::all_finite(v) {
             return Ok(());
         }
         match q.iter().chain(v.iter()).position(|x| !x.is_finite()) {
