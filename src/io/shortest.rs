@@ -42,9 +42,7 @@ impl Shortest {
         unsigned[head.len()..n].copy_from_slice(&exponent.as_bytes()[1..]);
         std::str::from_utf8(&unsigned[..n]).expect("ASCII digits")
     }
-}
 
-impl Shortest {
     /// [`Shortest::format`] without the `.0` of an integral value (`60`, `62.5`, `-0`), as
     /// hand-written files and labels write them.
     #[inline]
