@@ -138,6 +138,9 @@ pub fn contact_params(
     ),
     Error,
 > {
+    if let Some(f) = take.kept_fit() {
+        return Ok((f.params, f.wobble));
+    }
     let (params, wobble, _) = fitted_params(take, &contact_feet(take))?;
     Ok((params, wobble))
 }
@@ -166,6 +169,39 @@ impl ContactFit {
             wobble,
             points,
         })
+    }
+}
+
+/// A [`ContactFit`] kept on the take it was made for ([`Take::contact_fit`]), read back
+/// ([`Take::kept_fit`]) only while the take has the very states it was fitted to (the same
+/// allocation: residual reduction, which moves the pelvis, gives the take new ones) and the
+/// same body placements and up axis, what the heel and toe paths also read.
+#[derive(Debug, Clone)]
+pub struct KeptFit {
+    fit: Arc<ContactFit>,
+    states: std::sync::Weak<super::States>,
+    placement: Vec<crate::spatial::SpatialTransform>,
+    up: crate::model::bvh::UpAxis,
+}
+
+impl Take {
+    /// The contact fit kept on this take ([`Take::contact_fit`]) while it is still this take's.
+    pub fn kept_fit(&self) -> Option<Arc<ContactFit>> {
+        let k = self.contact_fit.as_ref()?;
+        let same = std::ptr::eq(k.states.as_ptr(), Arc::as_ptr(&self.states))
+            && k.up == self.up
+            && k.placement == self.model.placement;
+        same.then(|| k.fit.clone())
+    }
+
+    /// Keeps `fit`, made for this take as it is now.
+    fn keep_fit(&mut self, fit: Arc<ContactFit>) {
+        self.contact_fit = Some(KeptFit {
+            fit,
+            states: Arc::downgrade(&self.states),
+            placement: self.model.placement.clone(),
+            up: self.up,
+        });
     }
 }
 
@@ -291,7 +327,28 @@ pub fn resolve_contact_after(
     let auto = take.options.contact == Contact::Auto;
     let feet = (take.options.contact != Contact::None).then(|| contact_feet(take));
     let feet = feet.as_deref().unwrap_or(&[]);
-    let choice = auto.then(|| match previous.filter(|(p, _)| same_motion(p, take)) {
+    let previous = previous.filter(|(p, _)| same_motion(p, take));
+    // without a fit given, one is made here for the choice and the notes, and kept on the
+    // take for the estimate and the reduction that follow (`kept_fit`): fitted once
+    let own = match fit {
+        Some(_) => None,
+        None => take.kept_fit().or_else(|| {
+            let wanted = match take.options.contact {
+                Contact::Feet => true,
+                Contact::Auto => {
+                    previous.is_none()
+                        && take.states.len() >= 3
+                        && crate::dynamics::grf::floating_root(&take.model).is_some()
+                }
+                Contact::None => false,
+            };
+            let made = wanted && !feet.is_empty();
+            made.then(|| ContactFit::of(take, feet).ok().map(Arc::new))
+                .flatten()
+        }),
+    };
+    let fit = fit.or(own.as_deref());
+    let choice = auto.then(|| match previous {
         Some((_, choice)) => choice.clone(),
         None => contact_choice_for(take, feet, fit),
     });
@@ -309,6 +366,9 @@ pub fn resolve_contact_after(
         };
         let model = contact_model_note(take, feet);
         take.notes.extend(heights.into_iter().chain(model));
+    }
+    if let Some(f) = own {
+        take.keep_fit(f);
     }
     choice
 }
@@ -480,4 +540,70 @@ fn limb_ends_on_floor(take: &Take) -> Vec<crate::motion::contact::Foot> {
     let mut keep = lowest.iter().map(|l| *l <= floor + reach);
     ends.retain(|_| keep.next().unwrap_or(false));
     ends
+}
+
+#[cfg(test)]
+mod tests {
+    //! A take's contact fit is made once, by `resolve_contact`, and read back by what follows
+    //! (the estimate, residual reduction: [`contact_params`]) only while the take has the states
+    //! and body placements it was made for.
+    use super::*;
+    use crate::pipeline::{TakeOptions, load_take};
+
+    fn demo(contact: Contact) -> Take {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/demo_walk.bvh");
+        let opts = TakeOptions {
+            contact,
+            ..TakeOptions::default()
+        };
+        load_take(&path, &opts).unwrap()
+    }
+
+    #[test]
+    fn the_fit_resolve_contact_makes_is_read_back_while_the_motion_is_the_same() {
+        for contact in [Contact::Auto, Contact::Feet] {
+            let mut take = demo(contact);
+            assert!(take.kept_fit().is_none(), "none as loaded");
+            let fresh = contact_params(&take).unwrap();
+            resolve_contact(&mut take);
+            assert_eq!(take.options.contact, Contact::Feet);
+            let kept = take.kept_fit().expect("kept by resolve_contact");
+            assert_eq!((kept.params, kept.wobble), fresh, "{contact}");
+            assert!(!kept.points.is_empty());
+
+            // read back, not fitted again: a changed kept threshold is what the estimate gets
+            let mut changed = (*kept).clone();
+            changed.params.height_on += 0.5;
+            take.keep_fit(Arc::new(changed));
+            let read = contact_params(&take).unwrap().0.height_on;
+            assert_eq!(read, fresh.0.height_on + 0.5);
+            assert!(
+                take.clone().kept_fit().is_some(),
+                "a clone shares the states"
+            );
+
+            // new states (residual reduction gives the take new ones), moved bodies or another
+            // up axis: fitted again
+            let mut moved = take.clone();
+            moved.states = Arc::new((*take.states).clone());
+            assert!(moved.kept_fit().is_none());
+            assert_eq!(contact_params(&moved).unwrap(), fresh);
+            let mut placed = take.clone();
+            placed.model.placement[2].trans.x += 0.01;
+            assert!(placed.kept_fit().is_none());
+            let mut turned = take.clone();
+            turned.up = match take.up {
+                crate::model::bvh::UpAxis::Y => crate::model::bvh::UpAxis::Z,
+                _ => crate::model::bvh::UpAxis::Y,
+            };
+            assert!(turned.kept_fit().is_none());
+        }
+    }
+
+    #[test]
+    fn no_fit_is_made_without_contact() {
+        let mut take = demo(Contact::None);
+        resolve_contact(&mut take);
+        assert!(take.contact_fit.is_none());
+    }
 }

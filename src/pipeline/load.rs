@@ -68,6 +68,9 @@ pub struct Take {
     /// What `--contact auto` settled on and why (`pipeline::resolve_contact`); `None` while
     /// unsettled, or when the contact was chosen by the user.
     pub contact_auto: Option<(super::Contact, String)>,
+    /// The contact thresholds fitted to this take's feet, kept by `pipeline::resolve_contact`
+    /// for the estimate and the reduction that follow ([`Take::kept_fit`]); `None` as loaded.
+    pub contact_fit: Option<super::KeptFit>,
 }
 
 /// The contact a take derived by residual reduction keeps from its source ([`Take::held_contact`]).
@@ -230,6 +233,7 @@ pub fn take_from_bvh_reusing(
         human: built.found.landmarks,
         held_contact: None,
         contact_auto: None,
+        contact_fit: None,
     };
     match built.auto_lock {
         Some(tol) => reduce::lock_auto(take, tol),

@@ -50,7 +50,7 @@ mod torques;
 
 pub use animation::{TO_Y_UP, export_gltf, rig_world_positions, take_rig, to_y_up};
 pub use contact::{
-    Contact, ContactFit, contact_choice, contact_feet, contact_params, edge_frames,
+    Contact, ContactFit, KeptFit, contact_choice, contact_feet, contact_params, edge_frames,
     estimate_take_ground_reactions, estimate_take_ground_reactions_with, ground_reactions,
     ground_reactions_with, resolve_contact, resolve_contact_after, same_motion, take_feet,
 };

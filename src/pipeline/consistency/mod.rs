@@ -117,6 +117,7 @@ pub fn consistent_take_keeping(
     // the contact thresholds, made once: the estimate and the reduction's trials read them
     let params = match fit {
         Some(f) => f.params,
+        // the take's kept fit (`resolve_contact`), else fitted now
         None => super::contact::contact_params(take)?.0,
     };
     let before = match measured {
