@@ -333,7 +333,9 @@ pub fn resolve_contact_after(
     let own = match fit {
         Some(_) => None,
         None => take.kept_fit().or_else(|| {
-            let wanted = match take.options.contact {
+            // the fit is read by the heights note (feet) or by the choice (auto, unless the
+            // previous choice is taken; a take that cannot stand is refused before the fit)
+            let read = match take.options.contact {
                 Contact::Feet => true,
                 Contact::Auto => {
                     previous.is_none()
@@ -342,9 +344,11 @@ pub fn resolve_contact_after(
                 }
                 Contact::None => false,
             };
-            let made = wanted && !feet.is_empty();
-            made.then(|| ContactFit::of(take, feet).ok().map(Arc::new))
-                .flatten()
+            if read && !feet.is_empty() {
+                ContactFit::of(take, feet).ok().map(Arc::new)
+            } else {
+                None
+            }
         }),
     };
     let fit = fit.or(own.as_deref());
