@@ -61,15 +61,46 @@ impl std::fmt::Display for Contact {
 /// a floor some of the time ([`stance`](crate::dynamics::grf::stance)); otherwise none, and
 /// the reason (too few frames, no floating root, no feet, no foot ever planted).
 pub fn contact_choice(take: &Take) -> (Contact, String) {
-    contact_choice_for(take, &contact_feet(take), None)
+    contact_choice_for(take, &contact_feet(take), &mut FitOnce::new(None))
 }
 
-/// [`contact_choice`] with the take's feet already found ([`contact_feet`]) and, when given,
-/// the thresholds already fitted to them.
+/// A take's contact fit for one [`resolve_contact_after`]: the one given, else the take's kept
+/// one, else made where it is first read (the auto choice or the heights note) and then kept.
+struct FitOnce<'a> {
+    given: Option<&'a ContactFit>,
+    made: Option<Result<Arc<ContactFit>, String>>,
+}
+
+impl<'a> FitOnce<'a> {
+    fn new(given: Option<&'a ContactFit>) -> Self {
+        Self { given, made: None }
+    }
+
+    /// The fit of `take`'s `feet` ([`ContactFit::of`]), made on the first call.
+    fn get(
+        &mut self,
+        take: &Take,
+        feet: &[crate::motion::contact::Foot],
+    ) -> Result<&ContactFit, String> {
+        if let Some(f) = self.given {
+            return Ok(f);
+        }
+        let made = self.made.get_or_insert_with(|| match take.kept_fit() {
+            Some(f) => Ok(f),
+            None => ContactFit::of(take, feet)
+                .map(Arc::new)
+                .map_err(|e| e.to_string()),
+        });
+        made.as_deref().map_err(Clone::clone)
+    }
+}
+
+/// [`contact_choice`] with the take's feet already found ([`contact_feet`]) and its fit
+/// ([`FitOnce`]).
 fn contact_choice_for(
     take: &Take,
     feet: &[crate::motion::contact::Foot],
-    fit: Option<&ContactFit>,
+    fit: &mut FitOnce,
 ) -> (Contact, String) {
     use crate::motion::contact::{ContactParams, heights_note};
     let s = &take.states;
@@ -88,13 +119,9 @@ fn contact_choice_for(
     if feet.is_empty() {
         return (Contact::None, "no feet found on the skeleton".into());
     }
-    let fitted = match fit {
-        Some(f) => Ok(std::borrow::Cow::Borrowed(f)),
-        None => ContactFit::of(take, feet).map(std::borrow::Cow::Owned),
-    };
-    let (params, wobble, points) = match &fitted {
+    let (params, wobble, points) = match fit.get(take, feet) {
         Ok(f) => (f.params, f.wobble, &f.points),
-        Err(e) => return (Contact::None, e.to_string()),
+        Err(e) => return (Contact::None, e),
     };
     let up = take.up.index();
     match crate::dynamics::grf::stance(points, &s.time, up, &params) {
@@ -239,17 +266,11 @@ fn fitted_params(
 fn fitted_heights_note(
     take: &Take,
     feet: &[crate::motion::contact::Foot],
-    fit: Option<&ContactFit>,
+    fit: &mut FitOnce,
 ) -> Option<String> {
     use crate::motion::contact::{ContactParams, heights_note};
-    let (params, wobble) = match fit {
-        Some(f) => (f.params, f.wobble),
-        None => {
-            let (p, w, _) = fitted_params(take, feet).ok()?;
-            (p, w)
-        }
-    };
-    heights_note(&params, &ContactParams::default(), wobble)
+    let f = fit.get(take, feet).ok()?;
+    heights_note(&f.params, &ContactParams::default(), f.wobble)
 }
 
 /// The contact model of each of `feet`, for the notes: the sole a segment from its heel point
@@ -327,34 +348,12 @@ pub fn resolve_contact_after(
     let auto = take.options.contact == Contact::Auto;
     let feet = (take.options.contact != Contact::None).then(|| contact_feet(take));
     let feet = feet.as_deref().unwrap_or(&[]);
-    let previous = previous.filter(|(p, _)| same_motion(p, take));
-    // without a fit given, one is made here for the choice and the notes, and kept on the
-    // take for the estimate and the reduction that follow (`kept_fit`): fitted once
-    let own = match fit {
-        Some(_) => None,
-        None => take.kept_fit().or_else(|| {
-            // the fit is read by the heights note (feet) or by the choice (auto, unless the
-            // previous choice is taken; a take that cannot stand is refused before the fit)
-            let read = match take.options.contact {
-                Contact::Feet => true,
-                Contact::Auto => {
-                    previous.is_none()
-                        && take.states.len() >= 3
-                        && crate::dynamics::grf::floating_root(&take.model).is_some()
-                }
-                Contact::None => false,
-            };
-            if read && !feet.is_empty() {
-                ContactFit::of(take, feet).ok().map(Arc::new)
-            } else {
-                None
-            }
-        }),
-    };
-    let fit = fit.or(own.as_deref());
-    let choice = auto.then(|| match previous {
+    // without a fit given, the one the choice or the notes make is kept on the take for the
+    // estimate and the reduction that follow (`kept_fit`): fitted once
+    let mut fit = FitOnce::new(fit);
+    let choice = auto.then(|| match previous.filter(|(p, _)| same_motion(p, take)) {
         Some((_, choice)) => choice.clone(),
-        None => contact_choice_for(take, feet, fit),
+        None => contact_choice_for(take, feet, &mut fit),
     });
     if let Some((contact, why)) = &choice {
         take.options.contact = *contact;
@@ -366,12 +365,12 @@ pub fn resolve_contact_after(
         let heights = if auto {
             None
         } else {
-            fitted_heights_note(take, feet, fit)
+            fitted_heights_note(take, feet, &mut fit)
         };
         let model = contact_model_note(take, feet);
         take.notes.extend(heights.into_iter().chain(model));
     }
-    if let Some(f) = own {
+    if let Some(Ok(f)) = fit.made {
         take.keep_fit(f);
     }
     choice
