@@ -43,15 +43,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let src = ModelSource::Urdf(PathBuf::from(path), options);
     let model = pipeline::load_model(&src, &TakeOptions::default())?;
     let (nq, nv) = (model.nq, model.nv);
-    // the states `articula bench` times ABA at (SplitMix64, seed 42), τ = 0
+    // the states `articula bench` times ABA at, drawn in its order (`dynamics::bench`:
+    // SplitMix64 seed 42, the 16 configurations, then the 16 velocities), τ = 0
     let mut rng = SplitMix64(42);
+    let mut qs = vec![0.0; 16 * nq];
+    for q in qs.chunks_mut(nq.max(1)) {
+        random_configuration(&model, &mut rng, q);
+    }
+    let mut vs = vec![0.0; 16 * nv];
+    random_vector(&mut rng, 1.0, &mut vs);
     let states: Vec<(Vec<f64>, Vec<f64>)> = (0..16)
-        .map(|_| {
-            let (mut q, mut v) = (vec![0.0; nq], vec![0.0; nv]);
-            random_configuration(&model, &mut rng, &mut q);
-            random_vector(&mut rng, 1.0, &mut v);
-            (q, v)
-        })
+        .map(|s| (qs[s * nq..][..nq].to_vec(), vs[s * nv..][..nv].to_vec()))
         .collect();
     let tau = vec![0.0; nv];
     let mut ws = Workspace::new(&model);
