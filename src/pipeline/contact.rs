@@ -120,7 +120,7 @@ fn contact_choice_for(
         return (Contact::None, "no feet found on the skeleton".into());
     }
     let (params, wobble, points) = match fit.get(take, feet) {
-        Ok(f) => (f.params, f.wobble, &f.points),
+        Ok(f) => (f.params, f.wobble, &f.paths.points),
         Err(e) => return (Contact::None, e),
     };
     let up = take.up.index();
@@ -180,7 +180,8 @@ pub fn contact_params(
 pub struct ContactFit {
     pub params: crate::motion::contact::ContactParams,
     pub wobble: Option<crate::motion::contact::Wobble>,
-    pub points: Vec<crate::motion::contact::FootPoints>,
+    /// The feet with their heel points fitted, and their heel and toe paths.
+    pub paths: crate::dynamics::grf::FootPaths,
 }
 
 impl ContactFit {
@@ -190,11 +191,11 @@ impl ContactFit {
     }
 
     fn of(take: &Take, feet: &[crate::motion::contact::Foot]) -> Result<Self, Error> {
-        let (params, wobble, points) = fitted_params(take, feet)?;
+        let (params, wobble, paths) = fitted_params(take, feet)?;
         Ok(Self {
             params,
             wobble,
-            points,
+            paths,
         })
     }
 }
@@ -241,7 +242,7 @@ fn fitted_params(
     (
         crate::motion::contact::ContactParams,
         Option<crate::motion::contact::Wobble>,
-        Vec<crate::motion::contact::FootPoints>,
+        crate::dynamics::grf::FootPaths,
     ),
     Error,
 > {
@@ -252,13 +253,13 @@ fn fitted_params(
     };
     let s = &take.states;
     if s.len() < 2 || feet.is_empty() {
-        return Ok((base, None, vec![]));
+        return Ok((base, None, Default::default()));
     }
     let up = take.up.index();
-    let points = crate::dynamics::grf::foot_points(&take.model, feet, &s.q, up);
+    let paths = crate::dynamics::grf::fitted_foot_paths(&take.model, feet, &s.q, up);
     let dt = (s.time[s.len() - 1] - s.time[0]) / (s.len() - 1) as f64;
-    let (params, wobble) = base.fitted_to(&points, up, dt);
-    Ok((params, wobble, points))
+    let (params, wobble) = base.fitted_to(&paths.points, up, dt);
+    Ok((params, wobble, paths))
 }
 
 /// The note of the contact heights of `take` with its `feet` when they were fitted below the
@@ -462,15 +463,20 @@ pub fn estimate_take_ground_reactions_keeping(
     moment_bodies: &[usize],
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<crate::dynamics::grf::GroundReactions, Error> {
+    if let Some(f) = take.kept_fit() {
+        return estimate_with_params(take, &f.params, Some(&f.paths), moment_bodies, keep_going);
+    }
     let (params, _) = contact_params(take).map_err(|e| at_file(&take.path, e))?;
-    estimate_with_params(take, &params, moment_bodies, keep_going)
+    estimate_with_params(take, &params, None, moment_bodies, keep_going)
 }
 
 /// [`estimate_take_ground_reactions_keeping`] with the take's thresholds already made
-/// ([`contact_params`]; residual reduction reads the same ones).
+/// ([`contact_params`]; residual reduction reads the same ones), and the feet's paths they
+/// were fitted to when the caller has them ([`ContactFit::paths`]).
 pub(super) fn estimate_with_params(
     take: &Take,
     params: &crate::motion::contact::ContactParams,
+    paths: Option<&crate::dynamics::grf::FootPaths>,
     moment_bodies: &[usize],
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<crate::dynamics::grf::GroundReactions, Error> {
@@ -481,8 +487,11 @@ pub(super) fn estimate_with_params(
         &s.time,
         [&s.q, &s.v, &s.a],
         take.up.index(),
-        params,
-        take.held_contact.as_ref().map(|h| &h.phases[..]),
+        (
+            params,
+            take.held_contact.as_ref().map(|h| &h.phases[..]),
+            paths,
+        ),
         moment_bodies,
         keep_going,
     )
@@ -563,6 +572,42 @@ mod tests {
     }
 
     #[test]
+    fn the_estimate_from_the_fits_foot_paths_is_the_estimate_that_fits_them_again() {
+        // the estimate reads the kept fit's fitted feet and heel and toe paths instead of
+        // fitting the same feet to the same poses: the same ground reactions, bit for bit
+        // (the fit's kinematics are the first pass's), torques and kept moments included
+        let mut take = demo(Contact::Auto);
+        resolve_contact(&mut take);
+        let kept = take.kept_fit().expect("kept by resolve_contact");
+        let bodies = [1, 2];
+        let estimate = |paths| {
+            estimate_with_params(&take, &kept.params, paths, &bodies, &mut |_| true).unwrap()
+        };
+        let (read, fitted) = (estimate(Some(&kept.paths)), estimate(None));
+        assert_eq!(read, fitted);
+        assert_eq!(
+            estimate_take_ground_reactions_keeping(&take, &bodies, &mut |_| true).unwrap(),
+            fitted
+        );
+        // and they are read: paths with their heels moved give other loads
+        let mut moved = kept.paths.clone();
+        for f in &mut moved.feet {
+            f.heel_point.x += 0.05;
+        }
+        assert_ne!(estimate(Some(&moved)), fitted);
+        // paths made for other feet, or other frames, are not read
+        let mut other = kept.paths.clone();
+        other.given[0].toe_point.x += 0.01;
+        other.feet = moved.feet.clone();
+        assert_eq!(estimate(Some(&other)), fitted);
+        let mut shorter = moved.clone();
+        for p in &mut shorter.points {
+            p.toe.pop();
+        }
+        assert_eq!(estimate(Some(&shorter)), fitted);
+    }
+
+    #[test]
     fn the_fit_resolve_contact_makes_is_read_back_while_the_motion_is_the_same() {
         for contact in [Contact::Auto, Contact::Feet] {
             let mut take = demo(contact);
@@ -572,7 +617,7 @@ mod tests {
             assert_eq!(take.options.contact, Contact::Feet);
             let kept = take.kept_fit().expect("kept by resolve_contact");
             assert_eq!((kept.params, kept.wobble), fresh, "{contact}");
-            assert!(!kept.points.is_empty());
+            assert!(!kept.paths.points.is_empty());
 
             // read back, not fitted again: a changed kept threshold is what the estimate gets
             let mut changed = (*kept).clone();

@@ -151,7 +151,8 @@ pub fn estimate_ground_reactions_progress(
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<GroundReactions, Error> {
     let qva = [q, v, a];
-    estimate_ground_reactions_keeping(model, feet, time, qva, up, params, None, &[], keep_going)
+    let contact = (params, None, None);
+    estimate_ground_reactions_keeping(model, feet, time, qva, up, contact, &[], keep_going)
 }
 
 /// [`estimate_ground_reactions_progress`] that also keeps the net moments of RNEA with the
@@ -165,8 +166,7 @@ pub fn estimate_ground_reactions_keeping(
     time: &[f64],
     qva: [&[Vec<f64>]; 3],
     up: usize,
-    params: &ContactParams,
-    held: Held,
+    (params, held, paths): (&ContactParams, Held, Option<&FootPaths>),
     moment_bodies: &[usize],
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<GroundReactions, Error> {
@@ -177,7 +177,7 @@ pub fn estimate_ground_reactions_keeping(
         time,
         qva,
         up,
-        (params, held),
+        (params, held, paths),
         third,
         keep_going,
     )
@@ -190,6 +190,10 @@ pub fn estimate_ground_reactions_keeping(
 /// pelvis path moves the feet by centimetres, and a foot that crossed a threshold a frame
 /// sooner made the reduction's cost jump between neighbouring trials.
 pub type Held<'a> = Option<&'a [Vec<bool>]>;
+
+/// What the estimate finds contact with: the thresholds, the phases when held ([`Held`]) and
+/// the feet's fitted paths when already made ([`FootPaths`]).
+pub type Contact<'a> = (&'a ContactParams, Held<'a>, Option<&'a FootPaths>);
 
 /// [`estimate_ground_reactions_progress`] without the joint torques (`tau` and `moments`
 /// empty), what residual reduction evaluates at each trial of its adjustments: the residual
@@ -205,7 +209,7 @@ pub fn estimate_ground_residuals(
     params: &ContactParams,
     held: Held,
 ) -> Result<GroundReactions, Error> {
-    let contact = (params, held);
+    let contact = (params, held, None);
     estimate(
         model,
         feet,
@@ -274,7 +278,7 @@ pub(crate) fn estimate_ground_residuals_given(
         root,
         pass1,
         up,
-        (params, held),
+        (params, held, None),
         Third::Residual,
         None,
     )
@@ -297,7 +301,7 @@ fn estimate(
     time: &[f64],
     [q, v, a]: [&[Vec<f64>]; 3],
     up: usize,
-    contact: (&ContactParams, Held),
+    contact: Contact,
     third: Third,
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<GroundReactions, Error> {
@@ -370,7 +374,7 @@ fn estimate_from(
     root: usize,
     (needed, com, poses): (Vec<ForceVec>, Vec<Vector3<f64>>, passes::Poses),
     up: usize,
-    (params, held): (&ContactParams, Held),
+    (params, held, paths): Contact,
     third: Third,
     rest: Option<PassThree>,
 ) -> Result<GroundReactions, Error> {
@@ -381,9 +385,20 @@ fn estimate_from(
     let n = time.len();
     let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
 
-    // contact phases from the heel and toe paths, unless held
-    let mut feet = feet.to_vec();
-    let points = foot_paths(&poses, &mut feet, up);
+    // contact phases from the heel and toe paths, unless held; the paths from the fit that
+    // made `params` when it was made for these feet over these frames (the same bits: the
+    // fit's kinematics are the first pass's, `passes::Poses::of_motion`)
+    use std::borrow::Cow;
+    let (feet, points): (Cow<[Foot]>, Cow<[FootPoints]>) = match paths {
+        Some(p) if p.given == feet && p.points.iter().all(|f| f.toe.len() == n) => {
+            (Cow::Borrowed(&p.feet), Cow::Borrowed(&p.points))
+        }
+        _ => {
+            let mut feet = feet.to_vec();
+            let points = foot_paths(&poses, &mut feet, up);
+            (Cow::Owned(feet), Cow::Owned(points))
+        }
+    };
     let floor = floor_height(&points, up);
     let contact: Vec<Vec<bool>> = match held {
         Some(c) if c.len() == n && c.iter().all(|f| f.len() == feet.len()) => c.to_vec(),
@@ -579,12 +594,24 @@ pub fn stance(
     planted_feet(points, up, dt, params)
 }
 
-/// The world paths of the heel and toe points of `feet` over the configurations `q` (their
-/// heel points fitted to the take, [`fit_heel_points`]): what the contact phases are found
-/// from, and what the contact heights are fitted to
-/// ([`ContactParams::fitted_to`]).
-pub fn foot_points(model: &Model, feet: &[Foot], q: &[Vec<f64>], up: usize) -> Vec<FootPoints> {
-    let mut feet = feet.to_vec();
+/// Feet with their heel points fitted to a take ([`fit_heel_points`]: the rest pose of some
+/// skeletons is not standing) and the world paths of their heel and toe points over it: what
+/// the contact phases are found from and the contact heights are fitted to
+/// ([`ContactParams::fitted_to`]). Made once per motion (`pipeline::ContactFit`); the estimate
+/// takes them rather than fitting the same feet to the same poses again.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FootPaths {
+    /// The feet as they were given.
+    pub given: Vec<Foot>,
+    /// The same feet, their heel points fitted.
+    pub feet: Vec<Foot>,
+    /// Each foot's heel and toe paths (world, m), one point per frame.
+    pub points: Vec<FootPoints>,
+}
+
+/// The [`FootPaths`] of `feet` over the configurations `q`.
+pub fn fitted_foot_paths(model: &Model, feet: &[Foot], q: &[Vec<f64>], up: usize) -> FootPaths {
+    let mut fitted = feet.to_vec();
     let bodies = feet
         .iter()
         .flat_map(|f| [f.ankle_body, f.toe_body])
@@ -592,7 +619,12 @@ pub fn foot_points(model: &Model, feet: &[Foot], q: &[Vec<f64>], up: usize) -> V
         .into_iter()
         .collect();
     let poses = passes::Poses::of_motion(model, bodies, q);
-    foot_paths(&poses, &mut feet, up)
+    let points = foot_paths(&poses, &mut fitted, up);
+    FootPaths {
+        given: feet.to_vec(),
+        feet: fitted,
+        points,
+    }
 }
 
 /// The contact phases of the feet whose heel and toe paths are `points`, or why no foot is

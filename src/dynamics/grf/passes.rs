@@ -81,7 +81,7 @@ impl Poses {
 
     /// The world poses of `bodies` over `q` by forward kinematics alone (serial, through the
     /// last of them only: the same bits as the whole pass): what [`needed_wrenches`] keeps,
-    /// for the foot paths without the dynamics ([`super::foot_points`]).
+    /// for the foot paths without the dynamics ([`super::fitted_foot_paths`]).
     pub(super) fn of_motion(model: &Model, bodies: Vec<usize>, q: &[Vec<f64>]) -> Self {
         let mut ws = Workspace::new(model);
         let mut at = Vec::with_capacity(q.len() * bodies.len());

@@ -246,8 +246,7 @@ impl Problem<'_> {
                 time,
                 [&e.q, &e.v, &e.a],
                 up,
-                params,
-                held,
+                (params, held, None),
                 &[],
                 &mut |_| true,
             )?;

@@ -115,14 +115,19 @@ pub fn consistent_take_keeping(
     // the moments of the take as it is are read only when it stays as it is
     let keep = if reduce { &[][..] } else { moment_bodies };
     // the contact thresholds, made once: the estimate and the reduction's trials read them
+    // (given, else the take's kept fit, `resolve_contact`, else fitted now)
+    let kept = fit.is_none().then(|| take.kept_fit()).flatten();
+    let fit = fit.or(kept.as_deref());
     let params = match fit {
         Some(f) => f.params,
-        // the take's kept fit (`resolve_contact`), else fitted now
         None => super::contact::contact_params(take)?.0,
     };
     let before = match measured {
         Some(loads) => apply_ground_reactions(&take.model, loads, &s.time, &s.q, &s.v, &s.a, up)?,
-        None => super::contact::estimate_with_params(take, &params, keep, &mut |_| true)?,
+        None => {
+            let paths = fit.map(|f| &f.paths);
+            super::contact::estimate_with_params(take, &params, paths, keep, &mut |_| true)?
+        }
     };
     let counted = counted_frames(s.len(), super::edge_frames(take));
     // the centre of mass and the pelvis of the estimate's own kinematics
