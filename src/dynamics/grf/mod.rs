@@ -158,7 +158,9 @@ pub fn estimate_ground_reactions_progress(
 /// [`estimate_ground_reactions_progress`] that also keeps the net moments of RNEA with the
 /// ground reactions on `moment_bodies` (sorted, each once) at every frame
 /// ([`GroundReactions::moments`]), from the pass that computes the torques: the joint moments
-/// need no RNEA of their own; with the contact phases `held` when given ([`Held`]).
+/// need no RNEA of their own; with the contact phases `held` when given ([`Held`]), and the
+/// feet's fitted paths when already made for these feet over these configurations
+/// ([`FootPaths`]; paths made for other feet or another number of frames are not read).
 #[allow(clippy::too_many_arguments)]
 pub fn estimate_ground_reactions_keeping(
     model: &Model,
@@ -166,7 +168,7 @@ pub fn estimate_ground_reactions_keeping(
     time: &[f64],
     qva: [&[Vec<f64>]; 3],
     up: usize,
-    (params, held, paths): (&ContactParams, Held, Option<&FootPaths>),
+    (params, held, paths): ContactInputs,
     moment_bodies: &[usize],
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<GroundReactions, Error> {
@@ -193,7 +195,7 @@ pub type Held<'a> = Option<&'a [Vec<bool>]>;
 
 /// What the estimate finds contact with: the thresholds, the phases when held ([`Held`]) and
 /// the feet's fitted paths when already made ([`FootPaths`]).
-pub type Contact<'a> = (&'a ContactParams, Held<'a>, Option<&'a FootPaths>);
+pub type ContactInputs<'a> = (&'a ContactParams, Held<'a>, Option<&'a FootPaths>);
 
 /// [`estimate_ground_reactions_progress`] without the joint torques (`tau` and `moments`
 /// empty), what residual reduction evaluates at each trial of its adjustments: the residual
@@ -301,7 +303,7 @@ fn estimate(
     time: &[f64],
     [q, v, a]: [&[Vec<f64>]; 3],
     up: usize,
-    contact: Contact,
+    contact: ContactInputs,
     third: Third,
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<GroundReactions, Error> {
@@ -374,7 +376,7 @@ fn estimate_from(
     root: usize,
     (needed, com, poses): (Vec<ForceVec>, Vec<Vector3<f64>>, passes::Poses),
     up: usize,
-    (params, held, paths): Contact,
+    (params, held, paths): ContactInputs,
     third: Third,
     rest: Option<PassThree>,
 ) -> Result<GroundReactions, Error> {
