@@ -114,16 +114,9 @@ pub fn belt_velocity(
     // 64 passes over every velocity, run on the vector lanes.
     let (h0, h1) = [(1, 2), (0, 2), (0, 1)][up];
     let (mut x, mut y) = (vec![], vec![]);
-    for f in feet {
-        for (path, level) in [(&f.heel, heel_level), (&f.toe, toe_level)] {
-            for k in 0..path.len() {
-                if path[k][up] - level < params.height_on {
-                    let v = velocity(path, k, dt);
-                    x.push(v[h0]);
-                    y.push(v[h1]);
-                }
-            }
-        }
+    for v in velocities_at_floor(feet, (heel_level, toe_level), up, dt, params) {
+        x.push(v[h0]);
+        y.push(v[h1]);
     }
     if x.is_empty() {
         return Vector3::zeros();
@@ -179,6 +172,25 @@ pub fn belt_velocity(
     let mut v = Vector3::zeros();
     (v[h0], v[h1]) = centre;
     v
+}
+
+/// The velocities of the heel and toe points (`feet`, heels then toes, frame by frame) at the
+/// frames where they are within `height_on` of their floor level: what [`belt_velocity`]
+/// searches.
+fn velocities_at_floor<'a>(
+    feet: &'a [FootPoints],
+    (heel_level, toe_level): (f64, f64),
+    up: usize,
+    dt: f64,
+    params: &'a ContactParams,
+) -> impl Iterator<Item = Vector3<f64>> + 'a {
+    feet.iter()
+        .flat_map(move |f| [(&f.heel, heel_level), (&f.toe, toe_level)])
+        .flat_map(move |(path, level)| {
+            (0..path.len())
+                .filter(move |&k| path[k][up] - level < params.height_on)
+                .map(move |k| velocity(path, k, dt))
+        })
 }
 
 #[cfg(test)]
@@ -367,18 +379,13 @@ mod tests {
         dt: f64,
         params: &ContactParams,
     ) -> Vector3<f64> {
-        let mut near: Vec<Vector3<f64>> = vec![];
-        for f in feet {
-            for (path, level) in [(&f.heel, heel_level), (&f.toe, toe_level)] {
-                for k in 0..path.len() {
-                    if path[k][up] - level < params.height_on {
-                        let mut v = velocity(path, k, dt);
-                        v[up] = 0.0;
-                        near.push(v);
-                    }
-                }
-            }
-        }
+        let near: Vec<Vector3<f64>> =
+            velocities_at_floor(feet, (heel_level, toe_level), up, dt, params)
+                .map(|mut v| {
+                    v[up] = 0.0;
+                    v
+                })
+                .collect();
         if near.is_empty() {
             return Vector3::zeros();
         }
