@@ -85,12 +85,9 @@ impl<'a> FitOnce<'a> {
         if let Some(f) = self.given {
             return Ok(f);
         }
-        let made = self.made.get_or_insert_with(|| match take.kept_fit() {
-            Some(f) => Ok(f),
-            None => ContactFit::of(take, feet)
-                .map(Arc::new)
-                .map_err(|e| e.to_string()),
-        });
+        let made = self
+            .made
+            .get_or_insert_with(|| kept_or_new_fit(take, Some(feet)).map_err(|e| e.to_string()));
         made.as_deref().map_err(Clone::clone)
     }
 }
@@ -165,11 +162,24 @@ pub fn contact_params(
     ),
     Error,
 > {
+    kept_or_new_fit(take, None).map(|f| (f.params, f.wobble))
+}
+
+/// The contact fit of `take`: the one it keeps ([`Take::kept_fit`]), else one made now for
+/// `feet` (default: [`contact_feet`]). The one way every reader of the thresholds and paths
+/// gets them.
+pub(super) fn kept_or_new_fit(
+    take: &Take,
+    feet: Option<&[crate::motion::contact::Foot]>,
+) -> Result<Arc<ContactFit>, Error> {
     if let Some(f) = take.kept_fit() {
-        return Ok((f.params, f.wobble));
+        return Ok(f);
     }
-    let (params, wobble, _) = fitted_params(take, &contact_feet(take))?;
-    Ok((params, wobble))
+    match feet {
+        Some(feet) => ContactFit::of(take, feet),
+        None => ContactFit::new(take),
+    }
+    .map(Arc::new)
 }
 
 /// A take's contact thresholds fitted to its feet ([`contact_params`]) and the heel and toe
@@ -463,11 +473,8 @@ pub fn estimate_take_ground_reactions_keeping(
     moment_bodies: &[usize],
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<crate::dynamics::grf::GroundReactions, Error> {
-    if let Some(f) = take.kept_fit() {
-        return estimate_with_params(take, &f.params, Some(&f.paths), moment_bodies, keep_going);
-    }
-    let (params, _) = contact_params(take).map_err(|e| at_file(&take.path, e))?;
-    estimate_with_params(take, &params, None, moment_bodies, keep_going)
+    let f = kept_or_new_fit(take, None).map_err(|e| at_file(&take.path, e))?;
+    estimate_with_params(take, &f.params, Some(&f.paths), moment_bodies, keep_going)
 }
 
 /// [`estimate_take_ground_reactions_keeping`] with the take's thresholds already made

@@ -114,18 +114,21 @@ pub fn consistent_take_keeping(
     let up = take.up.index();
     // the moments of the take as it is are read only when it stays as it is
     let keep = if reduce { &[][..] } else { moment_bodies };
-    // the contact thresholds, made once: the estimate and the reduction's trials read them
-    // (given, else the take's kept fit, `resolve_contact`, else fitted now)
-    let kept = fit.is_none().then(|| take.kept_fit()).flatten();
-    let fit = fit.or(kept.as_deref());
-    let params = match fit {
-        Some(f) => f.params,
-        None => super::contact::contact_params(take)?.0,
+    // the contact thresholds and the feet's paths, made once: the estimate and the reduction's
+    // trials read them (given, else the take's kept fit, `resolve_contact`, else fitted now)
+    let made;
+    let fit = match fit {
+        Some(f) => f,
+        None => {
+            made = super::contact::kept_or_new_fit(take, None)?;
+            &*made
+        }
     };
+    let params = fit.params;
     let before = match measured {
         Some(loads) => apply_ground_reactions(&take.model, loads, &s.time, &s.q, &s.v, &s.a, up)?,
         None => {
-            let paths = fit.map(|f| &f.paths);
+            let paths = Some(&fit.paths);
             super::contact::estimate_with_params(take, &params, paths, keep, &mut |_| true)?
         }
     };
