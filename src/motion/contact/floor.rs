@@ -103,7 +103,7 @@ pub const FLOOR_CANDIDATES: usize = 64;
 /// [`STILL_SHARE`]: super::STILL_SHARE
 pub fn belt_velocity(
     feet: &[FootPoints],
-    (heel_level, toe_level): (f64, f64),
+    levels: (f64, f64),
     up: usize,
     dt: f64,
     params: &ContactParams,
@@ -114,7 +114,7 @@ pub fn belt_velocity(
     // 64 passes over every velocity, run on the vector lanes.
     let (h0, h1) = [(1, 2), (0, 2), (0, 1)][up];
     let (mut x, mut y) = (vec![], vec![]);
-    for v in velocities_at_floor(feet, (heel_level, toe_level), up, dt, params) {
+    for v in velocities_at_floor(feet, levels, up, dt, params) {
         x.push(v[h0]);
         y.push(v[h1]);
     }
@@ -374,18 +374,17 @@ mod tests {
     /// two-component search must give bit for bit.
     fn belt_velocity_on_vectors(
         feet: &[FootPoints],
-        (heel_level, toe_level): (f64, f64),
+        levels: (f64, f64),
         up: usize,
         dt: f64,
         params: &ContactParams,
     ) -> Vector3<f64> {
-        let near: Vec<Vector3<f64>> =
-            velocities_at_floor(feet, (heel_level, toe_level), up, dt, params)
-                .map(|mut v| {
-                    v[up] = 0.0;
-                    v
-                })
-                .collect();
+        let near: Vec<Vector3<f64>> = velocities_at_floor(feet, levels, up, dt, params)
+            .map(|mut v| {
+                v[up] = 0.0;
+                v
+            })
+            .collect();
         if near.is_empty() {
             return Vector3::zeros();
         }
